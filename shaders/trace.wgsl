@@ -1,0 +1,283 @@
+// The quaternion Julia set ray tracer of Crane (2005), fixed as CONTRACT.md defines it:
+// one invocation per pixel, through the distance estimate, sphere tracing, the normal, Phong
+// shading and the shadow ray.
+//
+// Twin: src/cpu/trace.rs, function by function, with the same names in the same order; a change
+// to one is a change to both. Needs shaders/quaternion.wgsl in front of it (src/gpu/shaders.rs).
+//
+// WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
+
+// Keep in sync with `GpuParams` in src/gpu/params.rs.
+struct Params {
+    c: vec4<f32>,
+    slice_x: vec4<f32>,
+    slice_y: vec4<f32>,
+    slice_z: vec4<f32>,
+    slice_offset: vec4<f32>,
+    eye: vec3<f32>,
+    epsilon: f32,
+    cam_forward: vec3<f32>,
+    tan_half_fov_y: f32,
+    cam_right: vec3<f32>,
+    aspect: f32,
+    cam_up: vec3<f32>,
+    escape_radius_squared: f32,
+    light: vec3<f32>,
+    bounds_radius_squared: f32,
+    bounds_center: vec3<f32>,
+    normal_tint: f32,
+    diffuse: vec3<f32>,
+    specular: f32,
+    background: vec3<f32>,
+    shininess: f32,
+    max_iterations: u32,
+    max_steps: u32,
+    width: u32,
+    height: u32,
+    shadows: u32,
+    shadow_factor: f32,
+    row_offset: u32,
+    row_count: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// Per pixel of the band of rows [row_offset, row_offset + row_count): 0x00BBGGRR.
+@group(0) @binding(1) var<storage, read_write> out_colour: array<u32>;
+// The hit's ray parameter t; -1 for a miss (the host turns it into NaN).
+@group(0) @binding(2) var<storage, read_write> out_depth: array<f32>;
+// Distance estimates along the primary ray.
+@group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
+
+// |z'|^2 above this: the estimate cannot be formed (d = 0), and iterating stops before z'
+// can overflow.
+const DERIVATIVE_LIMIT: f32 = 1e30;
+// Below this a squared length counts as zero: nothing is divided by it or normalised.
+const TINY: f32 = 1e-30;
+// The seed's finite-difference step for the normal, in slice coordinates.
+const NORMAL_DELTA: f32 = 1e-4;
+// |z|^2 at which the normal's six orbits stop, long before they can overflow.
+const NORMAL_LIMIT: f32 = 1e16;
+
+// Scene coordinates p in the 3D slice to the 4D point offset + p.x x + p.y y + p.z z.
+fn slice_point(p: vec3<f32>) -> vec4<f32> {
+    return params.slice_offset + p.x * params.slice_x + p.y * params.slice_y + p.z * params.slice_z;
+}
+
+// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations.
+fn iterate_intersect(z: ptr<function, vec4<f32>>, zp: ptr<function, vec4<f32>>) {
+    for (var i = 0u; i < params.max_iterations; i++) {
+        *zp = 2.0 * quat_mul(*z, *zp);
+        *z = quat_sq(*z) + params.c;
+        if dot(*z, *z) > params.escape_radius_squared || dot(*zp, *zp) > DERIVATIVE_LIMIT {
+            break;
+        }
+    }
+}
+
+// The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
+// 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
+// Negative inside the set (|z| < 1); 0 where it cannot be formed (|z| = 0, |z'| = 0 or huge).
+fn estimate_distance(p: vec3<f32>) -> f32 {
+    var z = slice_point(p);
+    var zp = vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    iterate_intersect(&z, &zp);
+    let zz = dot(z, z);
+    let zpzp = dot(zp, zp);
+    if zz <= TINY || zpzp > DERIVATIVE_LIMIT || zpzp <= zz * TINY {
+        return 0.0;
+    }
+    return 0.25 * sqrt(zz / zpzp) * log(zz);
+}
+
+// Where a ray meets the bounding ball.
+struct Interval {
+    t_enter: f32,
+    t_exit: f32,
+    hit: bool,
+}
+
+// The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the slice.
+// Starts at the origin when it is inside; a ray that misses, or a ball behind, gives no hit.
+fn intersect_bounds(origin: vec3<f32>, dir: vec3<f32>) -> Interval {
+    let oc = origin - params.bounds_center;
+    let b = dot(oc, dir);
+    let cc = dot(oc, oc) - params.bounds_radius_squared;
+    let disc = b * b - cc;
+    if params.bounds_radius_squared <= 0.0 || disc < 0.0 {
+        return Interval(0.0, 0.0, false);
+    }
+    let t_exit = sqrt(disc) - b;
+    if cc <= 0.0 {
+        return Interval(0.0, t_exit, true);
+    }
+    if t_exit <= 0.0 {
+        return Interval(0.0, 0.0, false);
+    }
+    // The product of the roots is cc: the nearer one without cancellation.
+    return Interval(cc / t_exit, t_exit, true);
+}
+
+// A sphere-traced ray: the t reached, the estimates made, and whether it hit.
+struct Trace {
+    t: f32,
+    steps: u32,
+    hit: bool,
+}
+
+// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
+// d < epsilon; a miss when t passes t_end or after max_steps estimates.
+fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32) -> Trace {
+    var t = t_start;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        let d = estimate_distance(origin + t * dir);
+        t += max(d, 0.0);
+        if d < params.epsilon {
+            return Trace(t, steps, true);
+        }
+        if t > t_end {
+            return Trace(t, steps, false);
+        }
+    }
+    return Trace(t, params.max_steps, false);
+}
+
+// v normalised, or the fallback where v is too short to have a direction.
+fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let vv = dot(v, v);
+    if vv <= TINY {
+        return fallback;
+    }
+    return v / sqrt(vv);
+}
+
+// The seed's normal: central differences of |z_N| along the slice axes with NORMAL_DELTA,
+// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
+// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
+// grad |z_n| and the direction is already known, and nothing overflows.
+// Where no gradient can be formed the normal points back along the ray.
+fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    let q = slice_point(p);
+    let dx = NORMAL_DELTA * params.slice_x;
+    let dy = NORMAL_DELTA * params.slice_y;
+    let dz = NORMAL_DELTA * params.slice_z;
+    var gx1 = q - dx;
+    var gx2 = q + dx;
+    var gy1 = q - dy;
+    var gy2 = q + dy;
+    var gz1 = q - dz;
+    var gz2 = q + dz;
+    for (var i = 0u; i < params.max_iterations; i++) {
+        let largest = max(
+            max(max(dot(gx1, gx1), dot(gx2, gx2)), max(dot(gy1, gy1), dot(gy2, gy2))),
+            max(dot(gz1, gz1), dot(gz2, gz2)),
+        );
+        if largest > NORMAL_LIMIT {
+            break;
+        }
+        gx1 = quat_sq(gx1) + params.c;
+        gx2 = quat_sq(gx2) + params.c;
+        gy1 = quat_sq(gy1) + params.c;
+        gy2 = quat_sq(gy2) + params.c;
+        gz1 = quat_sq(gz1) + params.c;
+        gz2 = quat_sq(gz2) + params.c;
+    }
+    let grad = vec3<f32>(
+        length(gx2) - length(gx1),
+        length(gy2) - length(gy1),
+        length(gz2) - length(gz1),
+    );
+    return safe_normalize(grad, -dir);
+}
+
+// Phong shading at pt with normal n, a point light and the viewer at eye:
+// (diffuse + normal_tint |n|) max(N.L, 0) + specular max(E.R, 0)^shininess, R = 2 (N.L) N - L,
+// no highlight where N.L <= 0. (The seed negates R and passes the ray direction as the eye.)
+fn phong(light: vec3<f32>, eye: vec3<f32>, pt: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let l = safe_normalize(light - pt, n);
+    let e = safe_normalize(eye - pt, n);
+    let n_dot_l = dot(n, l);
+    if n_dot_l <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let r = 2.0 * n_dot_l * n - l;
+    let e_dot_r = dot(e, r);
+    var highlight = 0.0;
+    if e_dot_r > 0.0 {
+        highlight = params.specular * pow(e_dot_r, params.shininess);
+    }
+    return (params.diffuse + params.normal_tint * abs(n)) * n_dot_l + vec3<f32>(highlight);
+}
+
+// The shadow ray: from p + 2 epsilon n toward the light, traced like a primary ray, stopping
+// at the light or where it leaves the bounding ball, whichever comes first.
+fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
+    let origin = p + 2.0 * params.epsilon * n;
+    let to_light = params.light - origin;
+    let dist_squared = dot(to_light, to_light);
+    if dist_squared <= TINY {
+        return false;
+    }
+    let dist = sqrt(dist_squared);
+    let dir = to_light / dist;
+    let bounds = intersect_bounds(origin, dir);
+    let t_end = min(bounds.t_exit, dist);
+    if !bounds.hit || bounds.t_enter >= t_end {
+        return false;
+    }
+    return intersect_qjulia(origin, dir, bounds.t_enter, t_end).hit;
+}
+
+// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
+fn camera_ray(i: u32, j: u32) -> vec3<f32> {
+    let px = (2.0 * (f32(i) + 0.5) / f32(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
+    let py = (1.0 - 2.0 * (f32(j) + 0.5) / f32(params.height)) * params.tan_half_fov_y;
+    return normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
+}
+
+// One pixel's outcome.
+struct Pixel {
+    colour: vec3<f32>,
+    depth: f32,
+    steps: u32,
+    hit: bool,
+}
+
+// Everything for pixel (i, j): bounds, sphere tracing, normal, Phong, shadow.
+fn trace_pixel(i: u32, j: u32) -> Pixel {
+    let dir = camera_ray(i, j);
+    let bounds = intersect_bounds(params.eye, dir);
+    if !bounds.hit {
+        return Pixel(params.background, -1.0, 0u, false);
+    }
+    let trace = intersect_qjulia(params.eye, dir, bounds.t_enter, bounds.t_exit);
+    if !trace.hit {
+        return Pixel(params.background, -1.0, trace.steps, false);
+    }
+    let p = params.eye + trace.t * dir;
+    let n = estimate_normal(p, dir);
+    var colour = phong(params.light, params.eye, p, n);
+    if params.shadows != 0u && in_shadow(p, n) {
+        colour *= params.shadow_factor;
+    }
+    return Pixel(colour, trace.t, trace.steps, true);
+}
+
+// Colour clamped to [0, 1], times 255, rounded half up, packed as 0x00BBGGRR.
+fn pack_colour(colour: vec3<f32>) -> u32 {
+    let v = vec3<u32>(floor(clamp(colour, vec3<f32>(0.0), vec3<f32>(1.0)) * 255.0 + 0.5));
+    return v.x | (v.y << 8u) | (v.z << 16u);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let row = gid.y;
+    if i >= params.width || row >= params.row_count {
+        return;
+    }
+    let pixel = trace_pixel(i, params.row_offset + row);
+    let index = row * params.width + i;
+    out_colour[index] = pack_colour(pixel.colour);
+    out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
+    out_steps[index] = pixel.steps;
+}

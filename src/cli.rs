@@ -1,0 +1,170 @@
+//! The command line (CONTRACT.md): argument parsing and wiring only.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use qjulia::output::{OutputPaths, write_outputs};
+use qjulia::scene::SceneLoader;
+use qjulia::{Backend, Precision, Scene};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "qjulia",
+    version,
+    about = "Ray tracing quaternion Julia sets on the GPU"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene headless to PNG (and optionally depth, steps and stats).
+    Render(RenderArgs),
+    /// The desktop explorer.
+    Explore(SceneArgs),
+    /// List the GPU adapters wgpu finds and say which one `render` would use.
+    Info,
+}
+
+/// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// A scene file: TOML, or a PNG written by qjulia (default: the built-in default scene).
+    #[arg(long, value_name = "FILE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Override one scene key by its dotted path, VALUE in TOML syntax (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Shorthand for image.width.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub width: Option<i64>,
+    /// Shorthand for image.height.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub height: Option<i64>,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The PNG to write (default qjulia.png, unless only --depth or --steps is asked for).
+    #[arg(short = 'o', long = "output", value_name = "FILE.png")]
+    pub output: Option<PathBuf>,
+    /// Write the depth map (float32 .npy, NaN where nothing is hit).
+    #[arg(long, value_name = "FILE.npy")]
+    pub depth: Option<PathBuf>,
+    /// Write the sphere-tracing steps per pixel (uint32 .npy).
+    #[arg(long, value_name = "FILE.npy")]
+    pub steps: Option<PathBuf>,
+    /// Write render statistics as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    pub precision: PrecisionArg,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum BackendArg {
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum PrecisionArg {
+    F32,
+    F64,
+}
+
+impl SceneArgs {
+    /// The scene these options describe, validated once all layers are in.
+    pub fn load(&self) -> Result<Scene, qjulia::Error> {
+        let mut loader = SceneLoader::new();
+        if let Some(path) = &self.scene {
+            loader.file(path)?;
+        }
+        for (key, flag, value) in [
+            ("image.width", "--width", self.width),
+            ("image.height", "--height", self.height),
+        ] {
+            if let Some(v) = value {
+                loader.flag(key, toml::Value::Integer(v), format!("{flag} {v}"));
+            }
+        }
+        for raw in &self.sets {
+            loader.set(raw)?;
+        }
+        Ok(loader.build()?)
+    }
+}
+
+pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let paths = OutputPaths {
+        png: args.output.clone().or_else(|| {
+            (args.depth.is_none() && args.steps.is_none()).then(|| PathBuf::from("qjulia.png"))
+        }),
+        depth: args.depth.clone(),
+        steps: args.steps.clone(),
+        stats: args.stats.clone(),
+    };
+    let backend = match args.backend {
+        BackendArg::Auto => Backend::Auto,
+        BackendArg::Gpu => Backend::Gpu,
+        BackendArg::Cpu => Backend::Cpu,
+    };
+    let precision = match args.precision {
+        PrecisionArg::F32 => Precision::F32,
+        PrecisionArg::F64 => Precision::F64,
+    };
+    let (frame, stats) = qjulia::render(&scene, backend, precision, &mut |n| {
+        eprintln!("qjulia: {n}")
+    })?;
+    write_outputs(&paths, &frame, &stats, &scene)?;
+    eprintln!(
+        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel",
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.render_seconds,
+        stats.hit_fraction * 100.0,
+        stats.steps_mean
+    );
+    Ok(())
+}
+
+pub fn info() -> anyhow::Result<()> {
+    let adapters = pollster::block_on(qjulia::gpu::available_adapters());
+    if adapters.is_empty() {
+        println!(
+            "no GPU adapters found; {}",
+            qjulia::error::INSTALL_ADAPTER_HINT
+        );
+    }
+    for a in &adapters {
+        let info = a.get_info();
+        let f64 = a.features().contains(wgpu::Features::SHADER_F64);
+        let ts = a.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        println!(
+            "adapter: {} ({:?}, driver {} {}; f64: {f64}, timestamps: {ts})",
+            qjulia::gpu::adapter_label(&info),
+            info.device_type,
+            info.driver,
+            info.driver_info
+        );
+    }
+    let chosen =
+        pollster::block_on(qjulia::gpu::select_adapter()).context("choosing an adapter")?;
+    println!(
+        "render uses: {}",
+        qjulia::gpu::adapter_label(&chosen.get_info())
+    );
+    Ok(())
+}

@@ -1,0 +1,286 @@
+//! The CPU twin of shaders/trace.wgsl: the same functions, with the same names, in the same
+//! order, generic over the float type. WGSL's global `params` is `self` here; a change to one
+//! file is a change to both, and the GPU-vs-CPU tests hold them together.
+
+use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
+use crate::params::TraceParams;
+
+/// |z'|^2 above this: the estimate cannot be formed (d = 0), and iterating stops before z' can
+/// overflow. Same value as the WGSL constant.
+pub const DERIVATIVE_LIMIT: f64 = 1e30;
+/// Below this a squared length counts as zero: nothing is divided by it or normalised.
+pub const TINY: f64 = 1e-30;
+/// The seed's finite-difference step for the normal, in slice coordinates.
+pub const NORMAL_DELTA: f64 = 1e-4;
+/// |z|^2 at which the normal's six orbits stop, long before they can overflow.
+pub const NORMAL_LIMIT: f64 = 1e16;
+
+/// Where a ray meets the bounding ball.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval<F> {
+    pub t_enter: F,
+    pub t_exit: F,
+    pub hit: bool,
+}
+
+/// A sphere-traced ray: the t reached, the estimates made, and whether it hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trace<F> {
+    pub t: F,
+    pub steps: u32,
+    pub hit: bool,
+}
+
+/// One pixel's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pixel<F> {
+    pub colour: Vec3<F>,
+    pub depth: F,
+    pub steps: u32,
+    pub hit: bool,
+}
+
+impl<F: Real> TraceParams<F> {
+    /// Scene coordinates p in the 3D slice to the 4D point offset + p.x x + p.y y + p.z z.
+    pub fn slice_point(&self, p: Vec3<F>) -> Vec4<F> {
+        self.slice_offset + self.slice_x * p.x + self.slice_y * p.y + self.slice_z * p.z
+    }
+
+    /// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations.
+    pub fn iterate_intersect(&self, z: &mut Vec4<F>, zp: &mut Vec4<F>) {
+        for _ in 0..self.max_iterations {
+            *zp = quat_mul(*z, *zp) * F::lit(2.0);
+            *z = quat_sq(*z) + self.c;
+            if z.dot(*z) > self.escape_radius_squared || zp.dot(*zp) > F::lit(DERIVATIVE_LIMIT) {
+                break;
+            }
+        }
+    }
+
+    /// The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
+    /// 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
+    /// Negative inside the set (|z| < 1); 0 where it cannot be formed (|z| = 0, |z'| = 0 or huge).
+    pub fn estimate_distance(&self, p: Vec3<F>) -> F {
+        let mut z = self.slice_point(p);
+        let mut zp = Vec4::real(F::one());
+        self.iterate_intersect(&mut z, &mut zp);
+        let zz = z.dot(z);
+        let zpzp = zp.dot(zp);
+        if zz <= F::lit(TINY) || zpzp > F::lit(DERIVATIVE_LIMIT) || zpzp <= zz * F::lit(TINY) {
+            return F::zero();
+        }
+        F::lit(0.25) * (zz / zpzp).sqrt() * zz.ln()
+    }
+
+    /// The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the
+    /// slice. Starts at the origin when it is inside; a ray that misses, or a ball behind, gives
+    /// no hit.
+    pub fn intersect_bounds(&self, origin: Vec3<F>, dir: Vec3<F>) -> Interval<F> {
+        let zero = F::zero();
+        let oc = origin - self.bounds_center;
+        let b = oc.dot(dir);
+        let cc = oc.dot(oc) - self.bounds_radius_squared;
+        let disc = b * b - cc;
+        if self.bounds_radius_squared <= zero || disc < zero {
+            return Interval {
+                t_enter: zero,
+                t_exit: zero,
+                hit: false,
+            };
+        }
+        let t_exit = disc.sqrt() - b;
+        if cc <= zero {
+            return Interval {
+                t_enter: zero,
+                t_exit,
+                hit: true,
+            };
+        }
+        if t_exit <= zero {
+            return Interval {
+                t_enter: zero,
+                t_exit: zero,
+                hit: false,
+            };
+        }
+        // The product of the roots is cc: the nearer one without cancellation.
+        Interval {
+            t_enter: cc / t_exit,
+            t_exit,
+            hit: true,
+        }
+    }
+
+    /// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
+    /// d < epsilon; a miss when t passes t_end or after max_steps estimates.
+    pub fn intersect_qjulia(
+        &self,
+        origin: Vec3<F>,
+        dir: Vec3<F>,
+        t_start: F,
+        t_end: F,
+    ) -> Trace<F> {
+        let mut t = t_start;
+        for steps in 1..=self.max_steps {
+            let d = self.estimate_distance(origin + dir * t);
+            t = t + d.max(F::zero());
+            if d < self.epsilon {
+                return Trace {
+                    t,
+                    steps,
+                    hit: true,
+                };
+            }
+            if t > t_end {
+                return Trace {
+                    t,
+                    steps,
+                    hit: false,
+                };
+            }
+        }
+        Trace {
+            t,
+            steps: self.max_steps,
+            hit: false,
+        }
+    }
+
+    /// The seed's normal: central differences of |z_N| along the slice axes with NORMAL_DELTA,
+    /// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
+    /// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
+    /// grad |z_n| and the direction is already known, and nothing overflows.
+    /// Where no gradient can be formed the normal points back along the ray.
+    pub fn estimate_normal(&self, p: Vec3<F>, dir: Vec3<F>) -> Vec3<F> {
+        let q = self.slice_point(p);
+        let dx = self.slice_x * F::lit(NORMAL_DELTA);
+        let dy = self.slice_y * F::lit(NORMAL_DELTA);
+        let dz = self.slice_z * F::lit(NORMAL_DELTA);
+        let mut gx1 = q - dx;
+        let mut gx2 = q + dx;
+        let mut gy1 = q - dy;
+        let mut gy2 = q + dy;
+        let mut gz1 = q - dz;
+        let mut gz2 = q + dz;
+        for _ in 0..self.max_iterations {
+            let largest = (gx1.dot(gx1).max(gx2.dot(gx2)))
+                .max(gy1.dot(gy1).max(gy2.dot(gy2)))
+                .max(gz1.dot(gz1).max(gz2.dot(gz2)));
+            if largest > F::lit(NORMAL_LIMIT) {
+                break;
+            }
+            gx1 = quat_sq(gx1) + self.c;
+            gx2 = quat_sq(gx2) + self.c;
+            gy1 = quat_sq(gy1) + self.c;
+            gy2 = quat_sq(gy2) + self.c;
+            gz1 = quat_sq(gz1) + self.c;
+            gz2 = quat_sq(gz2) + self.c;
+        }
+        let grad = Vec3::new(
+            gx2.length() - gx1.length(),
+            gy2.length() - gy1.length(),
+            gz2.length() - gz1.length(),
+        );
+        safe_normalize(grad, -dir)
+    }
+
+    /// Phong shading at pt with normal n, a point light and the viewer at eye:
+    /// (diffuse + normal_tint |n|) max(N.L, 0) + specular max(E.R, 0)^shininess,
+    /// R = 2 (N.L) N - L, no highlight where N.L <= 0.
+    /// (The seed negates R and passes the ray direction as the eye.)
+    pub fn phong(&self, light: Vec3<F>, eye: Vec3<F>, pt: Vec3<F>, n: Vec3<F>) -> Vec3<F> {
+        let l = safe_normalize(light - pt, n);
+        let e = safe_normalize(eye - pt, n);
+        let n_dot_l = n.dot(l);
+        if n_dot_l <= F::zero() {
+            return Vec3::zero();
+        }
+        let r = n * (F::lit(2.0) * n_dot_l) - l;
+        let e_dot_r = e.dot(r);
+        let mut highlight = F::zero();
+        if e_dot_r > F::zero() {
+            highlight = self.specular * e_dot_r.powf(self.shininess);
+        }
+        (self.diffuse + n.abs() * self.normal_tint) * n_dot_l + Vec3::splat(highlight)
+    }
+
+    /// The shadow ray: from p + 2 epsilon n toward the light, traced like a primary ray,
+    /// stopping at the light or where it leaves the bounding ball, whichever comes first.
+    pub fn in_shadow(&self, p: Vec3<F>, n: Vec3<F>) -> bool {
+        let origin = p + n * (F::lit(2.0) * self.epsilon);
+        let to_light = self.light - origin;
+        let dist_squared = to_light.dot(to_light);
+        if dist_squared <= F::lit(TINY) {
+            return false;
+        }
+        let dist = dist_squared.sqrt();
+        let dir = to_light / dist;
+        let bounds = self.intersect_bounds(origin, dir);
+        let t_end = bounds.t_exit.min(dist);
+        if !bounds.hit || bounds.t_enter >= t_end {
+            return false;
+        }
+        self.intersect_qjulia(origin, dir, bounds.t_enter, t_end)
+            .hit
+    }
+
+    /// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
+    pub fn camera_ray(&self, i: u32, j: u32) -> Vec3<F> {
+        let (one, two, half) = (F::one(), F::lit(2.0), F::lit(0.5));
+        let px = (two * (F::lit(i as f64) + half) / F::lit(self.width as f64) - one)
+            * self.tan_half_fov_y
+            * self.aspect;
+        let py = (one - two * (F::lit(j as f64) + half) / F::lit(self.height as f64))
+            * self.tan_half_fov_y;
+        (self.cam_forward + self.cam_right * px + self.cam_up * py).normalize()
+    }
+
+    /// Everything for pixel (i, j): bounds, sphere tracing, normal, Phong, shadow.
+    pub fn trace_pixel(&self, i: u32, j: u32) -> Pixel<F> {
+        let miss = |steps| Pixel {
+            colour: self.background,
+            depth: -F::one(),
+            steps,
+            hit: false,
+        };
+        let dir = self.camera_ray(i, j);
+        let bounds = self.intersect_bounds(self.eye, dir);
+        if !bounds.hit {
+            return miss(0);
+        }
+        let trace = self.intersect_qjulia(self.eye, dir, bounds.t_enter, bounds.t_exit);
+        if !trace.hit {
+            return miss(trace.steps);
+        }
+        let p = self.eye + dir * trace.t;
+        let n = self.estimate_normal(p, dir);
+        let mut colour = self.phong(self.light, self.eye, p, n);
+        if self.shadows && self.in_shadow(p, n) {
+            colour = colour * self.shadow_factor;
+        }
+        Pixel {
+            colour,
+            depth: trace.t,
+            steps: trace.steps,
+            hit: true,
+        }
+    }
+}
+
+/// v normalised, or the fallback where v is too short to have a direction.
+pub fn safe_normalize<F: Real>(v: Vec3<F>, fallback: Vec3<F>) -> Vec3<F> {
+    let vv = v.dot(v);
+    if vv <= F::lit(TINY) {
+        return fallback;
+    }
+    v / vv.sqrt()
+}
+
+/// Colour clamped to [0, 1], times 255, rounded half up, packed as 0x00BBGGRR.
+pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
+    let channel = |c: F| {
+        let c = c.max(F::zero()).min(F::one());
+        (c * F::lit(255.0) + F::lit(0.5)).floor().to_f64() as u32
+    };
+    channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16)
+}

@@ -1,0 +1,43 @@
+//! The library's errors, each knowing the exit code CONTRACT.md gives it.
+
+use std::path::PathBuf;
+
+use crate::scene::SceneError;
+
+/// How to get an adapter on a machine without a GPU, for every "no adapter" message.
+pub const INSTALL_ADAPTER_HINT: &str = "install Mesa's software Vulkan driver (lavapipe): \
+    `sudo apt-get install mesa-vulkan-drivers`, or use --backend cpu";
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Bad input: a scene file, `--set`, a flag. Exit 2.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// wgpu found no adapter (or none matching WGPU_ADAPTER_NAME). Exit 1.
+    #[error("no GPU adapter: {0}; {INSTALL_ADAPTER_HINT}")]
+    NoAdapter(String),
+    /// The adapter cannot do what was asked (e.g. f64 on the GPU). Exit 1.
+    #[error("{0}")]
+    Unsupported(String),
+    /// Device creation, device loss, mapping failures. Exit 1.
+    #[error("GPU: {0}")]
+    Gpu(String),
+    /// Reading or writing a file. Exit 1.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+impl Error {
+    /// The process exit code for this error: 2 for bad input, 1 for anything else.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Scene(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,74 @@
+//! The one result both tracers produce: colour, depth and steps per pixel, plus how it was made.
+
+use serde::Serialize;
+
+/// A rendered image, row 0 at the top, pixel (i, j) at index `j * width + i`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Colour as 0x00BBGGRR per pixel (8 bits a channel), as the tracers pack it.
+    pub colour: Vec<u32>,
+    /// The hit's ray parameter t (the distance from the eye along the unit ray); NaN on a miss.
+    pub depth: Vec<f32>,
+    /// Distance estimates along the primary ray.
+    pub steps: Vec<u32>,
+}
+
+impl Frame {
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Colour as 8-bit RGB bytes, row by row.
+    pub fn rgb8(&self) -> Vec<u8> {
+        self.colour.iter().flat_map(|&c| unpack_rgb(c)).collect()
+    }
+
+    /// Whether each pixel's primary ray hit the set.
+    pub fn hit_mask(&self) -> Vec<bool> {
+        self.depth.iter().map(|d| !d.is_nan()).collect()
+    }
+
+    /// Hit fraction and step figures over all pixels.
+    pub fn summary(&self) -> FrameSummary {
+        let n = self.pixel_count().max(1) as f64;
+        FrameSummary {
+            hit_fraction: self.depth.iter().filter(|d| !d.is_nan()).count() as f64 / n,
+            steps_mean: self.steps.iter().map(|&s| s as f64).sum::<f64>() / n,
+            steps_max: self.steps.iter().copied().max().unwrap_or(0),
+        }
+    }
+}
+
+/// `[r, g, b]` of a packed 0x00BBGGRR colour.
+pub fn unpack_rgb(c: u32) -> [u8; 3] {
+    [c as u8, (c >> 8) as u8, (c >> 16) as u8]
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FrameSummary {
+    pub hit_fraction: f64,
+    pub steps_mean: f64,
+    pub steps_max: u32,
+}
+
+/// What `--stats` writes (CONTRACT.md): how a frame was made and what it holds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RenderStats {
+    /// "gpu" or "cpu".
+    pub backend: String,
+    /// Adapter name and wgpu backend, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) / Vulkan"; "cpu".
+    pub adapter: String,
+    /// "f32" or "f64".
+    pub precision: String,
+    pub width: u32,
+    pub height: u32,
+    /// From the first dispatch to the image in host memory, after an untimed warm-up.
+    pub render_seconds: f64,
+    /// GPU time from timestamp queries; None where unsupported (and on the CPU).
+    pub gpu_seconds: Option<f64>,
+    pub hit_fraction: f64,
+    pub steps_mean: f64,
+    pub steps_max: u32,
+}

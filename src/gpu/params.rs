@@ -1,0 +1,82 @@
+//! The uniform block the shader reads, as a `#[repr(C)]` bytemuck struct.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::params::TraceParams;
+
+/// Keep in sync with `struct Params` in shaders/trace.wgsl: same fields, same order; every
+/// `vec3<f32>` is followed by a scalar filling its 16-byte slot. The tests compare this layout
+/// with the one naga computes for the shader.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuParams {
+    pub c: [f32; 4],
+    pub slice_x: [f32; 4],
+    pub slice_y: [f32; 4],
+    pub slice_z: [f32; 4],
+    pub slice_offset: [f32; 4],
+    pub eye: [f32; 3],
+    pub epsilon: f32,
+    pub cam_forward: [f32; 3],
+    pub tan_half_fov_y: f32,
+    pub cam_right: [f32; 3],
+    pub aspect: f32,
+    pub cam_up: [f32; 3],
+    pub escape_radius_squared: f32,
+    pub light: [f32; 3],
+    pub bounds_radius_squared: f32,
+    pub bounds_center: [f32; 3],
+    pub normal_tint: f32,
+    pub diffuse: [f32; 3],
+    pub specular: f32,
+    pub background: [f32; 3],
+    pub shininess: f32,
+    pub max_iterations: u32,
+    pub max_steps: u32,
+    pub width: u32,
+    pub height: u32,
+    pub shadows: u32,
+    pub shadow_factor: f32,
+    /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).
+    pub row_offset: u32,
+    pub row_count: u32,
+}
+
+impl GpuParams {
+    /// The f32 tracer parameters for a band of rows.
+    pub fn new(p: &TraceParams<f32>, row_offset: u32, row_count: u32) -> Self {
+        let v3 = |v: crate::algebra::Vec3<f32>| [v.x, v.y, v.z];
+        let v4 = |v: crate::algebra::Vec4<f32>| [v.x, v.y, v.z, v.w];
+        Self {
+            c: v4(p.c),
+            slice_x: v4(p.slice_x),
+            slice_y: v4(p.slice_y),
+            slice_z: v4(p.slice_z),
+            slice_offset: v4(p.slice_offset),
+            eye: v3(p.eye),
+            epsilon: p.epsilon,
+            cam_forward: v3(p.cam_forward),
+            tan_half_fov_y: p.tan_half_fov_y,
+            cam_right: v3(p.cam_right),
+            aspect: p.aspect,
+            cam_up: v3(p.cam_up),
+            escape_radius_squared: p.escape_radius_squared,
+            light: v3(p.light),
+            bounds_radius_squared: p.bounds_radius_squared,
+            bounds_center: v3(p.bounds_center),
+            normal_tint: p.normal_tint,
+            diffuse: v3(p.diffuse),
+            specular: p.specular,
+            background: v3(p.background),
+            shininess: p.shininess,
+            max_iterations: p.max_iterations,
+            max_steps: p.max_steps,
+            width: p.width,
+            height: p.height,
+            shadows: p.shadows as u32,
+            shadow_factor: p.shadow_factor,
+            row_offset,
+            row_count,
+        }
+    }
+}

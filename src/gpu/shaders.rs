@@ -1,0 +1,40 @@
+//! The WGSL sources, compiled into the binary from shaders/ so that it stands alone.
+
+/// Quaternion arithmetic (twin: src/algebra.rs).
+pub const QUATERNION_WGSL: &str = include_str!("../../shaders/quaternion.wgsl");
+/// The tracer kernel (twin: src/cpu/trace.rs); needs [`QUATERNION_WGSL`] in front of it.
+pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+
+/// One WGSL module the GPU runs: a name and its source files in order.
+pub struct ShaderModuleSource {
+    pub name: &'static str,
+    pub parts: &'static [&'static str],
+}
+
+impl ShaderModuleSource {
+    /// The module's full source: its parts joined.
+    pub fn source(&self) -> String {
+        self.parts.join("\n")
+    }
+}
+
+/// The tracer: quaternion arithmetic, then the kernel.
+pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "trace",
+    parts: &[QUATERNION_WGSL, TRACE_WGSL],
+};
+
+/// Every module the GPU path builds; the tests validate each with naga.
+pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE];
+
+/// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would.
+pub fn validate_wgsl(source: &str) -> Result<naga::Module, String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(source))?;
+    Ok(module)
+}

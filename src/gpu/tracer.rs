@@ -1,0 +1,366 @@
+//! The tracer kernel on the GPU: pipeline built once, then any number of renders, each traced in
+//! bands of rows (bounded memory and bounded time per dispatch) and read back to host memory.
+
+use std::sync::mpsc;
+use std::time::Instant;
+
+use wgpu::util::DeviceExt;
+
+use super::GpuContext;
+use super::params::GpuParams;
+use super::shaders::TRACE_MODULE;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use crate::params::TraceParams;
+
+/// The kernel's `@workgroup_size`: 8 wide, since lavapipe packs 8 lanes along x.
+const WORKGROUP: (u32, u32) = (8, 8);
+/// At most this many pixels per dispatch (16 MiB per output array): bounded memory, and bounded
+/// time per dispatch so that no driver watchdog fires on big images.
+const BAND_PIXELS: u64 = 1 << 22;
+/// Bytes per pixel per output array (colour u32, depth f32, steps u32).
+const BYTES_PER_PIXEL: u64 = 4;
+const OUTPUTS: usize = 3;
+
+/// The compute pipeline of shaders/trace.wgsl on one device.
+pub struct GpuTracer {
+    ctx: GpuContext,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// A GPU render: the frame and how long it took.
+pub struct GpuRender {
+    pub frame: Frame,
+    /// From the first timed dispatch to the image in host memory.
+    pub render_seconds: f64,
+    /// The dispatches' GPU time by timestamp queries, where the device has them.
+    pub gpu_seconds: Option<f64>,
+}
+
+/// Device-side buffers for one band of rows, reused across bands.
+struct BandBuffers {
+    uniform: wgpu::Buffer,
+    storage: [wgpu::Buffer; OUTPUTS],
+    readback: [wgpu::Buffer; OUTPUTS],
+    bind_group: wgpu::BindGroup,
+    timestamps: Option<Timestamps>,
+}
+
+struct Timestamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl GpuTracer {
+    /// Builds the pipeline; a shader the device rejects is an error, not a panic.
+    pub fn new(ctx: GpuContext) -> Result<Self> {
+        let device = &ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(TRACE_MODULE.name),
+            source: wgpu::ShaderSource::Wgsl(TRACE_MODULE.source().into()),
+        });
+        let storage_entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("trace"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(size_of::<GpuParams>() as u64),
+                    },
+                    count: None,
+                },
+                storage_entry(1),
+                storage_entry(2),
+                storage_entry(3),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("trace"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("trace"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("the trace pipeline was rejected: {e}")));
+        }
+        Ok(Self {
+            ctx,
+            pipeline,
+            layout,
+        })
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// Rows per dispatch for an image this wide.
+    fn band_rows(&self, width: u32, height: u32) -> u32 {
+        let limit = self.ctx.device.limits();
+        let max_binding = limit.max_storage_buffer_binding_size as u64 / BYTES_PER_PIXEL;
+        let pixels = BAND_PIXELS
+            .min(max_binding)
+            .min(limit.max_buffer_size / BYTES_PER_PIXEL);
+        let rows = (pixels / width as u64).max(1) as u32;
+        let max_groups = limit.max_compute_workgroups_per_dimension;
+        rows.min(height).min(max_groups.saturating_mul(WORKGROUP.1))
+    }
+
+    fn band_buffers(&self, band_pixels: u64) -> BandBuffers {
+        let device = &self.ctx.device;
+        let size = band_pixels * BYTES_PER_PIXEL;
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: size_of::<GpuParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let make = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let out = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        let read = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        let storage = [make("colour", out), make("depth", out), make("steps", out)];
+        let readback = [
+            make("colour readback", read),
+            make("depth readback", read),
+            make("steps readback", read),
+        ];
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("trace"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: storage[0].as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: storage[1].as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: storage[2].as_entire_binding(),
+                },
+            ],
+        });
+        let timestamps = self.ctx.has_timestamps().then(|| Timestamps {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("trace time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("timestamps"),
+                contents: &[0; 16],
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            }),
+            readback: make_small(device, "timestamps readback"),
+        });
+        BandBuffers {
+            uniform,
+            storage,
+            readback,
+            bind_group,
+            timestamps,
+        }
+    }
+
+    /// Traces every pixel, band by band, after an untimed warm-up dispatch (lavapipe compiles
+    /// the kernel at its first dispatch, not at pipeline creation).
+    pub fn render(&self, params: &TraceParams<f32>) -> Result<GpuRender> {
+        let (width, height) = (params.width, params.height);
+        let band_rows = self.band_rows(width, height);
+        let buffers = self.band_buffers(band_rows as u64 * width as u64);
+
+        // Warm-up: one workgroup of the first band, same pipeline, results discarded.
+        let warm_rows = band_rows.min(WORKGROUP.1);
+        self.dispatch(
+            &buffers,
+            &GpuParams::new(params, 0, warm_rows),
+            (1, 1),
+            None,
+        )?;
+
+        let start = Instant::now();
+        let pixels = width as usize * height as usize;
+        let mut frame = Frame {
+            width,
+            height,
+            colour: Vec::with_capacity(pixels),
+            depth: Vec::with_capacity(pixels),
+            steps: Vec::with_capacity(pixels),
+        };
+        let mut gpu_seconds = buffers.timestamps.as_ref().map(|_| 0.0);
+        let mut row = 0;
+        while row < height {
+            let rows = band_rows.min(height - row);
+            let groups = (width.div_ceil(WORKGROUP.0), rows.div_ceil(WORKGROUP.1));
+            let band = GpuParams::new(params, row, rows);
+            let seconds = self.dispatch(&buffers, &band, groups, Some((&mut frame, rows)))?;
+            if let (Some(total), Some(s)) = (gpu_seconds.as_mut(), seconds) {
+                *total += s;
+            }
+            row += rows;
+        }
+        Ok(GpuRender {
+            frame,
+            render_seconds: start.elapsed().as_secs_f64(),
+            gpu_seconds,
+        })
+    }
+
+    /// One band: upload its parameters, dispatch, copy out and wait. With `out`, appends the
+    /// band's `rows` rows to the frame. Returns the GPU seconds where timestamps are on.
+    fn dispatch(
+        &self,
+        buffers: &BandBuffers,
+        band: &GpuParams,
+        groups: (u32, u32),
+        out: Option<(&mut Frame, u32)>,
+    ) -> Result<Option<f64>> {
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(band));
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let timestamp_writes =
+                buffers
+                    .timestamps
+                    .as_ref()
+                    .map(|t| wgpu::ComputePassTimestampWrites {
+                        query_set: &t.queries,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("trace"),
+                timestamp_writes,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &buffers.bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        }
+        let bytes = out.as_ref().map_or(0, |(_, rows)| {
+            *rows as u64 * band.width as u64 * BYTES_PER_PIXEL
+        });
+        if bytes > 0 {
+            for (src, dst) in buffers.storage.iter().zip(&buffers.readback) {
+                encoder.copy_buffer_to_buffer(src, 0, dst, 0, bytes);
+            }
+        }
+        if let Some(t) = &buffers.timestamps {
+            encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
+            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
+        }
+        queue.submit([encoder.finish()]);
+
+        let mut to_map: Vec<(&wgpu::Buffer, u64)> = Vec::new();
+        if bytes > 0 {
+            to_map.extend(buffers.readback.iter().map(|b| (b, bytes)));
+        }
+        if let Some(t) = &buffers.timestamps {
+            to_map.push((&t.readback, 16));
+        }
+        self.map_all(&to_map)?;
+
+        if let Some((frame, _)) = out {
+            let view = |i: usize| buffers.readback[i].slice(..bytes).get_mapped_range();
+            let mapped = [view(0), view(1), view(2)];
+            let mapped: Vec<_> = mapped
+                .into_iter()
+                .collect::<Result<_, _>>()
+                .map_err(|e| Error::Gpu(format!("reading back the image: {e}")))?;
+            frame
+                .colour
+                .extend_from_slice(bytemuck::cast_slice(&mapped[0]));
+            frame.depth.extend(
+                bytemuck::cast_slice::<u8, f32>(&mapped[1])
+                    .iter()
+                    .map(|&d| if d < 0.0 { f32::NAN } else { d }),
+            );
+            frame
+                .steps
+                .extend_from_slice(bytemuck::cast_slice(&mapped[2]));
+        }
+        let seconds = match &buffers.timestamps {
+            Some(t) => {
+                let view = t
+                    .readback
+                    .slice(..16)
+                    .get_mapped_range()
+                    .map_err(|e| Error::Gpu(format!("reading timestamps: {e}")))?;
+                let stamps: &[u64] = bytemuck::cast_slice(&view);
+                let ticks = stamps[1].saturating_sub(stamps[0]);
+                Some(ticks as f64 * queue.get_timestamp_period() as f64 * 1e-9)
+            }
+            None => None,
+        };
+        for (buffer, _) in to_map {
+            buffer.unmap();
+        }
+        Ok(seconds)
+    }
+
+    /// Maps the buffers for reading and waits until all are mapped.
+    fn map_all(&self, buffers: &[(&wgpu::Buffer, u64)]) -> Result<()> {
+        let (sender, receiver) = mpsc::channel();
+        for (buffer, bytes) in buffers {
+            let sender = sender.clone();
+            buffer
+                .slice(..*bytes)
+                .map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
+        }
+        self.ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(format!("waiting for the GPU: {e}")))?;
+        for _ in buffers {
+            receiver
+                .recv()
+                .map_err(|_| Error::Gpu("the device was lost".into()))?
+                .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+fn make_small(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 16,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

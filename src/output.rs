@@ -1,0 +1,128 @@
+//! Writing a frame: PNG (carrying its scene), NumPy depth and steps maps, JSON stats. All or
+//! nothing: every file goes to a temporary file beside its target first, and all are renamed
+//! into place only once every one is written.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use tempfile::NamedTempFile;
+
+use crate::error::{Error, Result};
+use crate::frame::{Frame, RenderStats};
+use crate::scene::Scene;
+
+/// The keyword of the PNG iTXt chunk that holds the scene as TOML.
+pub const SCENE_PNG_KEYWORD: &str = "qjulia-scene";
+
+/// Which files a render writes; `None` for those not asked for.
+#[derive(Clone, Debug, Default)]
+pub struct OutputPaths {
+    pub png: Option<PathBuf>,
+    pub depth: Option<PathBuf>,
+    pub steps: Option<PathBuf>,
+    pub stats: Option<PathBuf>,
+}
+
+/// Writes every requested output, whole or not at all.
+pub fn write_outputs(
+    paths: &OutputPaths,
+    frame: &Frame,
+    stats: &RenderStats,
+    scene: &Scene,
+) -> Result<()> {
+    let mut staged: Vec<(NamedTempFile, &Path)> = Vec::new();
+    if let Some(path) = &paths.png {
+        staged.push((stage(path, |w| write_png(w, frame, scene))?, path));
+    }
+    if let Some(path) = &paths.depth {
+        staged.push((
+            stage(path, |w| write_npy(w, "<f4", frame, &frame.depth))?,
+            path,
+        ));
+    }
+    if let Some(path) = &paths.steps {
+        staged.push((
+            stage(path, |w| write_npy(w, "<u4", frame, &frame.steps))?,
+            path,
+        ));
+    }
+    if let Some(path) = &paths.stats {
+        staged.push((stage(path, |w| write_stats(w, stats))?, path));
+    }
+    for (temp, path) in staged {
+        temp.persist(path).map_err(|e| io_error(path, e.error))?;
+    }
+    Ok(())
+}
+
+/// Writes one output to a temporary file in its target's directory.
+fn stage(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<NamedTempFile> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut temp = tempfile::Builder::new()
+        .prefix(".qjulia-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| io_error(path, e))?;
+    {
+        let mut w = BufWriter::new(temp.as_file_mut());
+        write(&mut w).map_err(|e| io_error(path, e))?;
+        w.flush().map_err(|e| io_error(path, e))?;
+    }
+    Ok(temp)
+}
+
+fn io_error(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// 8-bit RGB, no gamma curve, the scene in an iTXt chunk.
+pub fn write_png(w: &mut dyn Write, frame: &Frame, scene: &Scene) -> std::io::Result<()> {
+    let mut encoder = png::Encoder::new(w, frame.width, frame.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder
+        .add_itxt_chunk(SCENE_PNG_KEYWORD.to_string(), scene.to_toml())
+        .map_err(std::io::Error::other)?;
+    let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
+    writer
+        .write_image_data(&frame.rgb8())
+        .map_err(std::io::Error::other)?;
+    writer.finish().map_err(std::io::Error::other)
+}
+
+/// A NumPy `.npy` (format 1.0) of shape (height, width), little-endian.
+pub fn write_npy<T: bytemuck::Pod>(
+    w: &mut dyn Write,
+    descr: &str,
+    frame: &Frame,
+    data: &[T],
+) -> std::io::Result<()> {
+    let dict = format!(
+        "{{'descr': '{descr}', 'fortran_order': False, 'shape': ({}, {}), }}",
+        frame.height, frame.width
+    );
+    // Magic (6) + version (2) + header length (2) + dict + padding + newline, to a multiple of 64.
+    let unpadded = 10 + dict.len() + 1;
+    let header = format!(
+        "{dict}{}\n",
+        " ".repeat(unpadded.next_multiple_of(64) - unpadded)
+    );
+    w.write_all(b"\x93NUMPY\x01\x00")?;
+    w.write_all(&(header.len() as u16).to_le_bytes())?;
+    w.write_all(header.as_bytes())?;
+    w.write_all(bytemuck::cast_slice(data))
+}
+
+fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *w, stats)?;
+    w.write_all(b"\n")
+}

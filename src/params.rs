@@ -1,0 +1,79 @@
+//! What the tracer needs of a scene, precomputed once on the host (in f64) and then rounded to
+//! the precision the tracer runs in: the twin of the WGSL `Params` uniform, with the camera
+//! frame and the slice's bounding ball already worked out.
+
+use crate::algebra::{Real, Vec3, Vec4};
+use crate::scene::Scene;
+
+/// The tracer's inputs in precision `F`. Field names are those of `Params` in
+/// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceParams<F> {
+    pub c: Vec4<F>,
+    pub slice_x: Vec4<F>,
+    pub slice_y: Vec4<F>,
+    pub slice_z: Vec4<F>,
+    pub slice_offset: Vec4<F>,
+    pub eye: Vec3<F>,
+    pub epsilon: F,
+    pub cam_forward: Vec3<F>,
+    pub tan_half_fov_y: F,
+    pub cam_right: Vec3<F>,
+    /// width / height
+    pub aspect: F,
+    pub cam_up: Vec3<F>,
+    pub escape_radius_squared: F,
+    pub light: Vec3<F>,
+    /// The slice's bounding ball; <= 0 when the slice misses the 4D ball.
+    pub bounds_radius_squared: F,
+    pub bounds_center: Vec3<F>,
+    pub normal_tint: F,
+    pub diffuse: Vec3<F>,
+    pub specular: F,
+    pub background: Vec3<F>,
+    pub shininess: F,
+    pub max_iterations: u32,
+    pub max_steps: u32,
+    pub width: u32,
+    pub height: u32,
+    pub shadows: bool,
+    pub shadow_factor: F,
+}
+
+impl<F: Real> TraceParams<F> {
+    /// The parameters of a validated scene, rounded to `F`.
+    pub fn new(scene: &Scene) -> Self {
+        let frame = scene.camera_frame();
+        let bounds = scene.slice_bounds();
+        let (f, s, sh) = (&scene.fractal, &scene.slice, &scene.shading);
+        Self {
+            c: Vec4::from_f64(f.c),
+            slice_x: Vec4::from_f64(s.x),
+            slice_y: Vec4::from_f64(s.y),
+            slice_z: Vec4::from_f64(s.z),
+            slice_offset: Vec4::from_f64(s.offset),
+            eye: Vec3::from_f64(scene.camera.eye),
+            epsilon: F::lit(f.epsilon),
+            cam_forward: Vec3::from_f64(frame.forward),
+            tan_half_fov_y: F::lit(frame.tan_half_fov_y),
+            cam_right: Vec3::from_f64(frame.right),
+            aspect: F::lit(scene.image.width as f64 / scene.image.height as f64),
+            cam_up: Vec3::from_f64(frame.up),
+            escape_radius_squared: F::lit(f.escape_radius_squared),
+            light: Vec3::from_f64(scene.light.position),
+            bounds_radius_squared: F::lit(bounds.radius_squared),
+            bounds_center: Vec3::from_f64(bounds.center),
+            normal_tint: F::lit(sh.normal_tint),
+            diffuse: Vec3::from_f64(sh.diffuse),
+            specular: F::lit(sh.specular),
+            background: Vec3::from_f64(sh.background),
+            shininess: F::lit(sh.shininess),
+            max_iterations: f.max_iterations,
+            max_steps: f.max_steps,
+            width: scene.image.width,
+            height: scene.image.height,
+            shadows: sh.shadows,
+            shadow_factor: F::lit(sh.shadow_factor),
+        }
+    }
+}

@@ -1,0 +1,603 @@
+//! Building a [`Scene`] from layers: built-in defaults, a scene file (TOML, or a PNG written by
+//! qjulia), shorthand flags and `--set KEY=VALUE`, in that order of precedence. Every key is
+//! checked once, after all layers, and every error names where the offending value came from.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use toml::Value;
+
+use super::Scene;
+
+/// Where a scene value came from, so that an error can name it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneSource {
+    /// The built-in defaults.
+    Default,
+    /// A scene file (TOML, or a PNG carrying its scene).
+    File(PathBuf),
+    /// A shorthand flag, as typed, e.g. `--width 0`.
+    Flag(String),
+    /// One `--set`, its `KEY=VALUE` as typed.
+    Set(String),
+}
+
+impl fmt::Display for SceneSource {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneSource::Default => write!(f, "default scene"),
+            SceneSource::File(p) => write!(f, "{}", p.display()),
+            SceneSource::Flag(s) => write!(f, "{s}"),
+            SceneSource::Set(s) => write!(f, "--set {s}"),
+        }
+    }
+}
+
+/// A bad scene: one line naming the source (file or flag), the key and the reason.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{origin}: {message}")]
+pub struct SceneError {
+    /// Where the bad value came from.
+    pub origin: SceneSource,
+    /// The dotted key at fault, where there is one.
+    pub key: Option<String>,
+    pub message: String,
+}
+
+impl SceneError {
+    fn general(source: &SceneSource, message: impl Into<String>) -> Self {
+        Self {
+            origin: source.clone(),
+            key: None,
+            message: message.into(),
+        }
+    }
+
+    /// A value of `key` is wrong: in a file, `key = value: reason`; on the command line, where
+    /// the value is already in view, `key reason`.
+    fn value(source: &SceneSource, key: &str, value: &Value, reason: &str) -> Self {
+        let message = match source {
+            SceneSource::File(_) | SceneSource::Default => format!("{key} = {value}: {reason}"),
+            SceneSource::Flag(_) | SceneSource::Set(_) => format!("{key} {reason}"),
+        };
+        Self {
+            origin: source.clone(),
+            key: Some(key.to_string()),
+            message,
+        }
+    }
+
+    fn key(source: &SceneSource, key: &str, message: String) -> Self {
+        Self {
+            origin: source.clone(),
+            key: Some(key.to_string()),
+            message,
+        }
+    }
+}
+
+/// Every leaf key a scene has, as dotted paths. Keep in sync with [`SceneLoader::build`].
+const KEYS: &[&str] = &[
+    "fractal.c",
+    "fractal.max_iterations",
+    "fractal.escape_radius_squared",
+    "fractal.epsilon",
+    "fractal.bounding_radius_squared",
+    "fractal.max_steps",
+    "slice.x",
+    "slice.y",
+    "slice.z",
+    "slice.offset",
+    "camera.eye",
+    "camera.target",
+    "camera.up",
+    "camera.fov_y_degrees",
+    "light.position",
+    "shading.shadows",
+    "shading.diffuse",
+    "shading.normal_tint",
+    "shading.specular",
+    "shading.shininess",
+    "shading.shadow_factor",
+    "shading.background",
+    "image.width",
+    "image.height",
+];
+
+/// Collects scene layers, later ones overriding earlier ones key by key, then builds and
+/// validates the [`Scene`].
+#[derive(Clone, Debug, Default)]
+pub struct SceneLoader {
+    entries: BTreeMap<String, (Value, SceneSource)>,
+}
+
+impl SceneLoader {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a scene file: TOML, or a PNG written by qjulia (its embedded scene).
+    pub fn file(&mut self, path: &Path) -> Result<(), SceneError> {
+        let source = SceneSource::File(path.to_path_buf());
+        let is_png = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let text = if is_png {
+            scene_from_png(path)?
+        } else {
+            std::fs::read_to_string(path)
+                .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?
+        };
+        self.toml_str(&text, source)
+    }
+
+    /// Adds a layer given as TOML text.
+    pub fn toml_str(&mut self, text: &str, source: SceneSource) -> Result<(), SceneError> {
+        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            SceneError::general(&source, describe_toml_error(text, &e))
+        })?;
+        self.insert_table("", table, &source);
+        Ok(())
+    }
+
+    /// Adds one shorthand flag's value, e.g. `flag("image.width", 64, "--width 64")`.
+    pub fn flag(&mut self, key: &str, value: Value, flag: impl Into<String>) {
+        self.insert(key.to_string(), value, SceneSource::Flag(flag.into()));
+    }
+
+    /// Adds one `--set KEY=VALUE`: VALUE in TOML syntax, a bare word that is not TOML taken as
+    /// a string.
+    pub fn set(&mut self, raw: &str) -> Result<(), SceneError> {
+        let source = SceneSource::Set(raw.to_string());
+        let Some((key, text)) = raw.split_once('=') else {
+            return Err(SceneError::general(&source, "expected KEY=VALUE"));
+        };
+        let key = key.trim();
+        if key.is_empty() || key.split('.').any(|part| part.trim().is_empty()) {
+            return Err(SceneError::general(
+                &source,
+                "expected KEY=VALUE with a dotted KEY",
+            ));
+        }
+        let value = parse_set_value(text.trim());
+        match value {
+            Value::Table(table) => self.insert_table(key, table, &source),
+            value => self.insert(key.to_string(), value, source),
+        }
+        Ok(())
+    }
+
+    fn insert_table(&mut self, prefix: &str, table: toml::Table, source: &SceneSource) {
+        for (k, v) in table {
+            let key = if prefix.is_empty() {
+                k
+            } else {
+                format!("{prefix}.{k}")
+            };
+            match v {
+                Value::Table(t) if !t.is_empty() => self.insert_table(&key, t, source),
+                v => self.insert(key, v, source.clone()),
+            }
+        }
+    }
+
+    fn insert(&mut self, key: String, value: Value, source: SceneSource) {
+        self.entries.insert(key, (value, source));
+    }
+
+    /// The scene: defaults overridden by every layer, then checked as a whole.
+    pub fn build(self) -> Result<Scene, SceneError> {
+        let mut r = Reader {
+            entries: self.entries,
+            used: BTreeMap::new(),
+        };
+        let mut s = Scene::default();
+        r.vector("fractal.c", &mut s.fractal.c)?;
+        r.integer("fractal.max_iterations", &mut s.fractal.max_iterations)?;
+        r.float(
+            "fractal.escape_radius_squared",
+            &mut s.fractal.escape_radius_squared,
+        )?;
+        r.float("fractal.epsilon", &mut s.fractal.epsilon)?;
+        r.float(
+            "fractal.bounding_radius_squared",
+            &mut s.fractal.bounding_radius_squared,
+        )?;
+        r.integer("fractal.max_steps", &mut s.fractal.max_steps)?;
+        r.vector("slice.x", &mut s.slice.x)?;
+        r.vector("slice.y", &mut s.slice.y)?;
+        r.vector("slice.z", &mut s.slice.z)?;
+        r.vector("slice.offset", &mut s.slice.offset)?;
+        r.vector("camera.eye", &mut s.camera.eye)?;
+        r.vector("camera.target", &mut s.camera.target)?;
+        r.vector("camera.up", &mut s.camera.up)?;
+        r.float("camera.fov_y_degrees", &mut s.camera.fov_y_degrees)?;
+        r.vector("light.position", &mut s.light.position)?;
+        r.boolean("shading.shadows", &mut s.shading.shadows)?;
+        r.vector("shading.diffuse", &mut s.shading.diffuse)?;
+        r.float("shading.normal_tint", &mut s.shading.normal_tint)?;
+        r.float("shading.specular", &mut s.shading.specular)?;
+        r.float("shading.shininess", &mut s.shading.shininess)?;
+        r.float("shading.shadow_factor", &mut s.shading.shadow_factor)?;
+        r.vector("shading.background", &mut s.shading.background)?;
+        r.integer("image.width", &mut s.image.width)?;
+        r.integer("image.height", &mut s.image.height)?;
+        r.reject_unknown()?;
+        validate(&mut s, &r)?;
+        Ok(s)
+    }
+}
+
+/// Parses a `--set` value as TOML, or takes it as a plain string when it is not TOML.
+fn parse_set_value(text: &str) -> Value {
+    match format!("v = {text}\n").parse::<toml::Table>() {
+        Ok(mut t) if t.len() == 1 => t.remove("v").unwrap_or_else(|| Value::String(text.into())),
+        _ => Value::String(text.to_string()),
+    }
+}
+
+/// One line for a TOML syntax error: the message and where.
+fn describe_toml_error(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().lines().next().unwrap_or("invalid TOML").trim();
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+            format!("invalid TOML at line {line}, column {column}: {message}")
+        }
+        None => format!("invalid TOML: {message}"),
+    }
+}
+
+/// Reads the PNG's embedded scene (an iTXt chunk with keyword `qjulia-scene`).
+pub fn scene_from_png(path: &Path) -> Result<String, SceneError> {
+    let source = SceneSource::File(path.to_path_buf());
+    let file = std::fs::File::open(path)
+        .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?;
+    let reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .map_err(|e| SceneError::general(&source, format!("not a readable PNG: {e}")))?;
+    let chunk = reader
+        .info()
+        .utf8_text
+        .iter()
+        .find(|c| c.keyword == crate::output::SCENE_PNG_KEYWORD)
+        .ok_or_else(|| {
+            SceneError::general(
+                &source,
+                "holds no qjulia scene (no qjulia-scene iTXt chunk)",
+            )
+        })?;
+    chunk
+        .get_text()
+        .map_err(|e| SceneError::general(&source, format!("unreadable qjulia-scene chunk: {e}")))
+}
+
+/// Takes typed values out of the merged layers, remembering where each came from.
+struct Reader {
+    entries: BTreeMap<String, (Value, SceneSource)>,
+    used: BTreeMap<&'static str, (Value, SceneSource)>,
+}
+
+impl Reader {
+    fn take(&mut self, key: &'static str) -> Option<(Value, SceneSource)> {
+        debug_assert!(KEYS.contains(&key), "{key} missing from KEYS");
+        let entry = self.entries.remove(key)?;
+        self.used.insert(key, entry.clone());
+        Some(entry)
+    }
+
+    /// The source of a key's final value, for checks made after reading.
+    fn source_of(&self, key: &str) -> (Value, SceneSource) {
+        self.used
+            .get(key)
+            .cloned()
+            .unwrap_or((Value::String("(default)".into()), SceneSource::Default))
+    }
+
+    fn float(&mut self, key: &'static str, out: &mut f64) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            *out =
+                number(&v).ok_or_else(|| SceneError::value(&src, key, &v, "must be a number"))?;
+            if !out.is_finite() {
+                return Err(SceneError::value(&src, key, &v, "must be finite"));
+            }
+        }
+        Ok(())
+    }
+
+    fn integer(&mut self, key: &'static str, out: &mut u32) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            let Value::Integer(i) = v else {
+                return Err(SceneError::value(&src, key, &v, "must be an integer"));
+            };
+            let (lo, hi) = integer_range(key);
+            if i < lo as i64 || i > hi as i64 {
+                return Err(SceneError::value(
+                    &src,
+                    key,
+                    &v,
+                    &format!("must be in [{lo}, {hi}]"),
+                ));
+            }
+            *out = i as u32;
+        }
+        Ok(())
+    }
+
+    fn boolean(&mut self, key: &'static str, out: &mut bool) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            *out = v
+                .as_bool()
+                .ok_or_else(|| SceneError::value(&src, key, &v, "must be true or false"))?;
+        }
+        Ok(())
+    }
+
+    fn vector<const N: usize>(
+        &mut self,
+        key: &'static str,
+        out: &mut [f64; N],
+    ) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            let shape = || format!("must be an array of {N} numbers");
+            let items = v
+                .as_array()
+                .ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
+            if items.len() != N {
+                let reason = format!("{}, not {}", shape(), items.len());
+                return Err(SceneError::value(&src, key, &v, &reason));
+            }
+            for (slot, item) in out.iter_mut().zip(items) {
+                *slot = number(item).ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
+                if !slot.is_finite() {
+                    return Err(SceneError::value(&src, key, &v, "must be finite"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whatever is left was not a scene key.
+    fn reject_unknown(&self) -> Result<(), SceneError> {
+        let Some((key, (_, src))) = self.entries.iter().next() else {
+            return Ok(());
+        };
+        let tables: Vec<&str> = KEYS
+            .iter()
+            .filter_map(|k| k.split_once('.'))
+            .map(|(t, _)| t)
+            .collect();
+        let message = if tables.contains(&key.as_str()) {
+            format!("{key} must be a table")
+        } else if let Some(leaf) = KEYS.iter().find(|k| key.starts_with(&format!("{k}."))) {
+            format!("{leaf} is not a table, so {key} is an unknown key")
+        } else {
+            format!("unknown key {key}")
+        };
+        Err(SceneError::key(src, key, message))
+    }
+}
+
+fn number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Float(f) => Some(*f),
+        Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+fn integer_range(key: &str) -> (u32, u32) {
+    match key {
+        "image.width" | "image.height" => (1, 65536),
+        "fractal.max_iterations" => (1, 100_000),
+        "fractal.max_steps" => (1, 1_000_000),
+        _ => unreachable!("no range for {key}"),
+    }
+}
+
+/// How far from orthonormal a slice basis may be and still be re-orthonormalised.
+pub const SLICE_ORTHONORMAL_TOLERANCE: f64 = 1e-3;
+
+/// Range and consistency checks over the whole scene, once all layers are in.
+fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
+    let fail = |key: &str, reason: &str| {
+        let (v, src) = r.source_of(key);
+        SceneError::value(&src, key, &v, reason)
+    };
+    for (key, value) in [
+        ("fractal.epsilon", s.fractal.epsilon),
+        (
+            "fractal.escape_radius_squared",
+            s.fractal.escape_radius_squared,
+        ),
+        (
+            "fractal.bounding_radius_squared",
+            s.fractal.bounding_radius_squared,
+        ),
+    ] {
+        if value <= 0.0 {
+            return Err(fail(key, "must be > 0"));
+        }
+    }
+    let fov = s.camera.fov_y_degrees;
+    if fov <= 0.0 || fov >= 180.0 {
+        return Err(fail("camera.fov_y_degrees", "must be in (0, 180)"));
+    }
+    for (key, value) in [
+        ("shading.normal_tint", s.shading.normal_tint),
+        ("shading.specular", s.shading.specular),
+        ("shading.shininess", s.shading.shininess),
+    ] {
+        if value < 0.0 {
+            return Err(fail(key, "must be >= 0"));
+        }
+    }
+    if !(0.0..=1.0).contains(&s.shading.shadow_factor) {
+        return Err(fail("shading.shadow_factor", "must be in [0, 1]"));
+    }
+    for (key, colour) in [
+        ("shading.diffuse", s.shading.diffuse),
+        ("shading.background", s.shading.background),
+    ] {
+        if colour.iter().any(|c| !(0.0..=1.0).contains(c)) {
+            return Err(fail(key, "must have every component in [0, 1]"));
+        }
+    }
+
+    // The camera: the later-given of the keys involved is the one blamed.
+    let latest = |keys: &[&str]| -> String {
+        let rank = |src: &SceneSource| match src {
+            SceneSource::Default => 0,
+            SceneSource::File(_) => 1,
+            SceneSource::Flag(_) => 2,
+            SceneSource::Set(_) => 3,
+        };
+        keys.iter()
+            .max_by_key(|k| rank(&r.source_of(k).1))
+            .map(|k| k.to_string())
+            .unwrap_or_default()
+    };
+    let eye = glam::DVec3::from_array(s.camera.eye);
+    let target = glam::DVec3::from_array(s.camera.target);
+    let up = glam::DVec3::from_array(s.camera.up);
+    let view = target - eye;
+    if view.length() == 0.0 || !view.length().is_finite() {
+        let key = latest(&["camera.eye", "camera.target"]);
+        return Err(fail(
+            &key,
+            "must differ from the other of camera.eye, camera.target",
+        ));
+    }
+    if up.length() == 0.0 {
+        return Err(fail("camera.up", "must not be zero"));
+    }
+    if view.normalize().cross(up.normalize()).length() < 1e-6 {
+        let key = latest(&["camera.up", "camera.eye", "camera.target"]);
+        return Err(fail(
+            &key,
+            "makes camera.up parallel to camera.target - camera.eye",
+        ));
+    }
+
+    // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
+    let keys = ["slice.x", "slice.y", "slice.z"];
+    let basis = [s.slice.x, s.slice.y, s.slice.z].map(glam::DVec4::from_array);
+    for i in 0..3 {
+        for j in 0..=i {
+            let expected = if i == j { 1.0 } else { 0.0 };
+            if (basis[i].dot(basis[j]) - expected).abs() > SLICE_ORTHONORMAL_TOLERANCE {
+                let key = latest(&keys[..=i]);
+                return Err(fail(
+                    &key,
+                    "makes the slice basis (x, y, z) not orthonormal",
+                ));
+            }
+        }
+    }
+    let x = basis[0].normalize();
+    let y = (basis[1] - x * x.dot(basis[1])).normalize();
+    let z = (basis[2] - x * x.dot(basis[2]) - y * y.dot(basis[2])).normalize();
+    s.slice.x = x.to_array();
+    s.slice.y = y.to_array();
+    s.slice.z = z.to_array();
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn build(layers: &[&str]) -> Result<Scene, SceneError> {
+        let mut l = SceneLoader::new();
+        for s in layers {
+            l.set(s)?;
+        }
+        l.build()
+    }
+
+    #[test]
+    fn defaults_round_trip_through_toml() {
+        let s = Scene::default();
+        let mut l = SceneLoader::new();
+        l.toml_str(&s.to_toml(), SceneSource::File("x.toml".into()))
+            .unwrap();
+        assert_eq!(l.build().unwrap(), s);
+    }
+
+    #[test]
+    fn set_overrides_and_bare_words() {
+        let s = build(&[
+            "fractal.c=[0,0,0,0]",
+            "image.width=64",
+            "shading.shadows=false",
+        ])
+        .unwrap();
+        assert_eq!(s.fractal.c, [0.0; 4]);
+        assert_eq!(s.image.width, 64);
+        assert!(!s.shading.shadows);
+        let e = build(&["image.width=wide"]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--set image.width=wide: image.width must be an integer"
+        );
+    }
+
+    #[test]
+    fn errors_name_source_and_key() {
+        let e = build(&["fractal.epsilon=nan"]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--set fractal.epsilon=nan: fractal.epsilon must be finite"
+        );
+        let mut l = SceneLoader::new();
+        l.toml_str(
+            "[camera]\nfov_y_degrees = 190\n",
+            SceneSource::File("scene.toml".into()),
+        )
+        .unwrap();
+        assert_eq!(
+            l.build().unwrap_err().to_string(),
+            "scene.toml: camera.fov_y_degrees = 190: must be in (0, 180)"
+        );
+        let e = build(&["fractal.colour=1"]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("fractal.colour"));
+        assert!(e.to_string().contains("unknown key fractal.colour"), "{e}");
+        let e = build(&["fractal.c=[1,2,3]"]).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("must be an array of 4 numbers, not 3"),
+            "{e}"
+        );
+        let e = build(&["camera.eye=[0,0,0]"]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("camera.eye"));
+        let e = build(&["camera.up=[0,0,2]"]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("camera.up"));
+        let e = build(&["image.height=0"]).unwrap_err();
+        assert!(e.to_string().contains("must be in [1, 65536]"), "{e}");
+    }
+
+    #[test]
+    fn slice_basis_is_reorthonormalised_within_tolerance_only() {
+        let s = build(&["slice.x=[1.0004,0,0,0]"]).unwrap();
+        assert_eq!(s.slice.x, [1.0, 0.0, 0.0, 0.0]);
+        let e = build(&["slice.y=[0.1,1,0,0]"]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("slice.y"));
+    }
+
+    #[test]
+    fn later_layers_win() {
+        let mut l = SceneLoader::new();
+        l.toml_str(
+            "[image]\nwidth = 10\nheight = 20\n",
+            SceneSource::File("a.toml".into()),
+        )
+        .unwrap();
+        l.flag("image.width", Value::Integer(30), "--width 30");
+        l.set("image.width=40").unwrap();
+        let s = l.build().unwrap();
+        assert_eq!((s.image.width, s.image.height), (40, 20));
+    }
+}

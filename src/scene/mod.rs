@@ -1,0 +1,226 @@
+//! The scene: plain data describing one picture, its defaults (the seed's constants) and its
+//! validation. Loading from TOML, `--set` and PNGs lives in [`load`].
+
+mod load;
+
+pub use load::{SceneError, SceneLoader, SceneSource, scene_from_png};
+
+use serde::Serialize;
+
+/// Everything one picture depends on. Defaults reproduce the seed's constants (CONTRACT.md).
+#[derive(Clone, Debug, PartialEq, Serialize, Default)]
+pub struct Scene {
+    pub fractal: Fractal,
+    pub slice: Slice,
+    pub camera: Camera,
+    pub light: Light,
+    pub shading: Shading,
+    pub image: Image,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Fractal {
+    /// The Julia constant, `[real, i, j, k]`.
+    pub c: [f64; 4],
+    /// Iterations of z <- z^2 + c per distance estimate.
+    pub max_iterations: u32,
+    /// |z|^2 above this counts as escaped (the seed's ESCAPE_THRESHOLD).
+    pub escape_radius_squared: f64,
+    /// A ray hits when the distance estimate drops below this.
+    pub epsilon: f64,
+    /// The 4D ball |q|^2 <= this bounds the set.
+    pub bounding_radius_squared: f64,
+    /// Sphere-tracing steps per ray before giving up (a miss).
+    pub max_steps: u32,
+}
+
+/// The 3D slice of 4D space: p -> offset + p.x*x + p.y*y + p.z*z.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Slice {
+    pub x: [f64; 4],
+    pub y: [f64; 4],
+    pub z: [f64; 4],
+    pub offset: [f64; 4],
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Camera {
+    pub eye: [f64; 3],
+    pub target: [f64; 3],
+    pub up: [f64; 3],
+    pub fov_y_degrees: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Light {
+    pub position: [f64; 3],
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Shading {
+    /// Cast a shadow ray from every hit toward the light.
+    pub shadows: bool,
+    /// The base (diffuse) colour; the seed's (1, 0.45, 0.25).
+    pub diffuse: [f64; 3],
+    /// How much of |N| tints the diffuse colour; the seed's 0.3.
+    pub normal_tint: f64,
+    /// Amplitude of the specular highlight; the seed's 0.45.
+    pub specular: f64,
+    /// Phong exponent; the seed's 10.
+    pub shininess: f64,
+    /// A shadowed hit's colour is multiplied by this; the seed's 0.4.
+    pub shadow_factor: f64,
+    /// Colour of rays that hit nothing; the seed's grey 0.3.
+    pub background: [f64; 3],
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Default for Fractal {
+    fn default() -> Self {
+        Self {
+            c: [-0.2, 0.6, 0.2, 0.2],
+            max_iterations: 10,
+            escape_radius_squared: 10.0,
+            epsilon: 0.003,
+            bounding_radius_squared: 3.0,
+            max_steps: 1000,
+        }
+    }
+}
+
+impl Default for Slice {
+    fn default() -> Self {
+        Self {
+            x: [1.0, 0.0, 0.0, 0.0],
+            y: [0.0, 1.0, 0.0, 0.0],
+            z: [0.0, 0.0, 1.0, 0.0],
+            offset: [0.0; 4],
+        }
+    }
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self {
+            eye: [0.0, 0.0, 3.0],
+            target: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            fov_y_degrees: 45.0,
+        }
+    }
+}
+
+impl Default for Light {
+    fn default() -> Self {
+        Self {
+            position: [2.0, 2.0, 3.0],
+        }
+    }
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Self {
+            shadows: true,
+            diffuse: [1.0, 0.45, 0.25],
+            normal_tint: 0.3,
+            specular: 0.45,
+            shininess: 10.0,
+            shadow_factor: 0.4,
+            background: [0.3, 0.3, 0.3],
+        }
+    }
+}
+
+impl Default for Image {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+        }
+    }
+}
+
+impl Scene {
+    /// The full scene as TOML, every key written, so that it renders again identically.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a scene always serialises to TOML")
+    }
+
+    /// The camera's orthonormal frame (forward, right, up) as CONTRACT.md defines it.
+    /// Valid for any validated scene.
+    pub fn camera_frame(&self) -> CameraFrame {
+        let eye = glam::DVec3::from_array(self.camera.eye);
+        let target = glam::DVec3::from_array(self.camera.target);
+        let forward = (target - eye).normalize();
+        let right = forward
+            .cross(glam::DVec3::from_array(self.camera.up))
+            .normalize();
+        let up = right.cross(forward);
+        CameraFrame {
+            forward: forward.to_array(),
+            right: right.to_array(),
+            up: up.to_array(),
+            tan_half_fov_y: (self.camera.fov_y_degrees.to_radians() * 0.5).tan(),
+        }
+    }
+
+    /// The 3D ball that the 4D bounding ball cuts out of the slice: centre `-B^T w` and
+    /// radius^2 `bounding_radius_squared - |w - B B^T w|^2` (empty when that is <= 0).
+    pub fn slice_bounds(&self) -> SliceBounds {
+        let w = glam::DVec4::from_array(self.slice.offset);
+        let basis = [self.slice.x, self.slice.y, self.slice.z].map(glam::DVec4::from_array);
+        let coords = basis.map(|b| b.dot(w));
+        let in_slice = basis[0] * coords[0] + basis[1] * coords[1] + basis[2] * coords[2];
+        let off_slice = w - in_slice;
+        SliceBounds {
+            center: [-coords[0], -coords[1], -coords[2]],
+            radius_squared: self.fractal.bounding_radius_squared - off_slice.length_squared(),
+        }
+    }
+}
+
+/// The camera's orthonormal frame and the tangent of half the vertical field of view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraFrame {
+    pub forward: [f64; 3],
+    pub right: [f64; 3],
+    pub up: [f64; 3],
+    pub tan_half_fov_y: f64,
+}
+
+/// The bounding ball in slice coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SliceBounds {
+    pub center: [f64; 3],
+    /// <= 0 means the slice misses the 4D ball: everything is background.
+    pub radius_squared: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_camera_frame_looks_down_minus_z() {
+        let f = Scene::default().camera_frame();
+        assert_eq!(f.forward, [0.0, 0.0, -1.0]);
+        assert_eq!(f.right, [1.0, 0.0, 0.0]);
+        assert_eq!(f.up, [0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn slice_bounds_of_an_offset_slice() {
+        let mut s = Scene::default();
+        // offset (0.5, 0, 0, 0.6): 0.5 lies in the slice (along x), 0.6 off it (along k).
+        s.slice.offset = [0.5, 0.0, 0.0, 0.6];
+        let b = s.slice_bounds();
+        assert_eq!(b.center, [-0.5, -0.0, -0.0]);
+        assert!((b.radius_squared - (3.0 - 0.36)).abs() < 1e-12);
+    }
+}
