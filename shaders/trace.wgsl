@@ -53,6 +53,8 @@ struct Params {
 const DERIVATIVE_LIMIT: f32 = 1e30;
 // Below this a squared length counts as zero: nothing is divided by it or normalised.
 const TINY: f32 = 1e-30;
+// The smallest normal f32: a |z|^2 below it is 0 for the estimate (no log of it is taken).
+const MIN_NORMAL: f32 = 1.17549435e-38;
 // The seed's finite-difference step for the normal, in slice coordinates.
 const NORMAL_DELTA: f32 = 1e-4;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
@@ -76,14 +78,15 @@ fn iterate_intersect(z: ptr<function, vec4<f32>>, zp: ptr<function, vec4<f32>>) 
 
 // The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
 // 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
-// Negative inside the set (|z| < 1); 0 where it cannot be formed (|z| = 0, |z'| = 0 or huge).
+// Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the smallest
+// normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
 fn estimate_distance(p: vec3<f32>) -> f32 {
     var z = slice_point(p);
     var zp = vec4<f32>(1.0, 0.0, 0.0, 0.0);
     iterate_intersect(&z, &zp);
     let zz = dot(z, z);
     let zpzp = dot(zp, zp);
-    if zz <= TINY || zpzp > DERIVATIVE_LIMIT || zpzp <= zz * TINY {
+    if zz < MIN_NORMAL || zpzp > DERIVATIVE_LIMIT || zpzp <= zz * TINY {
         return 0.0;
     }
     return 0.25 * sqrt(zz / zpzp) * log(zz);

@@ -5,6 +5,7 @@
 //! turns those into a [`Frame`]; [`output`] writes it.
 
 pub mod algebra;
+pub mod compare;
 pub mod cpu;
 pub mod error;
 pub mod frame;

@@ -59,14 +59,19 @@ impl<F: Real> TraceParams<F> {
 
     /// The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
     /// 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
-    /// Negative inside the set (|z| < 1); 0 where it cannot be formed (|z| = 0, |z'| = 0 or huge).
+    /// Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the
+    /// smallest normal float, WGSL's MIN_NORMAL), |z'| = 0 (below TINY |z|, which keeps the
+    /// ratio finite) or |z'| huge.
     pub fn estimate_distance(&self, p: Vec3<F>) -> F {
         let mut z = self.slice_point(p);
         let mut zp = Vec4::real(F::one());
         self.iterate_intersect(&mut z, &mut zp);
         let zz = z.dot(z);
         let zpzp = zp.dot(zp);
-        if zz <= F::lit(TINY) || zpzp > F::lit(DERIVATIVE_LIMIT) || zpzp <= zz * F::lit(TINY) {
+        if zz < F::min_positive_value()
+            || zpzp > F::lit(DERIVATIVE_LIMIT)
+            || zpzp <= zz * F::lit(TINY)
+        {
             return F::zero();
         }
         F::lit(0.25) * (zz / zpzp).sqrt() * zz.ln()

@@ -1,0 +1,76 @@
+//! Helpers shared by the integration tests: the GPU (shared, loud when missing), scenes from
+//! `--set` strings, and frame comparison that writes diff images on failure.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use qjulia::compare::{Agreement, Tolerance, write_diff_images};
+use qjulia::gpu::{GpuContext, GpuTracer};
+use qjulia::scene::SceneLoader;
+use qjulia::{Frame, Scene};
+
+/// Set to 1 to run the suite without GPU tests (they then say so, one line each).
+pub const SKIP_GPU_ENV: &str = "QJULIA_SKIP_GPU_TESTS";
+
+/// The shared GPU tracer. Panics with how to get an adapter when wgpu finds none, unless
+/// `QJULIA_SKIP_GPU_TESTS=1`, in which case it returns None and the test says it skipped.
+pub fn gpu(test: &str) -> Option<&'static GpuTracer> {
+    if std::env::var(SKIP_GPU_ENV).is_ok_and(|v| v == "1") {
+        eprintln!("{test}: GPU part skipped because {SKIP_GPU_ENV}=1");
+        return None;
+    }
+    static TRACER: OnceLock<Result<GpuTracer, String>> = OnceLock::new();
+    let tracer = TRACER.get_or_init(|| {
+        let tracer = GpuContext::new()
+            .and_then(GpuTracer::new)
+            .map_err(|e| e.to_string())?;
+        eprintln!("GPU tests run on {}", tracer.context().adapter_label());
+        Ok(tracer)
+    });
+    match tracer {
+        Ok(t) => Some(t),
+        Err(e) => panic!(
+            "{test} needs a GPU adapter and found none ({e}).\n\
+             Install Mesa's software Vulkan driver: `sudo apt-get install mesa-vulkan-drivers`,\n\
+             or opt out of the GPU tests explicitly with {SKIP_GPU_ENV}=1."
+        ),
+    }
+}
+
+/// A validated scene: the defaults with these `--set KEY=VALUE` overrides.
+pub fn scene(sets: &[&str]) -> Scene {
+    let mut loader = SceneLoader::new();
+    for s in sets {
+        loader
+            .set(s)
+            .unwrap_or_else(|e| panic!("bad test scene: {e}"));
+    }
+    loader
+        .build()
+        .unwrap_or_else(|e| panic!("bad test scene: {e}"))
+}
+
+/// Where failed comparisons leave their pictures.
+pub fn output_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("image-diffs")
+}
+
+/// Compares frames; on failure writes expected, actual and diff PNGs under target/ and panics
+/// with the figures and the paths.
+pub fn assert_agree(name: &str, expected: &Frame, actual: &Frame, tol: &Tolerance) -> Agreement {
+    let agreement = Agreement::measure(expected, actual, tol);
+    eprintln!("{name}: {agreement}");
+    if !agreement.within(tol) {
+        let paths = write_diff_images(&output_dir(), name, expected, actual)
+            .map(|p| {
+                p.iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            })
+            .unwrap_or_else(|e| format!("(could not write diff images: {e})"));
+        panic!("{name}: frames disagree beyond {tol:?}: {agreement}\nimages: {paths}");
+    }
+    agreement
+}

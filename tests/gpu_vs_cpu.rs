@@ -1,0 +1,145 @@
+//! The GPU kernel against its CPU twin in f32, on scenes that exercise every path: shadows on
+//! and off, a rotated slice with an offset, the eye inside the bounding ball, a wide field of
+//! view with many misses, other constants and image shapes. Held to CONTRACT_TOLERANCE.
+
+mod common;
+
+use qjulia::compare::CONTRACT_TOLERANCE;
+use qjulia::{Scene, TraceParams, cpu};
+
+fn check(name: &str, scene: Scene) {
+    let Some(gpu) = common::gpu(name) else { return };
+    let (expected, _) = cpu::render(&TraceParams::<f32>::new(&scene));
+    let actual = gpu
+        .render(&TraceParams::<f32>::new(&scene))
+        .expect("GPU render")
+        .frame;
+    assert!(
+        expected.hit_mask().iter().any(|&h| h),
+        "{name}: the test scene shows nothing"
+    );
+    common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
+    // Steps are integers computed by the same loop: they should agree where masks do.
+    let same_steps = expected
+        .steps
+        .iter()
+        .zip(&actual.steps)
+        .filter(|(a, b)| a == b)
+        .count();
+    let frac = same_steps as f64 / expected.pixel_count() as f64;
+    assert!(
+        frac >= 0.98,
+        "{name}: steps agree on only {:.2}% of pixels",
+        frac * 100.0
+    );
+}
+
+const SMALL: [&str; 2] = ["image.width=128", "image.height=128"];
+
+fn with(extra: &[&str]) -> Scene {
+    let all: Vec<&str> = SMALL.iter().chain(extra).copied().collect();
+    common::scene(&all)
+}
+
+#[test]
+fn seed_look_with_shadows() {
+    check("seed_look", with(&[]));
+}
+
+#[test]
+fn seed_look_without_shadows() {
+    check("no_shadows", with(&["shading.shadows=false"]));
+}
+
+#[test]
+fn rotated_slice_with_offset() {
+    let (a, b) = (0.6f64, 0.4f64);
+    let x = format!("slice.x=[{:?}, 0, 0, {:?}]", a.cos(), a.sin());
+    let y = format!("slice.y=[0, {:?}, {:?}, 0]", b.cos(), b.sin());
+    let z = format!("slice.z=[0, {:?}, {:?}, 0]", -b.sin(), b.cos());
+    check(
+        "rotated_slice_offset",
+        with(&[&x, &y, &z, "slice.offset=[0.1, 0.0, 0.05, 0.15]"]),
+    );
+}
+
+#[test]
+fn eye_inside_the_bounding_ball() {
+    check(
+        "eye_inside_bounds",
+        with(&["camera.eye=[0.3, 0.4, 1.2]", "camera.fov_y_degrees=70"]),
+    );
+}
+
+#[test]
+fn wide_field_of_view_with_many_misses() {
+    check(
+        "wide_fov",
+        with(&[
+            "camera.fov_y_degrees=120",
+            "camera.eye=[0.8, 1.0, 2.0]",
+            "light.position=[-2, 3, 2]",
+        ]),
+    );
+}
+
+#[test]
+fn other_constant_more_iterations_wide_image() {
+    check(
+        "dendrite_wide",
+        common::scene(&[
+            "image.width=128",
+            "image.height=72",
+            "fractal.c=[-0.12, 0.75, 0.0, 0.1]",
+            "fractal.max_iterations=16",
+            "fractal.epsilon=0.002",
+            "camera.eye=[0.5, 1.5, 2.5]",
+        ]),
+    );
+}
+
+#[test]
+fn slice_missing_the_ball_is_all_background_on_both() {
+    let scene = with(&["slice.offset=[0, 0, 0, 2]"]);
+    let Some(gpu) = common::gpu("slice_misses_ball") else {
+        return;
+    };
+    let frame = gpu.render(&TraceParams::<f32>::new(&scene)).unwrap().frame;
+    let (cpu_frame, _) = cpu::render(&TraceParams::<f32>::new(&scene));
+    for f in [&frame, &cpu_frame] {
+        assert!(
+            f.depth.iter().all(|d| d.is_nan()),
+            "a pixel hit an empty slice"
+        );
+        assert!(
+            f.steps.iter().all(|&s| s == 0),
+            "a ray stepped through an empty slice"
+        );
+        assert!(
+            f.rgb8().iter().all(|&c| c == 77),
+            "background grey 0.3 is 77/255"
+        );
+    }
+}
+
+#[test]
+fn a_real_difference_fails_the_comparison_and_leaves_diff_images() {
+    use qjulia::compare::{Agreement, write_diff_images};
+    let scene = common::scene(&["image.width=32", "image.height=32"]);
+    let (expected, _) = cpu::render(&TraceParams::<f32>::new(&scene));
+    let mut shifted = scene.clone();
+    shifted.fractal.c[0] += 0.05;
+    let (actual, _) = cpu::render(&TraceParams::<f32>::new(&shifted));
+    let agreement = Agreement::measure(&expected, &actual, &CONTRACT_TOLERANCE);
+    assert!(
+        !agreement.within(&CONTRACT_TOLERANCE),
+        "a different c passed: {agreement}"
+    );
+    let dir = common::output_dir().join("self-check");
+    let paths = write_diff_images(&dir, "shifted_c", &expected, &actual).unwrap();
+    assert_eq!(paths.len(), 3);
+    for p in paths {
+        let img = image::open(&p).unwrap();
+        assert_eq!((img.width(), img.height()), (32, 32));
+    }
+}

@@ -1,0 +1,123 @@
+//! Every WGSL file parses and validates with naga (wgpu's version), and the host's view of the
+//! shader (uniform layout, shared constants) matches the shader's own.
+
+use std::mem::offset_of;
+
+use qjulia::cpu::trace::{DERIVATIVE_LIMIT, NORMAL_DELTA, NORMAL_LIMIT, TINY};
+use qjulia::gpu::GpuParams;
+use qjulia::gpu::shaders::{ALL_MODULES, QUATERNION_WGSL, TRACE_MODULE, validate_wgsl};
+
+#[test]
+fn every_module_validates() {
+    for module in ALL_MODULES {
+        if let Err(e) = validate_wgsl(&module.source()) {
+            panic!("shader module {} does not validate:\n{e}", module.name);
+        }
+    }
+    // The library file stands alone too.
+    validate_wgsl(QUATERNION_WGSL).expect("quaternion.wgsl validates on its own");
+}
+
+#[test]
+fn every_wgsl_file_is_part_of_a_validated_module() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "wgsl") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let used = ALL_MODULES.iter().any(|m| m.parts.contains(&text.as_str()));
+            assert!(
+                used,
+                "{} is in no shader module, so nothing validates it",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn uniform_layout_matches_the_shader() {
+    let module = validate_wgsl(&TRACE_MODULE.source()).unwrap();
+    let (members, span) = module
+        .types
+        .iter()
+        .find_map(|(_, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some("Params") => {
+                Some((members.clone(), *span))
+            }
+            _ => None,
+        })
+        .expect("struct Params in trace.wgsl");
+    macro_rules! host_offsets {
+        ($($field:ident),* $(,)?) => { vec![$((stringify!($field).to_string(), offset_of!(GpuParams, $field) as u32)),*] };
+    }
+    let host = host_offsets!(
+        c,
+        slice_x,
+        slice_y,
+        slice_z,
+        slice_offset,
+        eye,
+        epsilon,
+        cam_forward,
+        tan_half_fov_y,
+        cam_right,
+        aspect,
+        cam_up,
+        escape_radius_squared,
+        light,
+        bounds_radius_squared,
+        bounds_center,
+        normal_tint,
+        diffuse,
+        specular,
+        background,
+        shininess,
+        max_iterations,
+        max_steps,
+        width,
+        height,
+        shadows,
+        shadow_factor,
+        row_offset,
+        row_count,
+    );
+    let shader: Vec<(String, u32)> = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+        .collect();
+    assert_eq!(
+        shader, host,
+        "GpuParams and WGSL Params disagree: keep them in sync"
+    );
+    assert_eq!(span as usize, size_of::<GpuParams>());
+}
+
+#[test]
+fn shared_constants_match_the_cpu_twin() {
+    let module = validate_wgsl(&TRACE_MODULE.source()).unwrap();
+    let value = |name: &str| -> f64 {
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("const {name} in trace.wgsl"));
+        match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => v as f64,
+            ref other => panic!("{name} is not an f32 literal: {other:?}"),
+        }
+    };
+    for (name, cpu) in [
+        ("DERIVATIVE_LIMIT", DERIVATIVE_LIMIT),
+        ("TINY", TINY),
+        ("NORMAL_DELTA", NORMAL_DELTA),
+        ("NORMAL_LIMIT", NORMAL_LIMIT),
+        ("MIN_NORMAL", f32::MIN_POSITIVE as f64),
+    ] {
+        assert_eq!(
+            value(name),
+            cpu as f32 as f64,
+            "{name} differs between WGSL and Rust"
+        );
+    }
+}
