@@ -120,7 +120,7 @@ impl GpuTracer {
     /// Rows per dispatch for an image this wide.
     fn band_rows(&self, width: u32, height: u32) -> u32 {
         let limit = self.ctx.device.limits();
-        let max_binding = limit.max_storage_buffer_binding_size as u64 / BYTES_PER_PIXEL;
+        let max_binding = limit.max_storage_buffer_binding_size / BYTES_PER_PIXEL;
         let pixels = BAND_PIXELS
             .min(max_binding)
             .min(limit.max_buffer_size / BYTES_PER_PIXEL);
