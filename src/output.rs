@@ -64,11 +64,12 @@ fn stage(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let mut temp = tempfile::Builder::new()
-        .prefix(".qjulia-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .map_err(|e| io_error(path, e))?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".qjulia-").suffix(".tmp");
+    // Temporary files are private by default; the outputs are ordinary files.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut temp = builder.tempfile_in(dir).map_err(|e| io_error(path, e))?;
     {
         let mut w = BufWriter::new(temp.as_file_mut());
         write(&mut w).map_err(|e| io_error(path, e))?;

@@ -42,6 +42,19 @@ fn render_with_no_options_writes_a_512_square_png() {
     let img = image::open(dir.path().join("qjulia.png")).unwrap();
     assert_eq!((img.width(), img.height()), (512, 512));
     assert_eq!(img.color(), image::ColorType::Rgb8);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(dir.path().join("qjulia.png"))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(
+            mode & 0o644,
+            0o644,
+            "outputs are ordinary readable files, not private temporaries"
+        );
+    }
     // It said which backend it used.
     assert!(
         stderr(&out).contains("rendering on the"),
