@@ -38,10 +38,16 @@ struct Params {
     shadow_factor: f32,
     row_offset: u32,
     row_count: u32,
+    row_stride: u32,
+    out_row: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-// Per pixel of the band of rows [row_offset, row_offset + row_count): 0x00BBGGRR.
+// The band of rows [row_offset, row_offset + row_count) lands in the output arrays from row
+// out_row on, row_stride pixels a row: pixel (i, row_offset + r) at (out_row + r) * row_stride + i.
+// Colour as 0xFFBBGGRR (RGBA8, opaque).
 @group(0) @binding(1) var<storage, read_write> out_colour: array<u32>;
 // The hit's ray parameter t; -1 for a miss (the host turns it into NaN).
 @group(0) @binding(2) var<storage, read_write> out_depth: array<f32>;
@@ -265,10 +271,10 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     return Pixel(colour, trace.t, trace.steps, true);
 }
 
-// Colour clamped to [0, 1], times 255, rounded half up, packed as 0x00BBGGRR.
+// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
 fn pack_colour(colour: vec3<f32>) -> u32 {
     let v = vec3<u32>(floor(clamp(colour, vec3<f32>(0.0), vec3<f32>(1.0)) * 255.0 + 0.5));
-    return v.x | (v.y << 8u) | (v.z << 16u);
+    return v.x | (v.y << 8u) | (v.z << 16u) | 0xff000000u;
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -279,7 +285,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pixel = trace_pixel(i, params.row_offset + row);
-    let index = row * params.width + i;
+    let index = (params.out_row + row) * params.row_stride + i;
     out_colour[index] = pack_colour(pixel.colour);
     out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
     out_steps[index] = pixel.steps;

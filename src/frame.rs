@@ -7,7 +7,7 @@ use serde::Serialize;
 pub struct Frame {
     pub width: u32,
     pub height: u32,
-    /// Colour as 0x00BBGGRR per pixel (8 bits a channel), as the tracers pack it.
+    /// Colour as RGBA8 0xFFBBGGRR per pixel, as the tracers pack it (alpha always 255).
     pub colour: Vec<u32>,
     /// The hit's ray parameter t (the distance from the eye along the unit ray); NaN on a miss.
     pub depth: Vec<f32>,
@@ -41,7 +41,7 @@ impl Frame {
     }
 }
 
-/// `[r, g, b]` of a packed 0x00BBGGRR colour.
+/// `[r, g, b]` of a packed 0xAABBGGRR colour.
 pub fn unpack_rgb(c: u32) -> [u8; 3] {
     [c as u8, (c >> 8) as u8, (c >> 16) as u8]
 }

@@ -81,6 +81,10 @@ fn uniform_layout_matches_the_shader() {
         shadow_factor,
         row_offset,
         row_count,
+        row_stride,
+        out_row,
+        _pad0,
+        _pad1,
     );
     let shader: Vec<(String, u32)> = members
         .iter()

@@ -281,11 +281,11 @@ pub fn safe_normalize<F: Real>(v: Vec3<F>, fallback: Vec3<F>) -> Vec3<F> {
     v / vv.sqrt()
 }
 
-/// Colour clamped to [0, 1], times 255, rounded half up, packed as 0x00BBGGRR.
+/// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
 pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
     let channel = |c: F| {
         let c = c.max(F::zero()).min(F::one());
         (c * F::lit(255.0) + F::lit(0.5)).floor().to_f64() as u32
     };
-    channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16)
+    channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16) | 0xff00_0000
 }

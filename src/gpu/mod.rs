@@ -5,7 +5,7 @@ pub mod shaders;
 mod tracer;
 
 pub use params::GpuParams;
-pub use tracer::{GpuRender, GpuTracer};
+pub use tracer::{GpuRender, GpuTracer, OUTPUTS, WORKGROUP};
 
 use crate::error::{Error, Result};
 

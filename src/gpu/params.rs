@@ -40,10 +40,18 @@ pub struct GpuParams {
     /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).
     pub row_offset: u32,
     pub row_count: u32,
+    /// Pixels per row of the output arrays (>= width; a multiple of 64 where the rows are
+    /// copied into a texture).
+    pub row_stride: u32,
+    /// The output row that the band's first row lands in.
+    pub out_row: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
 }
 
 impl GpuParams {
-    /// The f32 tracer parameters for a band of rows.
+    /// The f32 tracer parameters for a band of rows, written at the start of a band-sized
+    /// output (row_stride = width, out_row = 0); see [`Self::with_output`].
     pub fn new(p: &TraceParams<f32>, row_offset: u32, row_count: u32) -> Self {
         let v3 = |v: crate::algebra::Vec3<f32>| [v.x, v.y, v.z];
         let v4 = |v: crate::algebra::Vec4<f32>| [v.x, v.y, v.z, v.w];
@@ -77,6 +85,20 @@ impl GpuParams {
             shadow_factor: p.shadow_factor,
             row_offset,
             row_count,
+            row_stride: p.width,
+            out_row: 0,
+            _pad0: 0,
+            _pad1: 0,
+        }
+    }
+
+    /// The same band written into a larger output: rows `row_stride` pixels apart, the band's
+    /// first row at output row `out_row`.
+    pub fn with_output(self, row_stride: u32, out_row: u32) -> Self {
+        Self {
+            row_stride,
+            out_row,
+            ..self
         }
     }
 }

@@ -14,13 +14,14 @@ use crate::frame::Frame;
 use crate::params::TraceParams;
 
 /// The kernel's `@workgroup_size`: 8 wide, since lavapipe packs 8 lanes along x.
-const WORKGROUP: (u32, u32) = (8, 8);
+pub const WORKGROUP: (u32, u32) = (8, 8);
 /// At most this many pixels per dispatch (16 MiB per output array): bounded memory, and bounded
 /// time per dispatch so that no driver watchdog fires on big images.
 const BAND_PIXELS: u64 = 1 << 22;
 /// Bytes per pixel per output array (colour u32, depth f32, steps u32).
 const BYTES_PER_PIXEL: u64 = 4;
-const OUTPUTS: usize = 3;
+/// Output arrays: colour, depth, steps.
+pub const OUTPUTS: usize = 3;
 
 /// The compute pipeline of shaders/trace.wgsl on one device.
 pub struct GpuTracer {
@@ -129,6 +130,43 @@ impl GpuTracer {
         rows.min(height).min(max_groups.saturating_mul(WORKGROUP.1))
     }
 
+    /// Binds a uniform buffer (a [`GpuParams`]) and the colour, depth and steps arrays.
+    pub fn create_bind_group(
+        &self,
+        uniform: &wgpu::Buffer,
+        outputs: [&wgpu::Buffer; OUTPUTS],
+    ) -> wgpu::BindGroup {
+        self.ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trace"),
+                layout: &self.layout,
+                entries: &[
+                    bind_entry(0, uniform),
+                    bind_entry(1, outputs[0]),
+                    bind_entry(2, outputs[1]),
+                    bind_entry(3, outputs[2]),
+                ],
+            })
+    }
+
+    /// Records one compute pass tracing `rows` rows of `width` pixels with the bound parameters.
+    pub fn encode_band(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind_group: &wgpu::BindGroup,
+        (width, rows): (u32, u32),
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("trace"),
+            timestamp_writes,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(width.div_ceil(WORKGROUP.0), rows.div_ceil(WORKGROUP.1), 1);
+    }
+
     fn band_buffers(&self, band_pixels: u64) -> BandBuffers {
         let device = &self.ctx.device;
         let size = band_pixels * BYTES_PER_PIXEL;
@@ -154,28 +192,7 @@ impl GpuTracer {
             make("depth readback", read),
             make("steps readback", read),
         ];
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("trace"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: storage[0].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: storage[1].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: storage[2].as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = self.create_bind_group(&uniform, [&storage[0], &storage[1], &storage[2]]);
         let timestamps = self.ctx.has_timestamps().then(|| Timestamps {
             queries: device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("trace time"),
@@ -207,12 +224,8 @@ impl GpuTracer {
 
         // Warm-up: one workgroup of the first band, same pipeline, results discarded.
         let warm_rows = band_rows.min(WORKGROUP.1);
-        self.dispatch(
-            &buffers,
-            &GpuParams::new(params, 0, warm_rows),
-            (1, 1),
-            None,
-        )?;
+        let warm = GpuParams::new(params, 0, warm_rows);
+        self.dispatch(&buffers, &warm, (width.min(WORKGROUP.0), warm_rows), None)?;
 
         let start = Instant::now();
         let pixels = width as usize * height as usize;
@@ -227,9 +240,9 @@ impl GpuTracer {
         let mut row = 0;
         while row < height {
             let rows = band_rows.min(height - row);
-            let groups = (width.div_ceil(WORKGROUP.0), rows.div_ceil(WORKGROUP.1));
             let band = GpuParams::new(params, row, rows);
-            let seconds = self.dispatch(&buffers, &band, groups, Some((&mut frame, rows)))?;
+            let seconds =
+                self.dispatch(&buffers, &band, (width, rows), Some((&mut frame, rows)))?;
             if let (Some(total), Some(s)) = (gpu_seconds.as_mut(), seconds) {
                 *total += s;
             }
@@ -242,36 +255,29 @@ impl GpuTracer {
         })
     }
 
-    /// One band: upload its parameters, dispatch, copy out and wait. With `out`, appends the
-    /// band's `rows` rows to the frame. Returns the GPU seconds where timestamps are on.
+    /// One band of `size` (width, rows) pixels: upload its parameters, dispatch, copy out and
+    /// wait. With `out`, appends the band's `rows` rows to the frame. Returns the GPU seconds
+    /// where timestamps are on.
     fn dispatch(
         &self,
         buffers: &BandBuffers,
         band: &GpuParams,
-        groups: (u32, u32),
+        size: (u32, u32),
         out: Option<(&mut Frame, u32)>,
     ) -> Result<Option<f64>> {
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(band));
         let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let timestamp_writes =
-                buffers
-                    .timestamps
-                    .as_ref()
-                    .map(|t| wgpu::ComputePassTimestampWrites {
-                        query_set: &t.queries,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    });
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("trace"),
-                timestamp_writes,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &buffers.bind_group, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, 1);
-        }
+        let timestamp_writes =
+            buffers
+                .timestamps
+                .as_ref()
+                .map(|t| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.queries,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                });
+        self.encode_band(&mut encoder, &buffers.bind_group, size, timestamp_writes);
         let bytes = out.as_ref().map_or(0, |(_, rows)| {
             *rows as u64 * band.width as u64 * BYTES_PER_PIXEL
         });
@@ -353,6 +359,13 @@ impl GpuTracer {
                 .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
         }
         Ok(())
+    }
+}
+
+fn bind_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
     }
 }
 

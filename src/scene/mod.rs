@@ -2,6 +2,8 @@
 //! validation. Loading from TOML, `--set` and PNGs lives in [`load`].
 
 mod load;
+pub mod presets;
+pub mod rotation;
 
 pub use load::{SceneError, SceneLoader, SceneSource, scene_from_png};
 

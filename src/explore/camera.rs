@@ -1,0 +1,112 @@
+//! The explorer's camera controller: orbit about the target, zoom toward it, pan across the
+//! view. Works on the scene's camera directly, so what the explorer shows is what a saved scene
+//! renders. `up` never changes; the eye never reaches the target or lines up with `up`.
+
+use glam::{DQuat, DVec3};
+
+use crate::scene::Camera;
+
+/// Closest the eye may come to the target, and farthest it may go.
+pub const MIN_DISTANCE: f64 = 1e-3;
+pub const MAX_DISTANCE: f64 = 1e3;
+/// Closest the view direction may come to `up` (or to -up), in radians.
+const MIN_POLAR: f64 = 0.01;
+
+fn v(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+/// Turns the eye about the target: `azimuth` about `up`, `elevation` toward `up` (radians).
+pub fn orbit(cam: &mut Camera, azimuth: f64, elevation: f64) {
+    let (eye, target, up) = (v(cam.eye), v(cam.target), v(cam.up).normalize());
+    let offset = DQuat::from_axis_angle(up, azimuth) * (eye - target);
+    // Angle between offset and up, kept inside (MIN_POLAR, pi - MIN_POLAR).
+    let polar = offset.normalize().dot(up).clamp(-1.0, 1.0).acos();
+    let new_polar = (polar - elevation).clamp(MIN_POLAR, std::f64::consts::PI - MIN_POLAR);
+    let axis = up.cross(offset).normalize_or_zero();
+    let offset = if axis == DVec3::ZERO {
+        offset
+    } else {
+        DQuat::from_axis_angle(axis, new_polar - polar) * offset
+    };
+    cam.eye = (target + offset).to_array();
+}
+
+/// Moves the eye toward (factor < 1) or away from (factor > 1) the target.
+pub fn zoom(cam: &mut Camera, factor: f64) {
+    let (eye, target) = (v(cam.eye), v(cam.target));
+    let offset = eye - target;
+    let distance = (offset.length() * factor).clamp(MIN_DISTANCE, MAX_DISTANCE);
+    cam.eye = (target + offset.normalize() * distance).to_array();
+}
+
+/// Slides eye and target together across the view: `right` and `up` in units of the view's
+/// height at the target's distance (so a drag across the whole view moves by one view height).
+pub fn pan(cam: &mut Camera, right: f64, up: f64) {
+    let (eye, target) = (v(cam.eye), v(cam.target));
+    let forward = (target - eye).normalize();
+    let r = forward.cross(v(cam.up)).normalize();
+    let u = r.cross(forward);
+    let height = 2.0 * (cam.fov_y_degrees.to_radians() * 0.5).tan() * (target - eye).length();
+    let shift = (r * right + u * up) * height;
+    cam.eye = (eye + shift).to_array();
+    cam.target = (target + shift).to_array();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn distance(c: &Camera) -> f64 {
+        (v(c.eye) - v(c.target)).length()
+    }
+
+    #[test]
+    fn orbit_keeps_distance_and_never_aligns_with_up() {
+        let mut cam = Camera::default();
+        for step in 0..200 {
+            orbit(&mut cam, 0.37, if step < 100 { 0.2 } else { -0.25 });
+            assert!((distance(&cam) - 3.0).abs() < 1e-9);
+            let dir = (v(cam.target) - v(cam.eye)).normalize();
+            assert!(dir.cross(v(cam.up)).length() > 0.009, "view lines up with up at step {step}");
+        }
+    }
+
+    #[test]
+    fn orbit_by_a_full_turn_returns() {
+        let mut cam = Camera::default();
+        orbit(&mut cam, std::f64::consts::TAU, 0.0);
+        assert!((v(cam.eye) - v(Camera::default().eye)).length() < 1e-12);
+        orbit(&mut cam, std::f64::consts::FRAC_PI_2, 0.0);
+        // A quarter turn about +y takes the eye from +z to +x (drag right, view turns left).
+        assert!((v(cam.eye) - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-12, "{:?}", cam.eye);
+    }
+
+    #[test]
+    fn zoom_is_bounded_and_keeps_direction() {
+        let mut cam = Camera::default();
+        zoom(&mut cam, 0.5);
+        assert!((distance(&cam) - 1.5).abs() < 1e-12);
+        for _ in 0..100 {
+            zoom(&mut cam, 0.01);
+        }
+        assert!(distance(&cam) >= MIN_DISTANCE * 0.999);
+        assert!(v(cam.eye).normalize().abs_diff_eq(DVec3::Z, 1e-12));
+        for _ in 0..100 {
+            zoom(&mut cam, 100.0);
+        }
+        assert!(distance(&cam) <= MAX_DISTANCE * 1.001);
+    }
+
+    #[test]
+    fn pan_moves_eye_and_target_together() {
+        let mut cam = Camera::default();
+        pan(&mut cam, 0.5, -0.25);
+        let before = Camera::default();
+        let view = |c: &Camera| v(c.target) - v(c.eye);
+        assert!(view(&cam).abs_diff_eq(view(&before), 1e-12));
+        let height = 2.0 * (22.5f64).to_radians().tan() * 3.0;
+        assert!((cam.target[0] - 0.5 * height).abs() < 1e-12);
+        assert!((cam.target[1] + 0.25 * height).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,88 @@
+//! Named scenes that show the range of quaternion Julia sets, as TOML over the defaults.
+
+use super::{Scene, SceneLoader, SceneSource};
+
+/// A named scene.
+pub struct Preset {
+    pub name: &'static str,
+    pub about: &'static str,
+    /// TOML layered over the defaults.
+    pub toml: &'static str,
+}
+
+pub const PRESETS: &[Preset] = &[
+    Preset {
+        name: "Seed's look",
+        about: "Crane's constants: c = (-0.2, 0.6, 0.2, 0.2), shadows on",
+        toml: "",
+    },
+    Preset {
+        name: "Unit ball",
+        about: "c = 0: the set is exactly the unit ball",
+        toml: "[fractal]\nc = [0.0, 0.0, 0.0, 0.0]\n",
+    },
+    Preset {
+        name: "Basilica revolved",
+        about: "c = -1, real: the 2D basilica turned about the real axis",
+        toml: "[fractal]\nc = [-1.0, 0.0, 0.0, 0.0]\nmax_iterations = 16\n\
+               [camera]\neye = [0.4, 2.2, 2.2]\n[light]\nposition = [1.0, 3.0, 2.0]\n",
+    },
+    Preset {
+        name: "Rabbit",
+        about: "the seed's 'rabbit ears' c = -0.12 + 0.75i, in 3D",
+        toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\nmax_iterations = 14\n\
+               [camera]\neye = [0.0, 0.8, 2.8]\n",
+    },
+    Preset {
+        name: "Dendrite",
+        about: "c = i: no interior, a tree of thin branches",
+        toml: "[fractal]\nc = [0.0, 1.0, 0.0, 0.0]\nmax_iterations = 20\nepsilon = 0.002\n\
+               [camera]\neye = [1.2, 0.6, 2.6]\n",
+    },
+    Preset {
+        name: "Siegel disk",
+        about: "c = -0.390541 - 0.586788i, with a Siegel disk around a fixed point",
+        toml: "[fractal]\nc = [-0.390541, -0.586788, 0.0, 0.0]\nmax_iterations = 30\n\
+               [camera]\neye = [0.0, -1.0, 2.8]\n",
+    },
+    Preset {
+        name: "Tentacles",
+        about: "c = (-0.125, -0.256, 0.847, 0.0895), all four components at work",
+        toml: "[fractal]\nc = [-0.125, -0.256, 0.847, 0.0895]\nmax_iterations = 12\n\
+               [camera]\neye = [1.5, 1.5, 2.0]\n",
+    },
+    Preset {
+        name: "Turned slice",
+        about: "the seed's set seen through a slice turned in 4D and moved off the origin",
+        toml: "[slice]\nx = [0.838386643594204, 0.0, 0.093833584680988, 0.536938631715731]\n\
+               y = [0.0, 1.0, 0.0, 0.0]\nz = [-0.259343380052231, 0.0, 0.935095941414137, 0.241529690874419]\n\
+               offset = [0.0, 0.0, 0.0, 0.1]\n",
+    },
+];
+
+impl Preset {
+    /// The preset's scene, validated.
+    pub fn scene(&self) -> Scene {
+        let mut loader = SceneLoader::new();
+        loader
+            .toml_str(self.toml, SceneSource::Default)
+            .and_then(|()| loader.clone().build())
+            .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_is_a_valid_scene_and_they_differ() {
+        let scenes: Vec<Scene> = PRESETS.iter().map(Preset::scene).collect();
+        for (i, a) in scenes.iter().enumerate() {
+            for b in &scenes[i + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        assert!(PRESETS.len() >= 6);
+    }
+}
