@@ -24,7 +24,8 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG (and optionally depth, steps and stats).
     Render(RenderArgs),
-    /// The desktop explorer.
+    /// The desktop explorer: every scene value live (starts from the scene options when given,
+    /// else from the last scene shown, else the default).
     Explore(SceneArgs),
     /// List the GPU adapters wgpu finds and say which one `render` would use.
     Info,
@@ -83,6 +84,14 @@ pub enum PrecisionArg {
 }
 
 impl SceneArgs {
+    /// Whether any scene option was given.
+    pub fn given(&self) -> bool {
+        self.scene.is_some()
+            || !self.sets.is_empty()
+            || self.width.is_some()
+            || self.height.is_some()
+    }
+
     /// The scene these options describe, validated once all layers are in.
     pub fn load(&self) -> Result<Scene, qjulia::Error> {
         let mut loader = SceneLoader::new();
@@ -137,6 +146,16 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         stats.hit_fraction * 100.0,
         stats.steps_mean
     );
+    Ok(())
+}
+
+pub fn explore(args: &SceneArgs) -> anyhow::Result<()> {
+    let initial = if args.given() {
+        Some(args.load()?)
+    } else {
+        None
+    };
+    qjulia::explore::run(initial)?;
     Ok(())
 }
 

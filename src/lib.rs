@@ -8,6 +8,7 @@ pub mod algebra;
 pub mod compare;
 pub mod cpu;
 pub mod error;
+pub mod explore;
 pub mod frame;
 pub mod gpu;
 pub mod output;

@@ -11,11 +11,10 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
         Some(cli::Command::Info) => cli::info(),
-        Some(cli::Command::Explore(_)) => Err(anyhow::anyhow!(
-            "the explorer is not built yet; use `qjulia render`"
-        )),
+        Some(cli::Command::Explore(args)) => cli::explore(args),
+        None if qjulia::explore::display_available() => cli::explore(&cli::SceneArgs::default()),
         None => {
-            // No explorer yet, so no subcommand means help, on stdout, exit 0.
+            // No display to explore on: help, on stdout, exit 0.
             let _ = cli::Cli::command().print_help();
             return ExitCode::SUCCESS;
         }

@@ -68,7 +68,10 @@ mod tests {
             orbit(&mut cam, 0.37, if step < 100 { 0.2 } else { -0.25 });
             assert!((distance(&cam) - 3.0).abs() < 1e-9);
             let dir = (v(cam.target) - v(cam.eye)).normalize();
-            assert!(dir.cross(v(cam.up)).length() > 0.009, "view lines up with up at step {step}");
+            assert!(
+                dir.cross(v(cam.up)).length() > 0.009,
+                "view lines up with up at step {step}"
+            );
         }
     }
 
@@ -79,7 +82,11 @@ mod tests {
         assert!((v(cam.eye) - v(Camera::default().eye)).length() < 1e-12);
         orbit(&mut cam, std::f64::consts::FRAC_PI_2, 0.0);
         // A quarter turn about +y takes the eye from +z to +x (drag right, view turns left).
-        assert!((v(cam.eye) - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-12, "{:?}", cam.eye);
+        assert!(
+            (v(cam.eye) - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-12,
+            "{:?}",
+            cam.eye
+        );
     }
 
     #[test]

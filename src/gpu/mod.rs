@@ -30,14 +30,9 @@ impl GpuContext {
     /// A device on the given adapter, with its full limits and our optional features.
     pub fn from_adapter(adapter: wgpu::Adapter) -> Result<Self> {
         let info = adapter.get_info();
-        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::SHADER_F64;
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("qjulia"),
-            required_features: adapter.features() & wanted,
-            required_limits: adapter.limits(),
-            ..Default::default()
-        }))
-        .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))
+                .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
         Ok(Self {
             adapter,
             device,
@@ -72,12 +67,16 @@ pub async fn available_adapters() -> Vec<wgpu::Adapter> {
     instance.enumerate_adapters(backends).await
 }
 
+/// The adapter to use among those wgpu finds; see [`choose_adapter`].
+pub async fn select_adapter() -> Result<wgpu::Adapter> {
+    choose_adapter(available_adapters().await)
+}
+
 /// The adapter to use: the first whose name contains `WGPU_ADAPTER_NAME` (case-insensitive)
 /// when that is set; else the best by kind (discrete, integrated, virtual, CPU) and then by
 /// backend (Vulkan, Metal, DX12, GL), so that lavapipe wins over GL llvmpipe on a machine with
 /// both.
-pub async fn select_adapter() -> Result<wgpu::Adapter> {
-    let mut adapters = available_adapters().await;
+pub fn choose_adapter(mut adapters: Vec<wgpu::Adapter>) -> Result<wgpu::Adapter> {
     if adapters.is_empty() {
         return Err(Error::NoAdapter("wgpu found none".into()));
     }
@@ -99,6 +98,18 @@ pub async fn select_adapter() -> Result<wgpu::Adapter> {
     }
     adapters.sort_by_key(|a| adapter_rank(&a.get_info()));
     Ok(adapters.remove(0))
+}
+
+/// The device qjulia asks for: the adapter's own limits (the defaults cap buffers at 256 MiB
+/// and, on GL, leave compute out) and the optional features it uses where present.
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+    let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::SHADER_F64;
+    wgpu::DeviceDescriptor {
+        label: Some("qjulia"),
+        required_features: adapter.features() & wanted,
+        required_limits: adapter.limits(),
+        ..Default::default()
+    }
 }
 
 /// Lower is better: device kind first, then backend.

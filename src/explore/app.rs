@@ -1,0 +1,781 @@
+//! The explorer's state and UI: a side panel editing every scene value, the view with mouse and
+//! keyboard camera control, presets, open/save/export, the animation of c, and the status line.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, channel};
+use std::time::Instant;
+
+use egui::{Key, Modifiers};
+
+use super::camera;
+use super::file_dialog::{FileDialog, Outcome, Purpose};
+use super::view::ViewRenderer;
+use crate::gpu::{GpuContext, GpuTracer};
+use crate::output::{OutputPaths, write_outputs};
+use crate::scene::presets::PRESETS;
+use crate::scene::rotation::{PLANES, rotate_basis};
+use crate::scene::{Camera, Scene, SceneLoader, SceneSource};
+
+/// Storage keys for what persists between runs (eframe also keeps the window size).
+const STORAGE_SCENE: &str = "qjulia-scene";
+const STORAGE_RESOLUTION: &str = "qjulia-resolution-scale";
+
+/// Radians of orbit per point dragged, and zoom per point scrolled.
+const ORBIT_PER_POINT: f64 = 0.01;
+const ZOOM_PER_POINT: f64 = 0.002;
+
+/// The keyboard shortcuts, as the help window lists them.
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("Left drag", "orbit the camera about its target"),
+    ("Right or middle drag", "pan"),
+    ("Wheel", "zoom"),
+    ("Arrow keys", "orbit in steps"),
+    ("+ / -", "zoom in / out"),
+    ("R", "reset the camera"),
+    ("Space", "play / pause the animation of c"),
+    ("Ctrl+O", "open a scene (TOML or a qjulia PNG)"),
+    ("Ctrl+S", "save the scene as TOML"),
+    ("Ctrl+E", "export a PNG"),
+    ("F1", "this help"),
+];
+
+/// The animation of c: a smooth closed path through 4D around a centre.
+#[derive(Clone, Debug)]
+pub struct Animation {
+    pub playing: bool,
+    /// Radians of the path per second.
+    pub speed: f64,
+    /// The path's size.
+    pub radius: f64,
+    pub phase: f64,
+    pub center: [f64; 4],
+}
+
+impl Animation {
+    /// The point of the closed path at `phase`: every component moves, with different
+    /// frequencies, and the path returns to its start after 2 pi.
+    pub fn point(&self, phase: f64) -> [f64; 4] {
+        let r = self.radius;
+        let c = self.center;
+        [
+            c[0] + r * (phase.cos() - 1.0),
+            c[1] + r * phase.sin(),
+            c[2] + 0.6 * r * (2.0 * phase).sin(),
+            c[3] + 0.6 * r * ((3.0 * phase).cos() - 1.0),
+        ]
+    }
+}
+
+/// An export running on its own thread.
+struct Export {
+    path: PathBuf,
+    done: Receiver<Result<(), String>>,
+}
+
+pub struct ExplorerApp {
+    pub scene: Scene,
+    /// The camera that "reset" returns to.
+    home_camera: Camera,
+    /// The slice basis the rotation angles turn, and the angles.
+    base_basis: [[f64; 4]; 3],
+    pub angles: [f64; 6],
+    pub view: Option<ViewRenderer>,
+    gpu_error: Option<String>,
+    adapter_label: String,
+    pub animation: Animation,
+    /// Resolution of the view relative to the panel's pixels.
+    pub resolution_scale: f32,
+    dialog: Option<FileDialog>,
+    last_dir: PathBuf,
+    message: Option<(String, bool)>,
+    show_help: bool,
+    export: Option<Export>,
+    last_frame: Option<Instant>,
+    frame_seconds: f64,
+    /// The view's size in pixels last frame.
+    pub view_pixels: [u32; 2],
+}
+
+impl ExplorerApp {
+    /// The app on eframe's wgpu device; `initial` is the scene given on the command line,
+    /// else the one persisted from the last run, else the default.
+    pub fn new(cc: &eframe::CreationContext<'_>, initial: Option<Scene>) -> Self {
+        let stored_scene = cc
+            .storage
+            .and_then(|s| eframe::get_value::<String>(s, STORAGE_SCENE))
+            .and_then(|text| {
+                let mut loader = SceneLoader::new();
+                loader.toml_str(&text, SceneSource::Default).ok()?;
+                loader.build().ok()
+            });
+        let resolution_scale = cc
+            .storage
+            .and_then(|s| eframe::get_value::<f32>(s, STORAGE_RESOLUTION))
+            .unwrap_or(1.0)
+            .clamp(0.25, 2.0);
+        let scene = initial.or(stored_scene).unwrap_or_default();
+        let mut app = Self::with_scene(scene);
+        app.resolution_scale = resolution_scale;
+        match &cc.wgpu_render_state {
+            Some(rs) => {
+                let ctx = GpuContext {
+                    adapter: rs.adapter.clone(),
+                    device: rs.device.clone(),
+                    queue: rs.queue.clone(),
+                    info: rs.adapter.get_info(),
+                };
+                app.adapter_label = ctx.adapter_label();
+                match GpuTracer::new(ctx) {
+                    Ok(tracer) => {
+                        app.view = Some(ViewRenderer::new(Arc::new(tracer), rs.renderer.clone()))
+                    }
+                    Err(e) => app.gpu_error = Some(e.to_string()),
+                }
+            }
+            None => app.gpu_error = Some("eframe started without its wgpu renderer".into()),
+        }
+        app
+    }
+
+    /// The app's state for a scene, with no GPU attached.
+    pub fn with_scene(scene: Scene) -> Self {
+        Self {
+            home_camera: scene.camera.clone(),
+            base_basis: [scene.slice.x, scene.slice.y, scene.slice.z],
+            angles: [0.0; 6],
+            animation: Animation {
+                playing: false,
+                speed: 0.4,
+                radius: 0.08,
+                phase: 0.0,
+                center: scene.fractal.c,
+            },
+            scene,
+            view: None,
+            gpu_error: None,
+            adapter_label: String::new(),
+            resolution_scale: 1.0,
+            dialog: None,
+            last_dir: std::env::current_dir().unwrap_or_else(|_| PathBuf::from(".")),
+            message: None,
+            show_help: false,
+            export: None,
+            last_frame: None,
+            frame_seconds: 0.0,
+            view_pixels: [0, 0],
+        }
+    }
+
+    /// Replaces the scene (a preset, a file): camera home, rotation and animation follow it.
+    pub fn set_scene(&mut self, scene: Scene) {
+        let resolution = self.resolution_scale;
+        let view = self.view.take();
+        let (gpu_error, adapter) = (
+            self.gpu_error.take(),
+            std::mem::take(&mut self.adapter_label),
+        );
+        let (dir, dialog) = (self.last_dir.clone(), self.dialog.take());
+        *self = Self {
+            view,
+            gpu_error,
+            adapter_label: adapter,
+            resolution_scale: resolution,
+            last_dir: dir,
+            dialog,
+            ..Self::with_scene(scene)
+        };
+    }
+
+    /// Loads a scene file; on error the previous scene stays and the error is shown.
+    pub fn open(&mut self, path: &Path) {
+        let mut loader = SceneLoader::new();
+        match loader.file(path).and_then(|()| loader.build()) {
+            Ok(scene) => {
+                self.set_scene(scene);
+                self.message = Some((format!("opened {}", path.display()), false));
+            }
+            Err(e) => self.message = Some((format!("error: {e}"), true)),
+        }
+    }
+
+    fn save(&mut self, path: &Path) {
+        let result = std::fs::write(path, self.scene.to_toml());
+        self.message = Some(match result {
+            Ok(()) => (format!("saved {}", path.display()), false),
+            Err(e) => (format!("error: {}: {e}", path.display()), true),
+        });
+    }
+
+    /// Exports the scene at its image size through the same tracer, on another thread.
+    fn start_export(&mut self, path: PathBuf) {
+        let Some(view) = &self.view else { return };
+        let tracer = view.tracer().clone();
+        let scene = self.scene.clone();
+        let (send, done) = channel();
+        let target = path.clone();
+        std::thread::spawn(move || {
+            let result = crate::render_gpu(&tracer, &scene)
+                .and_then(|(frame, stats)| {
+                    let paths = OutputPaths {
+                        png: Some(target),
+                        ..Default::default()
+                    };
+                    write_outputs(&paths, &frame, &stats, &scene)
+                })
+                .map_err(|e| e.to_string());
+            send.send(result).ok();
+        });
+        self.export = Some(Export { path, done });
+    }
+
+    fn poll_export(&mut self) {
+        let Some(export) = &self.export else { return };
+        if let Ok(result) = export.done.try_recv() {
+            self.message = Some(match result {
+                Ok(()) => (format!("exported {}", export.path.display()), false),
+                Err(e) => (format!("error: export failed: {e}"), true),
+            });
+            self.export = None;
+        }
+    }
+
+    fn open_dialog(&mut self, purpose: Purpose) {
+        let name = match purpose {
+            Purpose::OpenScene => "",
+            Purpose::SaveScene => "scene.toml",
+            Purpose::ExportPng => "qjulia.png",
+        };
+        self.dialog = Some(FileDialog::new(purpose, &self.last_dir, name));
+    }
+
+    fn apply_rotation(&mut self) {
+        let [x, y, z] = rotate_basis(self.base_basis, &self.angles);
+        self.scene.slice.x = x;
+        self.scene.slice.y = y;
+        self.scene.slice.z = z;
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let cmd = Modifiers::COMMAND;
+        let (open, save, export) = ctx.input_mut(|i| {
+            (
+                i.consume_key(cmd, Key::O),
+                i.consume_key(cmd, Key::S),
+                i.consume_key(cmd, Key::E),
+            )
+        });
+        if open {
+            self.open_dialog(Purpose::OpenScene);
+        }
+        if save {
+            self.open_dialog(Purpose::SaveScene);
+        }
+        if export {
+            self.open_dialog(Purpose::ExportPng);
+        }
+        ctx.input(|i| {
+            let cam = &mut self.scene.camera;
+            let step = 0.1;
+            if i.key_pressed(Key::ArrowLeft) {
+                camera::orbit(cam, -step, 0.0);
+            }
+            if i.key_pressed(Key::ArrowRight) {
+                camera::orbit(cam, step, 0.0);
+            }
+            if i.key_pressed(Key::ArrowUp) {
+                camera::orbit(cam, 0.0, step);
+            }
+            if i.key_pressed(Key::ArrowDown) {
+                camera::orbit(cam, 0.0, -step);
+            }
+            if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
+                camera::zoom(cam, 0.9);
+            }
+            if i.key_pressed(Key::Minus) {
+                camera::zoom(cam, 1.0 / 0.9);
+            }
+            if i.key_pressed(Key::R) {
+                *cam = self.home_camera.clone();
+            }
+            if i.key_pressed(Key::Space) {
+                self.animation.playing = !self.animation.playing;
+                if self.animation.playing {
+                    self.animation.center = self.scene.fractal.c;
+                    self.animation.phase = 0.0;
+                }
+            }
+            if i.key_pressed(Key::F1) {
+                self.show_help = !self.show_help;
+            }
+        });
+    }
+
+    fn menu_bar(&mut self, ui: &mut egui::Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                if ui.button("Open scene…  (Ctrl+O)").clicked() {
+                    self.open_dialog(Purpose::OpenScene);
+                }
+                if ui.button("Save scene…  (Ctrl+S)").clicked() {
+                    self.open_dialog(Purpose::SaveScene);
+                }
+                if ui.button("Export PNG…  (Ctrl+E)").clicked() {
+                    self.open_dialog(Purpose::ExportPng);
+                }
+            });
+            ui.menu_button("Presets", |ui| {
+                for preset in PRESETS {
+                    if ui.button(preset.name).on_hover_text(preset.about).clicked() {
+                        self.set_scene(preset.scene());
+                        self.message = Some((format!("preset: {}", preset.name), false));
+                    }
+                }
+            });
+            ui.menu_button("View", |ui| {
+                if ui.button("Reset camera  (R)").clicked() {
+                    self.scene.camera = self.home_camera.clone();
+                }
+                if ui.button("Help  (F1)").clicked() {
+                    self.show_help = true;
+                }
+            });
+        });
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            egui::CollapsingHeader::new("Fractal")
+                .default_open(true)
+                .show(ui, |ui| self.fractal_controls(ui));
+            egui::CollapsingHeader::new("Slice (4D)")
+                .default_open(true)
+                .show(ui, |ui| self.slice_controls(ui));
+            egui::CollapsingHeader::new("Animation")
+                .default_open(true)
+                .show(ui, |ui| self.animation_controls(ui));
+            egui::CollapsingHeader::new("Camera").show(ui, |ui| self.camera_controls(ui));
+            egui::CollapsingHeader::new("Light and shading")
+                .show(ui, |ui| self.shading_controls(ui));
+            egui::CollapsingHeader::new("Image").show(ui, |ui| self.image_controls(ui));
+        });
+    }
+
+    fn fractal_controls(&mut self, ui: &mut egui::Ui) {
+        let f = &mut self.scene.fractal;
+        for (k, name) in ["c real", "c i", "c j", "c k"].iter().enumerate() {
+            ui.add(egui::Slider::new(&mut f.c[k], -1.5..=1.5).text(*name));
+        }
+        // c as a 4D direction and a magnitude.
+        let magnitude = f.c.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let direction = if magnitude > 0.0 {
+            f.c.map(|v| v / magnitude)
+        } else {
+            [1.0, 0.0, 0.0, 0.0]
+        };
+        let mut angles = hyperspherical(direction);
+        let mut new_magnitude = magnitude;
+        let mut turned = false;
+        ui.add(egui::Slider::new(&mut new_magnitude, 0.0..=2.0).text("|c|"));
+        for (k, name) in ["c angle 1", "c angle 2", "c angle 3"].iter().enumerate() {
+            let range = if k == 2 {
+                -std::f64::consts::PI..=std::f64::consts::PI
+            } else {
+                0.0..=std::f64::consts::PI
+            };
+            turned |= ui
+                .add(egui::Slider::new(&mut angles[k], range).text(*name))
+                .changed();
+        }
+        if turned || new_magnitude != magnitude {
+            let dir = if turned {
+                from_hyperspherical(angles)
+            } else {
+                direction
+            };
+            f.c = dir.map(|v| v * new_magnitude);
+        }
+        ui.add(
+            egui::Slider::new(&mut f.max_iterations, 1..=200)
+                .logarithmic(true)
+                .text("max iterations"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.epsilon, 1e-5..=0.1)
+                .logarithmic(true)
+                .text("epsilon"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.escape_radius_squared, 4.0..=1e6)
+                .logarithmic(true)
+                .text("escape radius²"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.bounding_radius_squared, 0.5..=16.0).text("bounding radius²"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.max_steps, 1..=5000)
+                .logarithmic(true)
+                .text("max steps"),
+        );
+    }
+
+    fn slice_controls(&mut self, ui: &mut egui::Ui) {
+        let mut turned = false;
+        for (k, (_, _, name)) in PLANES.iter().enumerate() {
+            let slider = egui::Slider::new(
+                &mut self.angles[k],
+                -std::f64::consts::PI..=std::f64::consts::PI,
+            );
+            turned |= ui.add(slider.text(format!("turn {name}"))).changed();
+        }
+        if ui.button("Reset rotation").clicked() {
+            self.angles = [0.0; 6];
+            turned = true;
+        }
+        if turned {
+            self.apply_rotation();
+        }
+        for (k, name) in ["offset real", "offset i", "offset j", "offset k"]
+            .iter()
+            .enumerate()
+        {
+            ui.add(egui::Slider::new(&mut self.scene.slice.offset[k], -1.5..=1.5).text(*name));
+        }
+    }
+
+    fn animation_controls(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let label = if self.animation.playing {
+                "Pause"
+            } else {
+                "Play"
+            };
+            if ui.button(label).clicked() {
+                self.animation.playing = !self.animation.playing;
+                if self.animation.playing {
+                    self.animation.center = self.scene.fractal.c;
+                    self.animation.phase = 0.0;
+                }
+            }
+            ui.label("c moves on a closed 4D path");
+        });
+        ui.add(
+            egui::Slider::new(&mut self.animation.speed, 0.02..=3.0)
+                .logarithmic(true)
+                .text("speed (rad/s)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.animation.radius, 0.005..=0.5)
+                .logarithmic(true)
+                .text("path size"),
+        );
+    }
+
+    fn camera_controls(&mut self, ui: &mut egui::Ui) {
+        let cam = &mut self.scene.camera;
+        ui.add(egui::Slider::new(&mut cam.fov_y_degrees, 1.0..=170.0).text("field of view (°)"));
+        ui.label(format!(
+            "eye    {:.3} {:.3} {:.3}",
+            cam.eye[0], cam.eye[1], cam.eye[2]
+        ));
+        ui.label(format!(
+            "target {:.3} {:.3} {:.3}",
+            cam.target[0], cam.target[1], cam.target[2]
+        ));
+        if ui.button("Reset camera (R)").clicked() {
+            *cam = self.home_camera.clone();
+        }
+    }
+
+    fn shading_controls(&mut self, ui: &mut egui::Ui) {
+        for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
+            ui.add(egui::Slider::new(&mut self.scene.light.position[k], -6.0..=6.0).text(*name));
+        }
+        let sh = &mut self.scene.shading;
+        ui.checkbox(&mut sh.shadows, "shadows");
+        ui.add(egui::Slider::new(&mut sh.shadow_factor, 0.0..=1.0).text("shadow factor"));
+        ui.horizontal(|ui| {
+            colour_edit(ui, &mut sh.diffuse);
+            ui.label("diffuse");
+            colour_edit(ui, &mut sh.background);
+            ui.label("background");
+        });
+        ui.add(egui::Slider::new(&mut sh.normal_tint, 0.0..=1.0).text("normal tint"));
+        ui.add(egui::Slider::new(&mut sh.specular, 0.0..=2.0).text("specular"));
+        ui.add(
+            egui::Slider::new(&mut sh.shininess, 0.0..=200.0)
+                .logarithmic(true)
+                .text("shininess"),
+        );
+    }
+
+    fn image_controls(&mut self, ui: &mut egui::Ui) {
+        ui.label("Exported image size:");
+        ui.add(
+            egui::Slider::new(&mut self.scene.image.width, 1..=8192)
+                .logarithmic(true)
+                .text("width"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.scene.image.height, 1..=8192)
+                .logarithmic(true)
+                .text("height"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
+        );
+    }
+
+    fn status(&self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let fps = if self.frame_seconds > 0.0 {
+                1.0 / self.frame_seconds
+            } else {
+                0.0
+            };
+            ui.label(format!(
+                "{:.1} ms/frame ({fps:.0} fps)",
+                self.frame_seconds * 1e3
+            ));
+            if let Some(view) = &self.view {
+                let s = view.stats();
+                ui.separator();
+                ui.label(format!(
+                    "{}x{} at scale {:.2}{}",
+                    s.size[0],
+                    s.size[1],
+                    s.scale,
+                    if s.refined { "" } else { " (preview)" }
+                ));
+                ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
+                if let (Some(mean), Some(max)) = (s.steps_mean, s.steps_max) {
+                    ui.label(format!("steps mean {mean:.1} max {max}"));
+                }
+            }
+            ui.separator();
+            ui.label(&self.adapter_label);
+            if self.export.is_some() {
+                ui.separator();
+                ui.spinner();
+                ui.label("exporting…");
+            }
+            if let Some((text, is_error)) = &self.message {
+                ui.separator();
+                if *is_error {
+                    ui.colored_label(ui.visuals().error_fg_color, text);
+                } else {
+                    ui.label(text);
+                }
+            }
+        });
+    }
+
+    /// The view: the tracer's texture, filling the panel, with mouse camera control.
+    fn view(&mut self, ui: &mut egui::Ui) {
+        let rect = ui.available_rect_before_wrap();
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        let cam = &mut self.scene.camera;
+        if response.dragged_by(egui::PointerButton::Primary) {
+            let d = response.drag_delta();
+            camera::orbit(
+                cam,
+                d.x as f64 * ORBIT_PER_POINT,
+                d.y as f64 * ORBIT_PER_POINT,
+            );
+        }
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+        {
+            let d = response.drag_delta();
+            let h = rect.height().max(1.0) as f64;
+            camera::pan(cam, -d.x as f64 / h, d.y as f64 / h);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+            if scroll != 0.0 {
+                camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
+            }
+        }
+        let ppp = ui.ctx().pixels_per_point() * self.resolution_scale;
+        self.view_pixels = [
+            (rect.width() * ppp).round().max(1.0) as u32,
+            (rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        let interacting =
+            response.dragged() || self.animation.playing || ui.input(|i| i.pointer.any_down());
+        let Some(view) = &mut self.view else {
+            let text = format!(
+                "No GPU renderer: {}\n{}",
+                self.gpu_error.as_deref().unwrap_or("unknown error"),
+                crate::error::INSTALL_ADAPTER_HINT
+            );
+            ui.put(rect, egui::Label::new(text));
+            return;
+        };
+        let mut view_scene = self.scene.clone();
+        view_scene.image.width = self.view_pixels[0];
+        view_scene.image.height = self.view_pixels[1];
+        view.update(&view_scene, self.view_pixels, interacting);
+        if let Some((texture, _)) = view.texture() {
+            ui.painter().image(
+                texture,
+                rect,
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                egui::Color32::WHITE,
+            );
+        }
+        if view.busy() {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context) {
+        if let Some(dialog) = &mut self.dialog {
+            match dialog.show(ctx) {
+                Outcome::Open => {}
+                Outcome::Cancelled => self.dialog = None,
+                Outcome::Chosen(path) => {
+                    let purpose = dialog.purpose;
+                    self.last_dir = dialog.dir().to_path_buf();
+                    self.dialog = None;
+                    match purpose {
+                        Purpose::OpenScene => self.open(&path),
+                        Purpose::SaveScene => self.save(&path),
+                        Purpose::ExportPng => self.start_export(path),
+                    }
+                }
+            }
+        }
+        if self.show_help {
+            egui::Window::new("Help")
+                .open(&mut self.show_help)
+                .show(ctx, |ui| {
+                    egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                        for (keys, what) in SHORTCUTS {
+                            ui.strong(*keys);
+                            ui.label(*what);
+                            ui.end_row();
+                        }
+                    });
+                });
+        }
+    }
+
+    fn animate(&mut self, dt: f64) {
+        if self.animation.playing {
+            self.animation.phase =
+                (self.animation.phase + dt * self.animation.speed) % std::f64::consts::TAU;
+            self.scene.fractal.c = self.animation.point(self.animation.phase);
+        }
+    }
+
+    /// One frame of the whole UI (eframe's `App::ui`, also driven by the tests).
+    pub fn frame(&mut self, ui: &mut egui::Ui) {
+        let now = Instant::now();
+        let dt = self
+            .last_frame
+            .map_or(0.0, |t| now.duration_since(t).as_secs_f64())
+            .min(0.25);
+        self.last_frame = Some(now);
+        self.frame_seconds = if self.frame_seconds == 0.0 {
+            dt
+        } else {
+            0.9 * self.frame_seconds + 0.1 * dt
+        };
+        let ctx = ui.ctx().clone();
+        self.shortcuts(&ctx);
+        self.animate(dt);
+        self.poll_export();
+        egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
+        egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
+        egui::Panel::left("controls")
+            .resizable(true)
+            .default_size(320.0)
+            .show(ui, |ui| self.controls(ui));
+        egui::CentralPanel::no_frame().show(ui, |ui| self.view(ui));
+        self.dialogs(&ctx);
+        if self.animation.playing || self.export.is_some() {
+            ctx.request_repaint();
+        }
+    }
+}
+
+impl eframe::App for ExplorerApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.frame(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_SCENE, &self.scene.to_toml());
+        eframe::set_value(storage, STORAGE_RESOLUTION, &self.resolution_scale);
+    }
+}
+
+/// A colour picker for an `[f64; 3]` in [0, 1].
+fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
+    let mut rgb = colour.map(|c| c as f32);
+    if ui.color_edit_button_rgb(&mut rgb).changed() {
+        *colour = rgb.map(|c| (c as f64).clamp(0.0, 1.0));
+    }
+}
+
+/// Three angles of a unit 4-vector: (cos a, sin a cos b, sin a sin b cos g, sin a sin b sin g).
+fn hyperspherical(d: [f64; 4]) -> [f64; 3] {
+    let a = d[0].clamp(-1.0, 1.0).acos();
+    let rest = (d[1] * d[1] + d[2] * d[2] + d[3] * d[3]).sqrt();
+    let b = if rest > 0.0 {
+        (d[1] / rest).clamp(-1.0, 1.0).acos()
+    } else {
+        0.0
+    };
+    let g = d[3].atan2(d[2]);
+    [a, b, g]
+}
+
+fn from_hyperspherical([a, b, g]: [f64; 3]) -> [f64; 4] {
+    [
+        a.cos(),
+        a.sin() * b.cos(),
+        a.sin() * b.sin() * g.cos(),
+        a.sin() * b.sin() * g.sin(),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hyperspherical_angles_round_trip() {
+        for d in [
+            [0.5, 0.5, 0.5, 0.5],
+            [-0.2, 0.6, 0.2, 0.2],
+            [0.0, 0.0, -1.0, 0.0],
+        ] {
+            let n = d.iter().map(|v: &f64| v * v).sum::<f64>().sqrt();
+            let u = d.map(|v| v / n);
+            let back = from_hyperspherical(hyperspherical(u));
+            for k in 0..4 {
+                assert!((back[k] - u[k]).abs() < 1e-12, "{u:?} -> {back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_animation_path_is_closed_and_starts_at_c() {
+        let a = Animation {
+            playing: true,
+            speed: 1.0,
+            radius: 0.1,
+            phase: 0.0,
+            center: [-0.2, 0.6, 0.2, 0.2],
+        };
+        assert_eq!(a.point(0.0), a.center);
+        let end = a.point(std::f64::consts::TAU);
+        assert!((0..4).all(|k| (end[k] - a.center[k]).abs() < 1e-12));
+    }
+}

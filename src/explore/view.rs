@@ -1,0 +1,466 @@
+//! The explorer's view: the same GPU tracer as `qjulia render`, drawing into a texture that
+//! egui shows directly (no trip through host memory). A render is cut into tiles of rows, each
+//! its own submission of bounded cost, so the UI never waits behind a long dispatch; tiles of a
+//! stale render are dropped before submission. While the scene changes the view renders at a
+//! reduced resolution chosen to keep the frame rate up, then refines to full resolution.
+
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::frame::Frame;
+use crate::gpu::{GpuParams, GpuTracer, OUTPUTS, WORKGROUP};
+use crate::params::TraceParams;
+use crate::scene::Scene;
+
+/// Frames per second to hold while the view changes.
+pub const INTERACTIVE_FPS: f64 = 15.0;
+/// Share of a frame's time the tracer may take while interacting (the rest is the UI's).
+const INTERACTIVE_SHARE: f64 = 0.6;
+/// Estimated GPU time one tile may take: the longest the UI can wait behind one.
+const TILE_SECONDS: f64 = 0.025;
+/// Estimated GPU time submitted per UI frame.
+const FRAME_SECONDS: f64 = 0.05;
+/// Submissions in flight at most.
+const MAX_IN_FLIGHT: u32 = 3;
+/// How long the scene must stay unchanged before the full-resolution render starts.
+pub const IDLE_DELAY: Duration = Duration::from_millis(150);
+/// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
+const ROW_ALIGN: u32 = 64;
+
+/// The two images the view keeps: a quick one while things move and the full one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quality {
+    Preview = 0,
+    Full = 1,
+}
+
+/// What the view shows now, for the status line.
+#[derive(Clone, Debug, Default)]
+pub struct ViewStats {
+    /// Size of the image shown, in pixels.
+    pub size: [u32; 2],
+    /// Its resolution relative to the full view (1 = full).
+    pub scale: f64,
+    /// Seconds from the first tile's submission to the last tile's completion.
+    pub render_seconds: f64,
+    pub steps_mean: Option<f64>,
+    pub steps_max: Option<u32>,
+    /// Whether the full-resolution image is shown.
+    pub refined: bool,
+}
+
+/// One render target: output buffers and the texture egui samples.
+struct Target {
+    width: u32,
+    height: u32,
+    row_stride: u32,
+    outputs: [wgpu::Buffer; OUTPUTS],
+    texture: wgpu::Texture,
+    texture_id: egui::TextureId,
+    bind_group: wgpu::BindGroup,
+}
+
+/// A render in progress: which target, what, and how far.
+struct Job {
+    quality: Quality,
+    params: TraceParams<f32>,
+    next_row: u32,
+    started: Instant,
+    /// Completion times of its tiles, filled in by the queue's callbacks.
+    pending: Arc<AtomicU32>,
+    last_done: Arc<Mutex<Option<Instant>>>,
+}
+
+/// An asynchronous readback of a finished render's steps, for the statistics.
+struct StepsReadback {
+    buffer: wgpu::Buffer,
+    size: [u32; 2],
+    row_stride: u32,
+    mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
+}
+
+pub struct ViewRenderer {
+    tracer: Arc<GpuTracer>,
+    renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    uniform: wgpu::Buffer,
+    targets: [Option<Target>; 2],
+    job: Option<Job>,
+    /// The target shown now.
+    shown: Option<Quality>,
+    /// The scene and full size last asked for, and when it last changed.
+    wanted: Option<(Scene, [u32; 2])>,
+    /// The scene, full size and quality of the last render started.
+    last_start: Option<(Scene, [u32; 2], Quality)>,
+    changed_at: Instant,
+    /// Estimated seconds per pixel, learned from finished renders.
+    seconds_per_pixel: f64,
+    in_flight: Arc<AtomicU32>,
+    stats: ViewStats,
+    readback: Option<StepsReadback>,
+}
+
+impl ViewRenderer {
+    pub fn new(
+        tracer: Arc<GpuTracer>,
+        renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    ) -> Self {
+        let uniform = tracer
+            .context()
+            .device
+            .create_buffer(&wgpu::BufferDescriptor {
+                label: Some("view params"),
+                size: size_of::<GpuParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        Self {
+            tracer,
+            renderer,
+            uniform,
+            targets: [None, None],
+            job: None,
+            shown: None,
+            wanted: None,
+            last_start: None,
+            changed_at: Instant::now(),
+            // About lavapipe on 2 cores; corrected after the first render.
+            seconds_per_pixel: 1e-6,
+            in_flight: Arc::new(AtomicU32::new(0)),
+            stats: ViewStats::default(),
+            readback: None,
+        }
+    }
+
+    pub fn tracer(&self) -> &Arc<GpuTracer> {
+        &self.tracer
+    }
+
+    pub fn stats(&self) -> &ViewStats {
+        &self.stats
+    }
+
+    /// The texture to draw and its size in pixels, once there is one.
+    pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
+        let target = self.targets[self.shown? as usize].as_ref()?;
+        Some((target.texture_id, [target.width, target.height]))
+    }
+
+    /// Whether the view still has work to do (the caller should keep repainting).
+    pub fn busy(&self) -> bool {
+        let preview_last = self
+            .last_start
+            .as_ref()
+            .is_some_and(|(.., q)| *q == Quality::Preview);
+        self.job.is_some()
+            || self.in_flight.load(Ordering::Acquire) > 0
+            || self.readback.is_some()
+            || preview_last
+    }
+
+    /// Whether the shown image is the full-resolution render of exactly this scene and size.
+    pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
+        self.job.is_none()
+            && self.shown == Some(Quality::Full)
+            && self
+                .last_start
+                .as_ref()
+                .is_some_and(|(s, z, q)| s == scene && *z == size && *q == Quality::Full)
+    }
+
+    /// Asks for `scene` at `size` pixels (the view's full resolution) and moves rendering on:
+    /// call once per UI frame. `interacting` says the user is dragging or animating.
+    pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
+        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
+        self.tracer.context().device.poll(wgpu::PollType::Poll).ok();
+        self.finish_job();
+        self.collect_readback();
+
+        let wanted = (scene.clone(), size);
+        if self.wanted.as_ref() != Some(&wanted) {
+            self.wanted = Some(wanted);
+            self.changed_at = Instant::now();
+            // Tiles of a stale render not yet submitted are dropped; a fully submitted one is
+            // let finish, so that a continuous drag still shows a new image every frame.
+            if let Some(job) = &self.job {
+                let rows = self.targets[job.quality as usize]
+                    .as_ref()
+                    .map_or(0, |t| t.height);
+                if job.next_row < rows {
+                    self.job = None;
+                }
+            }
+        }
+
+        if self.job.is_none() {
+            let current = self
+                .last_start
+                .as_ref()
+                .is_some_and(|(s, z, _)| s == scene && *z == size);
+            let preview_shown = self
+                .last_start
+                .as_ref()
+                .is_some_and(|(.., q)| *q == Quality::Preview);
+            let idle = !interacting && self.changed_at.elapsed() >= IDLE_DELAY;
+            let full_pixels = size[0] as f64 * size[1] as f64;
+            let full_fast =
+                full_pixels * self.seconds_per_pixel <= INTERACTIVE_SHARE / INTERACTIVE_FPS;
+            if !current && !full_fast && !idle {
+                let scale = self.preview_scale(full_pixels);
+                let preview = [
+                    ((size[0] as f64 * scale).round() as u32).max(1),
+                    ((size[1] as f64 * scale).round() as u32).max(1),
+                ];
+                self.start(Quality::Preview, scene, preview, size);
+            } else if !current || (preview_shown && idle) {
+                self.start(Quality::Full, scene, size, size);
+            }
+        }
+        self.submit_tiles();
+    }
+
+    /// The resolution scale that keeps a preview within the interactive frame budget.
+    fn preview_scale(&self, full_pixels: f64) -> f64 {
+        let budget = INTERACTIVE_SHARE / INTERACTIVE_FPS;
+        (budget / (self.seconds_per_pixel * full_pixels))
+            .sqrt()
+            .clamp(1.0 / 16.0, 1.0)
+    }
+
+    fn start(&mut self, quality: Quality, scene: &Scene, size: [u32; 2], full: [u32; 2]) {
+        self.last_start = Some((scene.clone(), full, quality));
+        let mut scene = scene.clone();
+        scene.image.width = size[0];
+        scene.image.height = size[1];
+        self.ensure_target(quality, size);
+        self.job = Some(Job {
+            quality,
+            params: TraceParams::<f32>::new(&scene),
+            next_row: 0,
+            started: Instant::now(),
+            pending: Arc::new(AtomicU32::new(0)),
+            last_done: Arc::new(Mutex::new(None)),
+        });
+    }
+
+    /// Submits tiles of the current job within this frame's budget.
+    fn submit_tiles(&mut self) {
+        let Some(job) = &mut self.job else { return };
+        let Some(target) = self.targets[job.quality as usize].as_ref() else {
+            return;
+        };
+        let (device, queue) = (&self.tracer.context().device, &self.tracer.context().queue);
+        let width = target.width;
+        let tile_rows = ((TILE_SECONDS / (self.seconds_per_pixel * width as f64)) as u32)
+            .next_multiple_of(WORKGROUP.1)
+            .max(WORKGROUP.1);
+        let mut budget = FRAME_SECONDS;
+        while job.next_row < target.height
+            && budget > 0.0
+            && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
+        {
+            let rows = tile_rows.min(target.height - job.next_row);
+            let band = GpuParams::new(&job.params, job.next_row, rows)
+                .with_output(target.row_stride, job.next_row);
+            queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
+            let mut encoder = device.create_command_encoder(&Default::default());
+            self.tracer
+                .encode_band(&mut encoder, &target.bind_group, (width, rows), None);
+            let offset = job.next_row as u64 * target.row_stride as u64 * 4;
+            encoder.copy_buffer_to_texture(
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &target.outputs[0],
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset,
+                        bytes_per_row: Some(target.row_stride * 4),
+                        rows_per_image: Some(rows),
+                    },
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &target.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: job.next_row,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    width,
+                    height: rows,
+                    depth_or_array_layers: 1,
+                },
+            );
+            self.in_flight.fetch_add(1, Ordering::AcqRel);
+            job.pending.fetch_add(1, Ordering::AcqRel);
+            queue.submit([encoder.finish()]);
+            let (in_flight, pending, last_done) = (
+                self.in_flight.clone(),
+                job.pending.clone(),
+                job.last_done.clone(),
+            );
+            queue.on_submitted_work_done(move || {
+                *last_done.lock().unwrap() = Some(Instant::now());
+                pending.fetch_sub(1, Ordering::AcqRel);
+                in_flight.fetch_sub(1, Ordering::AcqRel);
+            });
+            job.next_row += rows;
+            budget -= rows as f64 * width as f64 * self.seconds_per_pixel;
+        }
+    }
+
+    /// Once every tile of the job has run: show its image, learn its cost, read its steps.
+    fn finish_job(&mut self) {
+        let Some(job) = &self.job else { return };
+        let Some(target) = self.targets[job.quality as usize].as_ref() else {
+            return;
+        };
+        if job.next_row < target.height || job.pending.load(Ordering::Acquire) > 0 {
+            return;
+        }
+        let job = self.job.take().expect("checked above");
+        let done = job.last_done.lock().unwrap().unwrap_or_else(Instant::now);
+        let seconds = done.duration_since(job.started).as_secs_f64();
+        let pixels = target.width as f64 * target.height as f64;
+        // Learn the cost per pixel (a slow start-up render, e.g. shader compilation, is damped).
+        let measured = (seconds / pixels).clamp(1e-10, 1e-3);
+        self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
+        let full = self.wanted.as_ref().map_or([1, 1], |(_, s)| *s);
+        self.stats = ViewStats {
+            size: [target.width, target.height],
+            scale: target.width as f64 / full[0].max(1) as f64,
+            render_seconds: seconds,
+            steps_mean: None,
+            steps_max: None,
+            refined: job.quality == Quality::Full,
+        };
+        self.start_readback(job.quality);
+        self.shown = Some(job.quality);
+    }
+
+    fn start_readback(&mut self, quality: Quality) {
+        let Some(target) = self.targets[quality as usize].as_ref() else {
+            return;
+        };
+        let device = &self.tracer.context().device;
+        let bytes = target.row_stride as u64 * target.height as u64 * 4;
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("steps readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, 0, bytes);
+        self.tracer.context().queue.submit([encoder.finish()]);
+        let mapped = Arc::new(Mutex::new(None));
+        let slot = mapped.clone();
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            *slot.lock().unwrap() = Some(r)
+        });
+        self.readback = Some(StepsReadback {
+            buffer,
+            size: [target.width, target.height],
+            row_stride: target.row_stride,
+            mapped,
+        });
+    }
+
+    fn collect_readback(&mut self) {
+        let Some(rb) = &self.readback else { return };
+        let Some(result) = rb.mapped.lock().unwrap().take() else {
+            return;
+        };
+        if result.is_ok()
+            && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
+        {
+            let all: &[u32] = bytemuck::cast_slice(&view);
+            let (w, h, stride) = (
+                rb.size[0] as usize,
+                rb.size[1] as usize,
+                rb.row_stride as usize,
+            );
+            let rows = (0..h).flat_map(|j| &all[j * stride..j * stride + w]);
+            let (sum, max) = rows.fold((0u64, 0u32), |(s, m), &v| (s + v as u64, m.max(v)));
+            self.stats.steps_mean = Some(sum as f64 / (w * h).max(1) as f64);
+            self.stats.steps_max = Some(max);
+        }
+        self.readback = None;
+    }
+
+    /// Makes sure the target for `quality` has this size, re-creating it if not.
+    fn ensure_target(&mut self, quality: Quality, size: [u32; 2]) {
+        let slot = quality as usize;
+        if self.targets[slot]
+            .as_ref()
+            .is_some_and(|t| [t.width, t.height] == size)
+        {
+            return;
+        }
+        if self.shown == Some(quality) {
+            self.shown = None;
+        }
+        let old = self.targets[slot].take();
+        let device = &self.tracer.context().device;
+        let row_stride = size[0].next_multiple_of(ROW_ALIGN);
+        let bytes = row_stride as u64 * size[1] as u64 * 4;
+        let make = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let outputs = [make("view colour"), make("view depth"), make("view steps")];
+        // egui samples textures as gamma-encoded values and writes them to a gamma framebuffer
+        // unchanged: a plain (non-sRGB) RGBA8 texture puts the PNG's very bytes on screen.
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("view"),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let mut renderer = self.renderer.write();
+        let texture_id = match old {
+            Some(old) => {
+                renderer.update_egui_texture_from_wgpu_texture(
+                    device,
+                    &view,
+                    wgpu::FilterMode::Nearest,
+                    old.texture_id,
+                );
+                old.texture_id
+            }
+            None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
+        };
+        drop(renderer);
+        let bind_group = self
+            .tracer
+            .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);
+        self.targets[slot] = Some(Target {
+            width: size[0],
+            height: size[1],
+            row_stride,
+            outputs,
+            texture,
+            texture_id,
+            bind_group,
+        });
+    }
+}
+
+/// Renders a scene through the same tracer for export (blocking; run it off the UI thread).
+pub fn render_frame(tracer: &GpuTracer, scene: &Scene) -> crate::Result<Frame> {
+    Ok(tracer.render(&TraceParams::<f32>::new(scene))?.frame)
+}
