@@ -93,8 +93,11 @@ pub struct ExplorerApp {
     export: Option<Export>,
     last_frame: Option<Instant>,
     frame_seconds: f64,
-    /// The view's size in pixels last frame.
+    /// The view's size in pixels last frame, and where it was drawn (in points).
     pub view_pixels: [u32; 2],
+    pub view_rect: egui::Rect,
+    log_frames: u32,
+    log_since: Option<Instant>,
 }
 
 impl ExplorerApp {
@@ -118,24 +121,27 @@ impl ExplorerApp {
         let mut app = Self::with_scene(scene);
         app.resolution_scale = resolution_scale;
         match &cc.wgpu_render_state {
-            Some(rs) => {
-                let ctx = GpuContext {
-                    adapter: rs.adapter.clone(),
-                    device: rs.device.clone(),
-                    queue: rs.queue.clone(),
-                    info: rs.adapter.get_info(),
-                };
-                app.adapter_label = ctx.adapter_label();
-                match GpuTracer::new(ctx) {
-                    Ok(tracer) => {
-                        app.view = Some(ViewRenderer::new(Arc::new(tracer), rs.renderer.clone()))
-                    }
-                    Err(e) => app.gpu_error = Some(e.to_string()),
-                }
-            }
+            Some(rs) => app.attach_gpu(rs),
             None => app.gpu_error = Some("eframe started without its wgpu renderer".into()),
         }
         app
+    }
+
+    /// Puts the tracer on the UI's device and draws the view through its renderer.
+    pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
+        let ctx = GpuContext {
+            adapter: rs.adapter.clone(),
+            device: rs.device.clone(),
+            queue: rs.queue.clone(),
+            info: rs.adapter.get_info(),
+        };
+        self.adapter_label = ctx.adapter_label();
+        match GpuTracer::new(ctx) {
+            Ok(tracer) => {
+                self.view = Some(ViewRenderer::new(Arc::new(tracer), rs.renderer.clone()))
+            }
+            Err(e) => self.gpu_error = Some(e.to_string()),
+        }
     }
 
     /// The app's state for a scene, with no GPU attached.
@@ -164,7 +170,25 @@ impl ExplorerApp {
             last_frame: None,
             frame_seconds: 0.0,
             view_pixels: [0, 0],
+            view_rect: egui::Rect::NOTHING,
+            log_frames: 0,
+            log_since: None,
         }
+    }
+
+    /// The scene the view shows: the scene at the view's size.
+    pub fn view_scene(&self) -> Scene {
+        let mut scene = self.scene.clone();
+        scene.image.width = self.view_pixels[0];
+        scene.image.height = self.view_pixels[1];
+        scene
+    }
+
+    /// Whether the view shows the full-resolution image of the current scene.
+    pub fn view_refined(&self) -> bool {
+        self.view
+            .as_ref()
+            .is_some_and(|v| v.is_refined(&self.view_scene(), self.view_pixels))
     }
 
     /// Replaces the scene (a preset, a file): camera home, rotation and animation follow it.
@@ -530,8 +554,9 @@ impl ExplorerApp {
         );
     }
 
+    /// One line of fixed height (a status bar that changed height would resize the view).
     fn status(&self, ui: &mut egui::Ui) {
-        ui.horizontal_wrapped(|ui| {
+        ui.horizontal(|ui| {
             let fps = if self.frame_seconds > 0.0 {
                 1.0 / self.frame_seconds
             } else {
@@ -552,9 +577,10 @@ impl ExplorerApp {
                     if s.refined { "" } else { " (preview)" }
                 ));
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
-                if let (Some(mean), Some(max)) = (s.steps_mean, s.steps_max) {
-                    ui.label(format!("steps mean {mean:.1} max {max}"));
-                }
+                match (s.steps_mean, s.steps_max) {
+                    (Some(mean), Some(max)) => ui.label(format!("steps mean {mean:.1} max {max}")),
+                    _ => ui.label("steps …"),
+                };
             }
             ui.separator();
             ui.label(&self.adapter_label);
@@ -576,7 +602,14 @@ impl ExplorerApp {
 
     /// The view: the tracer's texture, filling the panel, with mouse camera control.
     fn view(&mut self, ui: &mut egui::Ui) {
-        let rect = ui.available_rect_before_wrap();
+        // Whole physical pixels, so that each texel lands on one screen pixel.
+        let ppp_screen = ui.ctx().pixels_per_point();
+        let snap = |p: egui::Pos2| {
+            egui::pos2((p.x * ppp_screen).round(), (p.y * ppp_screen).round()) / ppp_screen
+        };
+        let available = ui.available_rect_before_wrap();
+        let rect = egui::Rect::from_min_max(snap(available.min), snap(available.max));
+        self.view_rect = rect;
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         let cam = &mut self.scene.camera;
         if response.dragged_by(egui::PointerButton::Primary) {
@@ -607,6 +640,7 @@ impl ExplorerApp {
         ];
         let interacting =
             response.dragged() || self.animation.playing || ui.input(|i| i.pointer.any_down());
+        let view_scene = self.view_scene();
         let Some(view) = &mut self.view else {
             let text = format!(
                 "No GPU renderer: {}\n{}",
@@ -616,9 +650,6 @@ impl ExplorerApp {
             ui.put(rect, egui::Label::new(text));
             return;
         };
-        let mut view_scene = self.scene.clone();
-        view_scene.image.width = self.view_pixels[0];
-        view_scene.image.height = self.view_pixels[1];
         view.update(&view_scene, self.view_pixels, interacting);
         if let Some((texture, _)) = view.texture() {
             ui.painter().image(
@@ -665,6 +696,38 @@ impl ExplorerApp {
         }
     }
 
+    /// With `QJULIA_EXPLORE_LOG=1`, one line a second on stderr: frame rate and what the view
+    /// shows (for measuring the explorer where no one watches it).
+    fn log(&mut self, now: Instant) {
+        if std::env::var_os("QJULIA_EXPLORE_LOG").is_none_or(|v| v != "1") {
+            return;
+        }
+        self.log_frames += 1;
+        let since = self.log_since.get_or_insert(now);
+        let elapsed = now.duration_since(*since).as_secs_f64();
+        if elapsed >= 1.0 {
+            let s = self
+                .view
+                .as_ref()
+                .map(|v| v.stats().clone())
+                .unwrap_or_default();
+            eprintln!(
+                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}) rendered in {:.0} ms, {:.0} ms after the last change",
+                self.log_frames as f64 / elapsed,
+                self.view_pixels[0],
+                self.view_pixels[1],
+                s.size[0],
+                s.size[1],
+                s.scale,
+                if s.refined { "full" } else { "preview" },
+                s.render_seconds * 1e3,
+                s.since_change_seconds * 1e3,
+            );
+            self.log_frames = 0;
+            self.log_since = Some(now);
+        }
+    }
+
     fn animate(&mut self, dt: f64) {
         if self.animation.playing {
             self.animation.phase =
@@ -698,6 +761,7 @@ impl ExplorerApp {
             .show(ui, |ui| self.controls(ui));
         egui::CentralPanel::no_frame().show(ui, |ui| self.view(ui));
         self.dialogs(&ctx);
+        self.log(now);
         if self.animation.playing || self.export.is_some() {
             ctx.request_repaint();
         }

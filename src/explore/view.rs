@@ -16,11 +16,11 @@ use crate::scene::Scene;
 /// Frames per second to hold while the view changes.
 pub const INTERACTIVE_FPS: f64 = 15.0;
 /// Share of a frame's time the tracer may take while interacting (the rest is the UI's).
-const INTERACTIVE_SHARE: f64 = 0.6;
+const INTERACTIVE_SHARE: f64 = 0.45;
 /// Estimated GPU time one tile may take: the longest the UI can wait behind one.
 const TILE_SECONDS: f64 = 0.025;
 /// Estimated GPU time submitted per UI frame.
-const FRAME_SECONDS: f64 = 0.05;
+const FRAME_SECONDS: f64 = 0.035;
 /// Submissions in flight at most.
 const MAX_IN_FLIGHT: u32 = 3;
 /// How long the scene must stay unchanged before the full-resolution render starts.
@@ -48,6 +48,8 @@ pub struct ViewStats {
     pub steps_max: Option<u32>,
     /// Whether the full-resolution image is shown.
     pub refined: bool,
+    /// Seconds from the last change of scene or size to this image.
+    pub since_change_seconds: f64,
 }
 
 /// One render target: output buffers and the texture egui samples.
@@ -334,6 +336,7 @@ impl ViewRenderer {
             steps_mean: None,
             steps_max: None,
             refined: job.quality == Quality::Full,
+            since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
         };
         self.start_readback(job.quality);
         self.shown = Some(job.quality);
