@@ -19,10 +19,12 @@ pub const INTERACTIVE_FPS: f64 = 15.0;
 const INTERACTIVE_SHARE: f64 = 0.45;
 /// Estimated GPU time one tile may take: the longest the UI can wait behind one.
 const TILE_SECONDS: f64 = 0.025;
-/// Estimated GPU time submitted per UI frame.
+/// Estimated GPU time submitted per UI frame while the view changes, and while it refines
+/// (the UI then runs slower, but every tile still comes back within TILE_SECONDS).
 const FRAME_SECONDS: f64 = 0.035;
+const IDLE_FRAME_SECONDS: f64 = 0.08;
 /// Submissions in flight at most.
-const MAX_IN_FLIGHT: u32 = 3;
+const MAX_IN_FLIGHT: u32 = 4;
 /// How long the scene must stay unchanged before the full-resolution render starts.
 pub const IDLE_DELAY: Duration = Duration::from_millis(150);
 /// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
@@ -218,7 +220,11 @@ impl ViewRenderer {
                 self.start(Quality::Full, scene, size, size);
             }
         }
-        self.submit_tiles();
+        self.submit_tiles(if interacting {
+            FRAME_SECONDS
+        } else {
+            IDLE_FRAME_SECONDS
+        });
     }
 
     /// The resolution scale that keeps a preview within the interactive frame budget.
@@ -245,8 +251,8 @@ impl ViewRenderer {
         });
     }
 
-    /// Submits tiles of the current job within this frame's budget.
-    fn submit_tiles(&mut self) {
+    /// Submits tiles of the current job: about `budget` seconds of GPU work.
+    fn submit_tiles(&mut self, budget: f64) {
         let Some(job) = &mut self.job else { return };
         let Some(target) = self.targets[job.quality as usize].as_ref() else {
             return;
@@ -256,7 +262,7 @@ impl ViewRenderer {
         let tile_rows = ((TILE_SECONDS / (self.seconds_per_pixel * width as f64)) as u32)
             .next_multiple_of(WORKGROUP.1)
             .max(WORKGROUP.1);
-        let mut budget = FRAME_SECONDS;
+        let mut budget = budget;
         while job.next_row < target.height
             && budget > 0.0
             && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
