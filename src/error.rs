@@ -6,7 +6,7 @@ use crate::scene::SceneError;
 
 /// How to get an adapter on a machine without a GPU, for every "no adapter" message.
 pub const INSTALL_ADAPTER_HINT: &str = "install Mesa's software Vulkan driver (lavapipe): \
-    `sudo apt-get install mesa-vulkan-drivers`, or use --backend cpu";
+    `sudo apt-get install mesa-vulkan-drivers`";
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {

@@ -38,6 +38,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Ctrl+S", "save the scene as TOML"),
     ("Ctrl+E", "export a PNG"),
     ("F1", "this help"),
+    (
+        "Ctrl+Q",
+        "quit (the scene and window size are kept for next time)",
+    ),
 ];
 
 /// The animation of c: a smooth closed path through 4D around a centre.
@@ -104,19 +108,7 @@ impl ExplorerApp {
     /// The app on eframe's wgpu device; `initial` is the scene given on the command line,
     /// else the one persisted from the last run, else the default.
     pub fn new(cc: &eframe::CreationContext<'_>, initial: Option<Scene>) -> Self {
-        let stored_scene = cc
-            .storage
-            .and_then(|s| eframe::get_value::<String>(s, STORAGE_SCENE))
-            .and_then(|text| {
-                let mut loader = SceneLoader::new();
-                loader.toml_str(&text, SceneSource::Default).ok()?;
-                loader.build().ok()
-            });
-        let resolution_scale = cc
-            .storage
-            .and_then(|s| eframe::get_value::<f32>(s, STORAGE_RESOLUTION))
-            .unwrap_or(1.0)
-            .clamp(0.25, 2.0);
+        let (stored_scene, resolution_scale) = load_persisted(cc.storage);
         let scene = initial.or(stored_scene).unwrap_or_default();
         let mut app = Self::with_scene(scene);
         app.resolution_scale = resolution_scale;
@@ -779,6 +771,22 @@ impl eframe::App for ExplorerApp {
     }
 }
 
+/// What the last run left: its scene (when it still loads) and the view's resolution scale.
+pub fn load_persisted(storage: Option<&dyn eframe::Storage>) -> (Option<Scene>, f32) {
+    let scene = storage
+        .and_then(|s| eframe::get_value::<String>(s, STORAGE_SCENE))
+        .and_then(|text| {
+            let mut loader = SceneLoader::new();
+            loader.toml_str(&text, SceneSource::Default).ok()?;
+            loader.build().ok()
+        });
+    let resolution = storage
+        .and_then(|s| eframe::get_value::<f32>(s, STORAGE_RESOLUTION))
+        .unwrap_or(1.0)
+        .clamp(0.25, 2.0);
+    (scene, resolution)
+}
+
 /// A colour picker for an `[f64; 3]` in [0, 1].
 fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
     let mut rgb = colour.map(|c| c as f32);
@@ -812,6 +820,37 @@ fn from_hyperspherical([a, b, g]: [f64; 3]) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A storage in memory, like eframe's file storage.
+    #[derive(Default)]
+    struct Memory(std::collections::HashMap<String, String>);
+
+    impl eframe::Storage for Memory {
+        fn get_string(&self, key: &str) -> Option<String> {
+            self.0.get(key).cloned()
+        }
+        fn set_string(&mut self, key: &str, value: String) {
+            self.0.insert(key.to_string(), value);
+        }
+        fn remove_string(&mut self, key: &str) {
+            self.0.remove(key);
+        }
+        fn flush(&mut self) {}
+    }
+
+    #[test]
+    fn the_scene_and_resolution_persist_between_runs() {
+        let mut scene = PRESETS[3].scene();
+        scene.camera.eye = [0.25, 1.5, 2.0];
+        let mut app = ExplorerApp::with_scene(scene.clone());
+        app.resolution_scale = 0.5;
+        let mut storage = Memory::default();
+        eframe::App::save(&mut app, &mut storage);
+        let (restored, resolution) = load_persisted(Some(&storage));
+        assert_eq!(restored, Some(scene));
+        assert_eq!(resolution, 0.5);
+        assert_eq!(load_persisted(None), (None, 1.0));
+    }
 
     #[test]
     fn hyperspherical_angles_round_trip() {
