@@ -55,8 +55,12 @@ struct Params {
 @group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
 
 // |z'|^2 above this: the estimate cannot be formed (d = 0), and iterating stops before z'
-// can overflow.
-const DERIVATIVE_LIMIT: f32 = 1e30;
+// can overflow: with |z|^2 <= escape_radius_squared <= 1e8 (the host clamps it for f32), one
+// more step gives |z'|^2 <= 4e36, still finite.
+const DERIVATIVE_LIMIT: f32 = 1e28;
+// A hit needs d below epsilon, or below this fraction of t: the spacing of floats at t (8 ulps),
+// under which a step no longer moves the ray.
+const RELATIVE_EPSILON: f32 = 9.5367431640625e-7;
 // Below this a squared length counts as zero: nothing is divided by it or normalised.
 const TINY: f32 = 1e-30;
 // The smallest normal f32: a |z|^2 below it is 0 for the estimate (no log of it is taken).
@@ -134,13 +138,14 @@ struct Trace {
 }
 
 // Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
-// d < epsilon; a miss when t passes t_end or after max_steps estimates.
+// d < epsilon (or below the float spacing at t, where steps stall); a miss when t passes t_end
+// or after max_steps estimates.
 fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32) -> Trace {
     var t = t_start;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
         let d = estimate_distance(origin + t * dir);
         t += max(d, 0.0);
-        if d < params.epsilon {
+        if d < max(params.epsilon, t * RELATIVE_EPSILON) {
             return Trace(t, steps, true);
         }
         if t > t_end {

@@ -14,6 +14,12 @@ use num_traits::Float;
 pub trait Real: Float + Debug + Default + Send + Sync + 'static {
     /// Short name used in outputs ("f32" or "f64").
     const NAME: &'static str;
+    /// The largest escape radius squared this precision iterates without overflow (with
+    /// `cpu::trace::DERIVATIVE_LIMIT`); larger settings are clamped to it.
+    const ESCAPE_LIMIT: f64;
+    /// 8 ulps: below `t` times this a sphere-tracing step no longer moves the ray (WGSL's
+    /// RELATIVE_EPSILON for f32).
+    const RELATIVE_EPSILON: f64;
     /// A literal or host-side value converted to this precision (rounded to nearest).
     fn lit(x: f64) -> Self;
     /// This value widened to f64.
@@ -22,6 +28,8 @@ pub trait Real: Float + Debug + Default + Send + Sync + 'static {
 
 impl Real for f32 {
     const NAME: &'static str = "f32";
+    const ESCAPE_LIMIT: f64 = 1e8;
+    const RELATIVE_EPSILON: f64 = 8.0 * f32::EPSILON as f64;
     fn lit(x: f64) -> Self {
         x as f32
     }
@@ -32,6 +40,8 @@ impl Real for f32 {
 
 impl Real for f64 {
     const NAME: &'static str = "f64";
+    const ESCAPE_LIMIT: f64 = 1e150;
+    const RELATIVE_EPSILON: f64 = 8.0 * f64::EPSILON;
     fn lit(x: f64) -> Self {
         x
     }

@@ -59,7 +59,7 @@ impl<F: Real> TraceParams<F> {
             cam_right: Vec3::from_f64(frame.right),
             aspect: F::lit(scene.image.width as f64 / scene.image.height as f64),
             cam_up: Vec3::from_f64(frame.up),
-            escape_radius_squared: F::lit(f.escape_radius_squared),
+            escape_radius_squared: F::lit(f.escape_radius_squared.min(F::ESCAPE_LIMIT)),
             light: Vec3::from_f64(scene.light.position),
             bounds_radius_squared: F::lit(bounds.radius_squared),
             bounds_center: Vec3::from_f64(bounds.center),

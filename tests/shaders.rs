@@ -117,6 +117,7 @@ fn shared_constants_match_the_cpu_twin() {
         ("NORMAL_DELTA", NORMAL_DELTA),
         ("NORMAL_LIMIT", NORMAL_LIMIT),
         ("MIN_NORMAL", f32::MIN_POSITIVE as f64),
+        ("RELATIVE_EPSILON", <f32 as qjulia::algebra::Real>::RELATIVE_EPSILON),
     ] {
         assert_eq!(
             value(name),

@@ -6,8 +6,9 @@ use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
 use crate::params::TraceParams;
 
 /// |z'|^2 above this: the estimate cannot be formed (d = 0), and iterating stops before z' can
-/// overflow. Same value as the WGSL constant.
-pub const DERIVATIVE_LIMIT: f64 = 1e30;
+/// overflow: with |z|^2 <= escape_radius_squared (clamped to `Real::ESCAPE_LIMIT`), one more
+/// step stays finite. Same value as the WGSL constant.
+pub const DERIVATIVE_LIMIT: f64 = 1e28;
 /// Below this a squared length counts as zero: nothing is divided by it or normalised.
 pub const TINY: f64 = 1e-30;
 /// The seed's finite-difference step for the normal, in slice coordinates.
@@ -117,7 +118,8 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
-    /// d < epsilon; a miss when t passes t_end or after max_steps estimates.
+    /// d < epsilon (or below the float spacing at t, `Real::RELATIVE_EPSILON`, where steps
+    /// stall); a miss when t passes t_end or after max_steps estimates.
     pub fn intersect_qjulia(
         &self,
         origin: Vec3<F>,
@@ -129,7 +131,7 @@ impl<F: Real> TraceParams<F> {
         for steps in 1..=self.max_steps {
             let d = self.estimate_distance(origin + dir * t);
             t = t + d.max(F::zero());
-            if d < self.epsilon {
+            if d < self.epsilon.max(t * F::lit(F::RELATIVE_EPSILON)) {
                 return Trace {
                     t,
                     steps,
