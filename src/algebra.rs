@@ -15,8 +15,13 @@ pub trait Real: Float + Debug + Default + Send + Sync + 'static {
     /// Short name used in outputs ("f32" or "f64").
     const NAME: &'static str;
     /// The largest escape radius squared this precision iterates without overflow (with
-    /// `cpu::trace::DERIVATIVE_LIMIT`); larger settings are clamped to it.
+    /// `DERIVATIVE_LIMIT`); larger settings are clamped to it.
     const ESCAPE_LIMIT: f64;
+    /// |z'|^2 above this: iterating stops before z' overflows, and the estimate is taken as 0.
+    /// Sound because it is far above ESCAPE_LIMIT: the true estimate there is below
+    /// 0.25 sqrt(ESCAPE_LIMIT / DERIVATIVE_LIMIT) ln(ESCAPE_LIMIT) (5e-10 in f32, 6e-49 in f64),
+    /// and one more step, 4 ESCAPE_LIMIT DERIVATIVE_LIMIT, stays finite.
+    const DERIVATIVE_LIMIT: f64;
     /// 8 ulps: below `t` times this a sphere-tracing step no longer moves the ray (WGSL's
     /// RELATIVE_EPSILON for f32).
     const RELATIVE_EPSILON: f64;
@@ -29,6 +34,7 @@ pub trait Real: Float + Debug + Default + Send + Sync + 'static {
 impl Real for f32 {
     const NAME: &'static str = "f32";
     const ESCAPE_LIMIT: f64 = 1e8;
+    const DERIVATIVE_LIMIT: f64 = 1e28;
     const RELATIVE_EPSILON: f64 = 8.0 * f32::EPSILON as f64;
     fn lit(x: f64) -> Self {
         x as f32
@@ -40,7 +46,8 @@ impl Real for f32 {
 
 impl Real for f64 {
     const NAME: &'static str = "f64";
-    const ESCAPE_LIMIT: f64 = 1e150;
+    const ESCAPE_LIMIT: f64 = 1e100;
+    const DERIVATIVE_LIMIT: f64 = 1e200;
     const RELATIVE_EPSILON: f64 = 8.0 * f64::EPSILON;
     fn lit(x: f64) -> Self {
         x

@@ -29,6 +29,8 @@ pub enum Command {
     Explore(SceneArgs),
     /// List the GPU adapters wgpu finds and say which one `render` would use.
     Info,
+    /// Accuracy and stability reports.
+    Report(ReportArgs),
 }
 
 /// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
@@ -68,6 +70,22 @@ pub struct RenderArgs {
     pub backend: BackendArg,
     #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
     pub precision: PrecisionArg,
+}
+
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// The folder to write into (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "report")]
+    pub out: PathBuf,
+    /// Run the stiff and extreme case suite on every tracer (writes DIR/stability.md).
+    #[arg(long)]
+    pub stability: bool,
+    /// Image size of each case, in pixels a side.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub size: u32,
+    /// Seconds a case may take on one tracer before it counts as a hang.
+    #[arg(long, default_value_t = 120, value_parser = clap::value_parser!(u64).range(1..=3600))]
+    pub limit: u64,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -132,6 +150,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         PrecisionArg::F32 => Precision::F32,
         PrecisionArg::F64 => Precision::F64,
     };
+    for warning in qjulia::precision_warnings(&scene, precision) {
+        eprintln!("qjulia: warning: {warning}");
+    }
     let (frame, stats) = qjulia::render(&scene, backend, precision, &mut |n| {
         eprintln!("qjulia: {n}")
     })?;
@@ -156,6 +177,49 @@ pub fn explore(args: &SceneArgs) -> anyhow::Result<()> {
         None
     };
     qjulia::explore::run(initial)?;
+    Ok(())
+}
+
+pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
+    use qjulia::report::stability;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    if !args.stability {
+        anyhow::bail!("the work-precision report is not built yet; use --stability");
+    }
+    let gpu = match qjulia::gpu::GpuContext::new().and_then(qjulia::gpu::GpuTracer::new) {
+        Ok(t) => {
+            eprintln!("qjulia: GPU cases on {}", t.context().adapter_label());
+            Some(std::sync::Arc::new(t))
+        }
+        Err(e) => {
+            eprintln!("qjulia: {e}; CPU cases only");
+            None
+        }
+    };
+    let limit = std::time::Duration::from_secs(args.limit);
+    let outcomes = stability::run_all(args.size, gpu, limit, |o| {
+        let verdict = if o.passed() { "ok" } else { "FAILED" };
+        let seconds = o.seconds.map_or("-".into(), |s| format!("{s:.3} s"));
+        eprintln!(
+            "qjulia: {:<28} {:<8} {seconds:>10}  {verdict}",
+            o.case,
+            o.runner.name()
+        );
+    });
+    let table = stability::markdown(&outcomes);
+    let path = args.out.join("stability.md");
+    let text = format!(
+        "# Stability: stiff and extreme cases\n\n`qjulia report --stability --size {}` on this machine. Each case \
+         runs twice per tracer under a {} s limit; errors are against the f64 CPU render of the same \
+         scene (masks and colour: share of pixels within CONTRACT_TOLERANCE).\n\n{table}",
+        args.size, args.limit
+    );
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    println!("{table}");
+    if outcomes.iter().any(|o| !o.passed()) {
+        anyhow::bail!("some cases failed: see {}", path.display());
+    }
     Ok(())
 }
 

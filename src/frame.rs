@@ -13,6 +13,9 @@ pub struct Frame {
     pub depth: Vec<f32>,
     /// Distance estimates along the primary ray.
     pub steps: Vec<u32>,
+    /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
+    /// marker aside). Must be 0: the stability suite checks it.
+    pub non_finite: u64,
 }
 
 impl Frame {

@@ -13,6 +13,7 @@ pub mod frame;
 pub mod gpu;
 pub mod output;
 pub mod params;
+pub mod report;
 pub mod scene;
 
 pub use error::{Error, Result};
@@ -20,6 +21,7 @@ pub use frame::{Frame, RenderStats};
 pub use params::TraceParams;
 pub use scene::Scene;
 
+use algebra::Real;
 use gpu::{GpuContext, GpuTracer};
 
 /// Which tracer renders.
@@ -51,6 +53,47 @@ impl Precision {
 pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU: WGSL's f64 \
     has no trustworthy log/sqrt on common drivers (lavapipe returns wrong values without an error); \
     use --backend cpu";
+
+/// What the user should know before a render in this precision: settings the floats cannot
+/// resolve (and what is done about it), each with the remedy.
+pub fn precision_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
+    let (relative, escape_limit, name) = match precision {
+        Precision::F32 => (f32::RELATIVE_EPSILON, f32::ESCAPE_LIMIT, "f32"),
+        Precision::F64 => (f64::RELATIVE_EPSILON, f64::ESCAPE_LIMIT, "f64"),
+    };
+    let remedy = match precision {
+        Precision::F32 => "use --precision f64 (on the CPU)",
+        Precision::F64 => "this is beyond f64 too",
+    };
+    let f = &scene.fractal;
+    let eye = glam::DVec3::from_array(scene.camera.eye);
+    let target = glam::DVec3::from_array(scene.camera.target);
+    // The largest coordinate the rays work with, and the float spacing there.
+    let reach = eye.length().max(f.bounding_radius_squared.sqrt()).max(1.0);
+    let spacing = reach * relative;
+    let mut warnings = Vec::new();
+    if f.epsilon < spacing {
+        warnings.push(format!(
+            "fractal.epsilon = {:e} is below the spacing of {name} values at distance {reach:.3} ({spacing:.1e}): hits are taken there instead; {remedy}",
+            f.epsilon
+        ));
+    }
+    let footprint =
+        2.0 * (target - eye).length() * (scene.camera.fov_y_degrees.to_radians() * 0.5).tan()
+            / scene.image.height as f64;
+    if footprint < spacing {
+        warnings.push(format!(
+            "a pixel spans {footprint:.1e} at the target, below the spacing of {name} values ({spacing:.1e}): neighbouring pixels trace the same points; {remedy}"
+        ));
+    }
+    if f.escape_radius_squared > escape_limit {
+        warnings.push(format!(
+            "fractal.escape_radius_squared = {:e} would overflow {name} iterations: {escape_limit:e} is used; {remedy}",
+            f.escape_radius_squared
+        ));
+    }
+    warnings
+}
 
 /// Renders a validated scene. `notice` hears what the user should know (which backend was used
 /// and why).

@@ -11,6 +11,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
         Some(cli::Command::Info) => cli::info(),
+        Some(cli::Command::Report(args)) => cli::report(args),
         Some(cli::Command::Explore(args)) => cli::explore(args),
         None if qjulia::explore::display_available() => cli::explore(&cli::SceneArgs::default()),
         None => {

@@ -7,7 +7,9 @@
 mod common;
 
 use qjulia::algebra::{Real, Vec3};
-use qjulia::cpu::trace::{DERIVATIVE_LIMIT, TINY};
+use qjulia::cpu::trace::TINY;
+
+const DERIVATIVE_LIMIT: f64 = <f64 as Real>::DERIVATIVE_LIMIT;
 use qjulia::{Frame, Scene, TraceParams, cpu};
 
 fn unit_ball_scene() -> Scene {

@@ -71,6 +71,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         colour,
         depth: vec![0.0; n],
         steps: vec![0; n],
+        non_finite: 0,
     }
 }
 

@@ -3,7 +3,8 @@
 
 use std::mem::offset_of;
 
-use qjulia::cpu::trace::{DERIVATIVE_LIMIT, NORMAL_DELTA, NORMAL_LIMIT, TINY};
+use qjulia::algebra::Real;
+use qjulia::cpu::trace::{NORMAL_DELTA, NORMAL_LIMIT, TINY};
 use qjulia::gpu::GpuParams;
 use qjulia::gpu::shaders::{ALL_MODULES, QUATERNION_WGSL, TRACE_MODULE, validate_wgsl};
 
@@ -112,12 +113,12 @@ fn shared_constants_match_the_cpu_twin() {
         }
     };
     for (name, cpu) in [
-        ("DERIVATIVE_LIMIT", DERIVATIVE_LIMIT),
+        ("DERIVATIVE_LIMIT", <f32 as Real>::DERIVATIVE_LIMIT),
         ("TINY", TINY),
         ("NORMAL_DELTA", NORMAL_DELTA),
         ("NORMAL_LIMIT", NORMAL_LIMIT),
         ("MIN_NORMAL", f32::MIN_POSITIVE as f64),
-        ("RELATIVE_EPSILON", <f32 as qjulia::algebra::Real>::RELATIVE_EPSILON),
+        ("RELATIVE_EPSILON", <f32 as Real>::RELATIVE_EPSILON),
     ] {
         assert_eq!(
             value(name),

@@ -3,6 +3,7 @@
 
 pub mod trace;
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -19,6 +20,7 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
     let mut colour = vec![0u32; w * h];
     let mut depth = vec![0f32; w * h];
     let mut steps = vec![0u32; w * h];
+    let non_finite = AtomicU64::new(0);
     colour
         .par_chunks_mut(w)
         .zip(depth.par_chunks_mut(w))
@@ -27,6 +29,14 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
         .for_each(|(j, ((colour_row, depth_row), steps_row))| {
             for i in 0..w {
                 let pixel = params.trace_pixel(i as u32, j as u32);
+                let c = pixel.colour;
+                let bad = [c.x, c.y, c.z, pixel.depth]
+                    .iter()
+                    .filter(|v| !v.is_finite())
+                    .count();
+                if bad > 0 {
+                    non_finite.fetch_add(bad as u64, Ordering::Relaxed);
+                }
                 colour_row[i] = trace::pack_colour(pixel.colour);
                 depth_row[i] = if pixel.hit {
                     pixel.depth.to_f64() as f32
@@ -42,6 +52,7 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
         colour,
         depth,
         steps,
+        non_finite: non_finite.into_inner(),
     };
     (frame, start.elapsed().as_secs_f64())
 }

@@ -5,10 +5,6 @@
 use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
 use crate::params::TraceParams;
 
-/// |z'|^2 above this: the estimate cannot be formed (d = 0), and iterating stops before z' can
-/// overflow: with |z|^2 <= escape_radius_squared (clamped to `Real::ESCAPE_LIMIT`), one more
-/// step stays finite. Same value as the WGSL constant.
-pub const DERIVATIVE_LIMIT: f64 = 1e28;
 /// Below this a squared length counts as zero: nothing is divided by it or normalised.
 pub const TINY: f64 = 1e-30;
 /// The seed's finite-difference step for the normal, in slice coordinates.
@@ -47,12 +43,13 @@ impl<F: Real> TraceParams<F> {
         self.slice_offset + self.slice_x * p.x + self.slice_y * p.y + self.slice_z * p.z
     }
 
-    /// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations.
+    /// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations
+    /// (or |z'|^2 > `Real::DERIVATIVE_LIMIT`, WGSL's DERIVATIVE_LIMIT in f32).
     pub fn iterate_intersect(&self, z: &mut Vec4<F>, zp: &mut Vec4<F>) {
         for _ in 0..self.max_iterations {
             *zp = quat_mul(*z, *zp) * F::lit(2.0);
             *z = quat_sq(*z) + self.c;
-            if z.dot(*z) > self.escape_radius_squared || zp.dot(*zp) > F::lit(DERIVATIVE_LIMIT) {
+            if z.dot(*z) > self.escape_radius_squared || zp.dot(*zp) > F::lit(F::DERIVATIVE_LIMIT) {
                 break;
             }
         }
@@ -70,7 +67,7 @@ impl<F: Real> TraceParams<F> {
         let zz = z.dot(z);
         let zpzp = zp.dot(zp);
         if zz < F::min_positive_value()
-            || zpzp > F::lit(DERIVATIVE_LIMIT)
+            || zpzp > F::lit(F::DERIVATIVE_LIMIT)
             || zpzp <= zz * F::lit(TINY)
         {
             return F::zero();

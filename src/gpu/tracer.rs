@@ -235,6 +235,7 @@ impl GpuTracer {
             colour: Vec::with_capacity(pixels),
             depth: Vec::with_capacity(pixels),
             steps: Vec::with_capacity(pixels),
+            non_finite: 0,
         };
         let mut gpu_seconds = buffers.timestamps.as_ref().map(|_| 0.0);
         let mut row = 0;
@@ -311,11 +312,11 @@ impl GpuTracer {
             frame
                 .colour
                 .extend_from_slice(bytemuck::cast_slice(&mapped[0]));
-            frame.depth.extend(
-                bytemuck::cast_slice::<u8, f32>(&mapped[1])
-                    .iter()
-                    .map(|&d| if d < 0.0 { f32::NAN } else { d }),
-            );
+            let depths = bytemuck::cast_slice::<u8, f32>(&mapped[1]);
+            frame.non_finite += depths.iter().filter(|d| !d.is_finite()).count() as u64;
+            frame
+                .depth
+                .extend(depths.iter().map(|&d| if d < 0.0 { f32::NAN } else { d }));
             frame
                 .steps
                 .extend_from_slice(bytemuck::cast_slice(&mapped[2]));
