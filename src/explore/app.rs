@@ -203,6 +203,11 @@ impl ExplorerApp {
         };
     }
 
+    /// The message shown in the status line, and whether it is an error.
+    pub fn message(&self) -> Option<(&str, bool)> {
+        self.message.as_ref().map(|(m, e)| (m.as_str(), *e))
+    }
+
     /// Loads a scene file; on error the previous scene stays and the error is shown.
     pub fn open(&mut self, path: &Path) {
         let mut loader = SceneLoader::new();

@@ -78,7 +78,7 @@ impl SceneError {
 }
 
 /// Every leaf key a scene has, as dotted paths. Keep in sync with [`SceneLoader::build`].
-const KEYS: &[&str] = &[
+pub const KEYS: &[&str] = &[
     "fractal.c",
     "fractal.max_iterations",
     "fractal.escape_radius_squared",

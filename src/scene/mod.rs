@@ -5,7 +5,7 @@ mod load;
 pub mod presets;
 pub mod rotation;
 
-pub use load::{SceneError, SceneLoader, SceneSource, scene_from_png};
+pub use load::{KEYS, SceneError, SceneLoader, SceneSource, scene_from_png};
 
 use serde::Serialize;
 
