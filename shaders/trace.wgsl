@@ -40,9 +40,19 @@ struct Params {
     row_count: u32,
     row_stride: u32,
     out_row: u32,
-    _pad0: u32,
-    _pad1: u32,
+    normal_method: u32,
+    normal_delta: f32,
+    step_scale: f32,
+    pixel_epsilon: f32,
+    pixel_angle: f32,
+    _pad: u32,
 }
+
+// params.normal_method: the seed's central differences, a tetrahedron of four samples, or the
+// analytic gradient (the Jacobian carried through the iteration).
+const NORMAL_CENTRAL: u32 = 0u;
+const NORMAL_TETRAHEDRAL: u32 = 1u;
+const NORMAL_ANALYTIC: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The band of rows [row_offset, row_offset + row_count) lands in the output arrays from row
@@ -66,8 +76,6 @@ const RELATIVE_EPSILON: f32 = 9.5367431640625e-7;
 const TINY: f32 = 1e-30;
 // The smallest normal f32: a |z|^2 below it is 0 for the estimate (no log of it is taken).
 const MIN_NORMAL: f32 = 1.17549435e-38;
-// The seed's finite-difference step for the normal, in slice coordinates.
-const NORMAL_DELTA: f32 = 1e-4;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
 const NORMAL_LIMIT: f32 = 1e16;
 
@@ -138,19 +146,39 @@ struct Trace {
     hit: bool,
 }
 
-// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
-// d < epsilon (or below the float spacing at t, where steps stall); a miss when t passes t_end
-// or after max_steps estimates.
-fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32) -> Trace {
+// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when d is
+// below the threshold: epsilon, or eps_slope t (epsilon proportional to the pixel footprint; 0
+// for shadow rays), or the float spacing at t where steps stall. A miss when t passes t_end or
+// after max_steps estimates. The hit is the point reached by the plain step, as in the seed.
+// With step_scale > 1 steps are over-relaxed (omega d); when the unbounding spheres of two
+// successive points stop overlapping the ray may have jumped the surface, so it goes back to the
+// plain step from the last point and carries on without over-relaxation.
+fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps_slope: f32) -> Trace {
     var t = t_start;
+    var omega = params.step_scale;
+    var t_prev = t_start;
+    var prev_radius = 0.0;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
         let d = estimate_distance(origin + t * dir);
-        t += max(d, 0.0);
-        if d < max(params.epsilon, t * RELATIVE_EPSILON) {
-            return Trace(t, steps, true);
+        let radius = max(d, 0.0);
+        if omega > 1.0 && t - t_prev > prev_radius + radius {
+            t = t_prev + prev_radius;
+            omega = 1.0;
+            continue;
         }
+        let t_plain = t + radius;
+        if d < max(max(params.epsilon, eps_slope * t_plain), t_plain * RELATIVE_EPSILON) {
+            return Trace(t_plain, steps, true);
+        }
+        t_prev = t;
+        prev_radius = radius;
+        t += omega * radius;
         if t > t_end {
-            return Trace(t, steps, false);
+            if t_plain > t_end {
+                return Trace(t, steps, false);
+            }
+            t = t_plain;
+            omega = 1.0;
         }
     }
     return Trace(t, params.max_steps, false);
@@ -165,16 +193,14 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     return v / sqrt(vv);
 }
 
-// The seed's normal: central differences of |z_N| along the slice axes with NORMAL_DELTA,
+// The seed's normal: central differences of |z_N| along the slice axes with normal_delta,
 // max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
 // passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
 // grad |z_n| and the direction is already known, and nothing overflows.
-// Where no gradient can be formed the normal points back along the ray.
-fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
-    let q = slice_point(p);
-    let dx = NORMAL_DELTA * params.slice_x;
-    let dy = NORMAL_DELTA * params.slice_y;
-    let dz = NORMAL_DELTA * params.slice_z;
+fn normal_central(q: vec4<f32>) -> vec3<f32> {
+    let dx = params.normal_delta * params.slice_x;
+    let dy = params.normal_delta * params.slice_y;
+    let dz = params.normal_delta * params.slice_z;
     var gx1 = q - dx;
     var gx2 = q + dx;
     var gy1 = q - dy;
@@ -196,11 +222,75 @@ fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
         gz1 = quat_sq(gz1) + params.c;
         gz2 = quat_sq(gz2) + params.c;
     }
-    let grad = vec3<f32>(
+    return vec3<f32>(
         length(gx2) - length(gx1),
         length(gy2) - length(gy1),
         length(gz2) - length(gz1),
     );
+}
+
+// Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) times
+// normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central differences.
+fn normal_tetrahedral(q: vec4<f32>) -> vec3<f32> {
+    let h = params.normal_delta;
+    var a = q + h * (params.slice_x - params.slice_y - params.slice_z);
+    var b = q + h * (-params.slice_x - params.slice_y + params.slice_z);
+    var c = q + h * (-params.slice_x + params.slice_y - params.slice_z);
+    var d = q + h * (params.slice_x + params.slice_y + params.slice_z);
+    for (var i = 0u; i < params.max_iterations; i++) {
+        let largest = max(max(dot(a, a), dot(b, b)), max(dot(c, c), dot(d, d)));
+        if largest > NORMAL_LIMIT {
+            break;
+        }
+        a = quat_sq(a) + params.c;
+        b = quat_sq(b) + params.c;
+        c = quat_sq(c) + params.c;
+        d = quat_sq(d) + params.c;
+    }
+    let la = length(a);
+    let lb = length(b);
+    let lc = length(c);
+    let ld = length(d);
+    return vec3<f32>(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld);
+}
+
+// The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried through
+// the iteration (d(z^2) = z dz + dz z = 2 (z.x dz.x - z.yzw . dz.yzw, z.x dz.yzw + dz.x z.yzw)),
+// then grad_i |z| = z . dz_i / |z| (the 1/|z| does not change the direction).
+fn normal_analytic(q: vec4<f32>) -> vec3<f32> {
+    var z = q;
+    var jx = params.slice_x;
+    var jy = params.slice_y;
+    var jz = params.slice_z;
+    for (var i = 0u; i < params.max_iterations; i++) {
+        let largest = max(max(dot(jx, jx), dot(jy, jy)), dot(jz, jz));
+        if dot(z, z) > NORMAL_LIMIT || largest > DERIVATIVE_LIMIT {
+            break;
+        }
+        jx = 2.0 * vec4<f32>(z.x * jx.x - dot(z.yzw, jx.yzw), z.x * jx.yzw + jx.x * z.yzw);
+        jy = 2.0 * vec4<f32>(z.x * jy.x - dot(z.yzw, jy.yzw), z.x * jy.yzw + jy.x * z.yzw);
+        jz = 2.0 * vec4<f32>(z.x * jz.x - dot(z.yzw, jz.yzw), z.x * jz.yzw + jz.x * z.yzw);
+        z = quat_sq(z) + params.c;
+    }
+    return vec3<f32>(dot(z, jx), dot(z, jy), dot(z, jz));
+}
+
+// The shading normal by params.normal_method; where no gradient can be formed it points back
+// along the ray.
+fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    let q = slice_point(p);
+    var grad: vec3<f32>;
+    switch params.normal_method {
+        case NORMAL_TETRAHEDRAL: {
+            grad = normal_tetrahedral(q);
+        }
+        case NORMAL_ANALYTIC: {
+            grad = normal_analytic(q);
+        }
+        default: {
+            grad = normal_central(q);
+        }
+    }
     return safe_normalize(grad, -dir);
 }
 
@@ -239,7 +329,7 @@ fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
     if !bounds.hit || bounds.t_enter >= t_end {
         return false;
     }
-    return intersect_qjulia(origin, dir, bounds.t_enter, t_end).hit;
+    return intersect_qjulia(origin, dir, bounds.t_enter, t_end, 0.0).hit;
 }
 
 // The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
@@ -264,7 +354,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     if !bounds.hit {
         return Pixel(params.background, -1.0, 0u, false);
     }
-    let trace = intersect_qjulia(params.eye, dir, bounds.t_enter, bounds.t_exit);
+    let trace = intersect_qjulia(params.eye, dir, bounds.t_enter, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false);
     }

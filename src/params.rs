@@ -3,7 +3,7 @@
 //! frame and the slice's bounding ball already worked out.
 
 use crate::algebra::{Real, Vec3, Vec4};
-use crate::scene::Scene;
+use crate::scene::{NormalMethod, Scene};
 
 /// The tracer's inputs in precision `F`. Field names are those of `Params` in
 /// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
@@ -38,6 +38,12 @@ pub struct TraceParams<F> {
     pub height: u32,
     pub shadows: bool,
     pub shadow_factor: F,
+    pub normal_method: NormalMethod,
+    pub normal_delta: F,
+    pub step_scale: F,
+    pub pixel_epsilon: F,
+    /// A pixel's footprint per unit distance, 2 tan(fov/2) / height.
+    pub pixel_angle: F,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -74,6 +80,11 @@ impl<F: Real> TraceParams<F> {
             height: scene.image.height,
             shadows: sh.shadows,
             shadow_factor: F::lit(sh.shadow_factor),
+            normal_method: sh.normal,
+            normal_delta: F::lit(sh.normal_delta),
+            step_scale: F::lit(f.step_scale),
+            pixel_epsilon: F::lit(f.pixel_epsilon),
+            pixel_angle: F::lit(scene.pixel_angle()),
         }
     }
 }

@@ -143,3 +143,24 @@ fn a_real_difference_fails_the_comparison_and_leaves_diff_images() {
         assert_eq!((img.width(), img.height()), (32, 32));
     }
 }
+
+#[test]
+fn tetrahedral_and_analytic_normals() {
+    check(
+        "normal_tetrahedral",
+        with(&["shading.normal=\"tetrahedral\""]),
+    );
+    check(
+        "normal_analytic",
+        with(&["shading.normal=analytic", "shading.shadows=false"]),
+    );
+}
+
+#[test]
+fn over_relaxed_steps_and_pixel_epsilon() {
+    check("step_scale_1.6", with(&["fractal.step_scale=1.6"]));
+    check(
+        "pixel_epsilon",
+        with(&["fractal.pixel_epsilon=1.0", "fractal.epsilon=0.0005"]),
+    );
+}

@@ -4,7 +4,7 @@
 use std::mem::offset_of;
 
 use qjulia::algebra::Real;
-use qjulia::cpu::trace::{NORMAL_DELTA, NORMAL_LIMIT, TINY};
+use qjulia::cpu::trace::{NORMAL_LIMIT, TINY};
 use qjulia::gpu::GpuParams;
 use qjulia::gpu::shaders::{ALL_MODULES, QUATERNION_WGSL, TRACE_MODULE, validate_wgsl};
 
@@ -84,8 +84,12 @@ fn uniform_layout_matches_the_shader() {
         row_count,
         row_stride,
         out_row,
-        _pad0,
-        _pad1,
+        normal_method,
+        normal_delta,
+        step_scale,
+        pixel_epsilon,
+        pixel_angle,
+        _pad,
     );
     let shader: Vec<(String, u32)> = members
         .iter()
@@ -112,10 +116,24 @@ fn shared_constants_match_the_cpu_twin() {
             ref other => panic!("{name} is not an f32 literal: {other:?}"),
         }
     };
+    let code = |name: &str| -> u32 {
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap();
+        match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{name} is not a u32 literal: {other:?}"),
+        }
+    };
+    use qjulia::scene::NormalMethod;
+    assert_eq!(code("NORMAL_CENTRAL"), NormalMethod::Central.code());
+    assert_eq!(code("NORMAL_TETRAHEDRAL"), NormalMethod::Tetrahedral.code());
+    assert_eq!(code("NORMAL_ANALYTIC"), NormalMethod::Analytic.code());
     for (name, cpu) in [
         ("DERIVATIVE_LIMIT", <f32 as Real>::DERIVATIVE_LIMIT),
         ("TINY", TINY),
-        ("NORMAL_DELTA", NORMAL_DELTA),
         ("NORMAL_LIMIT", NORMAL_LIMIT),
         ("MIN_NORMAL", f32::MIN_POSITIVE as f64),
         ("RELATIVE_EPSILON", <f32 as Real>::RELATIVE_EPSILON),

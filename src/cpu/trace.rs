@@ -4,11 +4,10 @@
 
 use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
 use crate::params::TraceParams;
+use crate::scene::NormalMethod;
 
 /// Below this a squared length counts as zero: nothing is divided by it or normalised.
 pub const TINY: f64 = 1e-30;
-/// The seed's finite-difference step for the normal, in slice coordinates.
-pub const NORMAL_DELTA: f64 = 1e-4;
 /// |z|^2 at which the normal's six orbits stop, long before they can overflow.
 pub const NORMAL_LIMIT: f64 = 1e16;
 
@@ -114,33 +113,59 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when
-    /// d < epsilon (or below the float spacing at t, `Real::RELATIVE_EPSILON`, where steps
-    /// stall); a miss when t passes t_end or after max_steps estimates.
+    /// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when d is
+    /// below the threshold: epsilon, or eps_slope t (epsilon proportional to the pixel
+    /// footprint; 0 for shadow rays), or the float spacing at t (`Real::RELATIVE_EPSILON`) where
+    /// steps stall. A miss when t passes t_end or after max_steps estimates. The hit is the
+    /// point reached by the plain step, as in the seed.
+    /// With step_scale > 1 steps are over-relaxed (omega d); when the unbounding spheres of two
+    /// successive points stop overlapping the ray may have jumped the surface, so it goes back
+    /// to the plain step from the last point and carries on without over-relaxation.
     pub fn intersect_qjulia(
         &self,
         origin: Vec3<F>,
         dir: Vec3<F>,
         t_start: F,
         t_end: F,
+        eps_slope: F,
     ) -> Trace<F> {
         let mut t = t_start;
+        let mut omega = self.step_scale;
+        let mut t_prev = t_start;
+        let mut prev_radius = F::zero();
         for steps in 1..=self.max_steps {
             let d = self.estimate_distance(origin + dir * t);
-            t = t + d.max(F::zero());
-            if d < self.epsilon.max(t * F::lit(F::RELATIVE_EPSILON)) {
+            let radius = d.max(F::zero());
+            if omega > F::one() && t - t_prev > prev_radius + radius {
+                t = t_prev + prev_radius;
+                omega = F::one();
+                continue;
+            }
+            let t_plain = t + radius;
+            if d < self
+                .epsilon
+                .max(eps_slope * t_plain)
+                .max(t_plain * F::lit(F::RELATIVE_EPSILON))
+            {
                 return Trace {
-                    t,
+                    t: t_plain,
                     steps,
                     hit: true,
                 };
             }
+            t_prev = t;
+            prev_radius = radius;
+            t = t + omega * radius;
             if t > t_end {
-                return Trace {
-                    t,
-                    steps,
-                    hit: false,
-                };
+                if t_plain > t_end {
+                    return Trace {
+                        t,
+                        steps,
+                        hit: false,
+                    };
+                }
+                t = t_plain;
+                omega = F::one();
             }
         }
         Trace {
@@ -150,16 +175,14 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// The seed's normal: central differences of |z_N| along the slice axes with NORMAL_DELTA,
+    /// The seed's normal: central differences of |z_N| along the slice axes with normal_delta,
     /// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
     /// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
     /// grad |z_n| and the direction is already known, and nothing overflows.
-    /// Where no gradient can be formed the normal points back along the ray.
-    pub fn estimate_normal(&self, p: Vec3<F>, dir: Vec3<F>) -> Vec3<F> {
-        let q = self.slice_point(p);
-        let dx = self.slice_x * F::lit(NORMAL_DELTA);
-        let dy = self.slice_y * F::lit(NORMAL_DELTA);
-        let dz = self.slice_z * F::lit(NORMAL_DELTA);
+    pub fn normal_central(&self, q: Vec4<F>) -> Vec3<F> {
+        let dx = self.slice_x * self.normal_delta;
+        let dy = self.slice_y * self.normal_delta;
+        let dz = self.slice_z * self.normal_delta;
         let mut gx1 = q - dx;
         let mut gx2 = q + dx;
         let mut gy1 = q - dy;
@@ -180,11 +203,73 @@ impl<F: Real> TraceParams<F> {
             gz1 = quat_sq(gz1) + self.c;
             gz2 = quat_sq(gz2) + self.c;
         }
-        let grad = Vec3::new(
+        Vec3::new(
             gx2.length() - gx1.length(),
             gy2.length() - gy1.length(),
             gz2.length() - gz1.length(),
-        );
+        )
+    }
+
+    /// Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1)
+    /// times normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central
+    /// differences.
+    pub fn normal_tetrahedral(&self, q: Vec4<F>) -> Vec3<F> {
+        let h = self.normal_delta;
+        let (x, y, z) = (self.slice_x, self.slice_y, self.slice_z);
+        let mut a = q + (x - y - z) * h;
+        let mut b = q + (-x - y + z) * h;
+        let mut c = q + (-x + y - z) * h;
+        let mut d = q + (x + y + z) * h;
+        for _ in 0..self.max_iterations {
+            let largest = a.dot(a).max(b.dot(b)).max(c.dot(c).max(d.dot(d)));
+            if largest > F::lit(NORMAL_LIMIT) {
+                break;
+            }
+            a = quat_sq(a) + self.c;
+            b = quat_sq(b) + self.c;
+            c = quat_sq(c) + self.c;
+            d = quat_sq(d) + self.c;
+        }
+        let (la, lb, lc, ld) = (a.length(), b.length(), c.length(), d.length());
+        Vec3::new(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld)
+    }
+
+    /// The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried
+    /// through the iteration (d(z^2) = z dz + dz z = 2 (z.x dz.x - z.yzw . dz.yzw,
+    /// z.x dz.yzw + dz.x z.yzw)), then grad_i |z| = z . dz_i / |z| (the 1/|z| does not change
+    /// the direction).
+    pub fn normal_analytic(&self, q: Vec4<F>) -> Vec3<F> {
+        let two = F::lit(2.0);
+        let step = |z: Vec4<F>, j: Vec4<F>| {
+            Vec4::from_parts(
+                z.x * j.x - z.yzw().dot(j.yzw()),
+                j.yzw() * z.x + z.yzw() * j.x,
+            ) * two
+        };
+        let mut z = q;
+        let (mut jx, mut jy, mut jz) = (self.slice_x, self.slice_y, self.slice_z);
+        for _ in 0..self.max_iterations {
+            let largest = jx.dot(jx).max(jy.dot(jy)).max(jz.dot(jz));
+            if z.dot(z) > F::lit(NORMAL_LIMIT) || largest > F::lit(F::DERIVATIVE_LIMIT) {
+                break;
+            }
+            jx = step(z, jx);
+            jy = step(z, jy);
+            jz = step(z, jz);
+            z = quat_sq(z) + self.c;
+        }
+        Vec3::new(z.dot(jx), z.dot(jy), z.dot(jz))
+    }
+
+    /// The shading normal by normal_method; where no gradient can be formed it points back
+    /// along the ray.
+    pub fn estimate_normal(&self, p: Vec3<F>, dir: Vec3<F>) -> Vec3<F> {
+        let q = self.slice_point(p);
+        let grad = match self.normal_method {
+            NormalMethod::Tetrahedral => self.normal_tetrahedral(q),
+            NormalMethod::Analytic => self.normal_analytic(q),
+            NormalMethod::Central => self.normal_central(q),
+        };
         safe_normalize(grad, -dir)
     }
 
@@ -224,7 +309,7 @@ impl<F: Real> TraceParams<F> {
         if !bounds.hit || bounds.t_enter >= t_end {
             return false;
         }
-        self.intersect_qjulia(origin, dir, bounds.t_enter, t_end)
+        self.intersect_qjulia(origin, dir, bounds.t_enter, t_end, F::zero())
             .hit
     }
 
@@ -252,7 +337,8 @@ impl<F: Real> TraceParams<F> {
         if !bounds.hit {
             return miss(0);
         }
-        let trace = self.intersect_qjulia(self.eye, dir, bounds.t_enter, bounds.t_exit);
+        let eps_slope = self.pixel_epsilon * self.pixel_angle;
+        let trace = self.intersect_qjulia(self.eye, dir, bounds.t_enter, bounds.t_exit, eps_slope);
         if !trace.hit {
             return miss(trace.steps);
         }

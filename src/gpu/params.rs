@@ -45,8 +45,12 @@ pub struct GpuParams {
     pub row_stride: u32,
     /// The output row that the band's first row lands in.
     pub out_row: u32,
-    pub _pad0: u32,
-    pub _pad1: u32,
+    pub normal_method: u32,
+    pub normal_delta: f32,
+    pub step_scale: f32,
+    pub pixel_epsilon: f32,
+    pub pixel_angle: f32,
+    pub _pad: u32,
 }
 
 impl GpuParams {
@@ -87,8 +91,12 @@ impl GpuParams {
             row_count,
             row_stride: p.width,
             out_row: 0,
-            _pad0: 0,
-            _pad1: 0,
+            normal_method: p.normal_method.code(),
+            normal_delta: p.normal_delta,
+            step_scale: p.step_scale,
+            pixel_epsilon: p.pixel_epsilon,
+            pixel_angle: p.pixel_angle,
+            _pad: 0,
         }
     }
 

@@ -85,6 +85,8 @@ pub const KEYS: &[&str] = &[
     "fractal.epsilon",
     "fractal.bounding_radius_squared",
     "fractal.max_steps",
+    "fractal.step_scale",
+    "fractal.pixel_epsilon",
     "slice.x",
     "slice.y",
     "slice.z",
@@ -95,6 +97,8 @@ pub const KEYS: &[&str] = &[
     "camera.fov_y_degrees",
     "light.position",
     "shading.shadows",
+    "shading.normal",
+    "shading.normal_delta",
     "shading.diffuse",
     "shading.normal_tint",
     "shading.specular",
@@ -205,6 +209,8 @@ impl SceneLoader {
             &mut s.fractal.bounding_radius_squared,
         )?;
         r.integer("fractal.max_steps", &mut s.fractal.max_steps)?;
+        r.float("fractal.step_scale", &mut s.fractal.step_scale)?;
+        r.float("fractal.pixel_epsilon", &mut s.fractal.pixel_epsilon)?;
         r.vector("slice.x", &mut s.slice.x)?;
         r.vector("slice.y", &mut s.slice.y)?;
         r.vector("slice.z", &mut s.slice.z)?;
@@ -215,6 +221,8 @@ impl SceneLoader {
         r.float("camera.fov_y_degrees", &mut s.camera.fov_y_degrees)?;
         r.vector("light.position", &mut s.light.position)?;
         r.boolean("shading.shadows", &mut s.shading.shadows)?;
+        r.normal_method("shading.normal", &mut s.shading.normal)?;
+        r.float("shading.normal_delta", &mut s.shading.normal_delta)?;
         r.vector("shading.diffuse", &mut s.shading.diffuse)?;
         r.float("shading.normal_tint", &mut s.shading.normal_tint)?;
         r.float("shading.specular", &mut s.shading.specular)?;
@@ -336,6 +344,28 @@ impl Reader {
         Ok(())
     }
 
+    fn normal_method(
+        &mut self,
+        key: &'static str,
+        out: &mut super::NormalMethod,
+    ) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            let name = v.as_str().unwrap_or_default();
+            *out = super::NormalMethod::ALL
+                .into_iter()
+                .find(|m| m.name() == name)
+                .ok_or_else(|| {
+                    SceneError::value(
+                        &src,
+                        key,
+                        &v,
+                        "must be \"central\", \"tetrahedral\" or \"analytic\"",
+                    )
+                })?;
+        }
+        Ok(())
+    }
+
     fn vector<const N: usize>(
         &mut self,
         key: &'static str,
@@ -421,6 +451,12 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
         if value <= 0.0 {
             return Err(fail(key, "must be > 0"));
         }
+    }
+    if s.fractal.step_scale <= 0.0 || s.fractal.step_scale > 2.0 {
+        return Err(fail("fractal.step_scale", "must be in (0, 2]"));
+    }
+    if s.fractal.pixel_epsilon < 0.0 {
+        return Err(fail("fractal.pixel_epsilon", "must be >= 0"));
     }
     let fov = s.camera.fov_y_degrees;
     if fov <= 0.0 || fov >= 180.0 {

@@ -34,6 +34,12 @@ pub struct Fractal {
     pub bounding_radius_squared: f64,
     /// Sphere-tracing steps per ray before giving up (a miss).
     pub max_steps: u32,
+    /// Over-relaxation of sphere-tracing steps (omega in (0, 2]; 1 is the seed's plain step).
+    /// Above 1, steps are omega d with a safe fallback when they overshoot.
+    pub step_scale: f64,
+    /// Also hit where d < pixel_epsilon times the pixel's footprint at that distance (0: off,
+    /// the seed's fixed epsilon only).
+    pub pixel_epsilon: f64,
 }
 
 /// The 3D slice of 4D space: p -> offset + p.x*x + p.y*y + p.z*z.
@@ -62,6 +68,11 @@ pub struct Light {
 pub struct Shading {
     /// Cast a shadow ray from every hit toward the light.
     pub shadows: bool,
+    /// How the shading normal is computed: the seed's central differences, four tetrahedral
+    /// samples, or the analytic gradient.
+    pub normal: NormalMethod,
+    /// The finite-difference step of the central and tetrahedral normals (the seed's 1e-4).
+    pub normal_delta: f64,
     /// The base (diffuse) colour; the seed's (1, 0.45, 0.25).
     pub diffuse: [f64; 3],
     /// How much of |N| tints the diffuse colour; the seed's 0.3.
@@ -74,6 +85,40 @@ pub struct Shading {
     pub shadow_factor: f64,
     /// Colour of rays that hit nothing; the seed's grey 0.3.
     pub background: [f64; 3],
+}
+
+/// How the shading normal is computed (`shading.normal`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum NormalMethod {
+    /// The seed's: central differences of |z_N|, six orbits.
+    #[default]
+    Central,
+    /// Four orbits at the corners of a tetrahedron.
+    Tetrahedral,
+    /// The exact gradient of |z_N| by the chain rule, one orbit and three derivatives.
+    Analytic,
+}
+
+impl NormalMethod {
+    pub const ALL: [NormalMethod; 3] = [
+        NormalMethod::Central,
+        NormalMethod::Tetrahedral,
+        NormalMethod::Analytic,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            NormalMethod::Central => "central",
+            NormalMethod::Tetrahedral => "tetrahedral",
+            NormalMethod::Analytic => "analytic",
+        }
+    }
+
+    /// The number the shader's `normal_method` uses.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -91,6 +136,8 @@ impl Default for Fractal {
             epsilon: 0.003,
             bounding_radius_squared: 3.0,
             max_steps: 1000,
+            step_scale: 1.0,
+            pixel_epsilon: 0.0,
         }
     }
 }
@@ -129,6 +176,8 @@ impl Default for Shading {
     fn default() -> Self {
         Self {
             shadows: true,
+            normal: NormalMethod::Central,
+            normal_delta: 1e-4,
             diffuse: [1.0, 0.45, 0.25],
             normal_tint: 0.3,
             specular: 0.45,
@@ -170,6 +219,11 @@ impl Scene {
             up: up.to_array(),
             tan_half_fov_y: (self.camera.fov_y_degrees.to_radians() * 0.5).tan(),
         }
+    }
+
+    /// A pixel's footprint per unit of distance along the ray: 2 tan(fov/2) / height.
+    pub fn pixel_angle(&self) -> f64 {
+        2.0 * (self.camera.fov_y_degrees.to_radians() * 0.5).tan() / self.image.height as f64
     }
 
     /// The 3D ball that the 4D bounding ball cuts out of the slice: centre `-B^T w` and
