@@ -77,12 +77,16 @@ pub struct ReportArgs {
     /// The folder to write into (created if missing).
     #[arg(long, value_name = "DIR", default_value = "report")]
     pub out: PathBuf,
-    /// Run the stiff and extreme case suite on every tracer (writes DIR/stability.md).
+    /// Run the stiff and extreme case suite on every tracer (writes DIR/stability.md) instead
+    /// of the work-precision report.
     #[arg(long)]
     pub stability: bool,
-    /// Image size of each case, in pixels a side.
-    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
-    pub size: u32,
+    /// The work-precision report in minutes: one scene, smaller images, one timing each.
+    #[arg(long)]
+    pub quick: bool,
+    /// Image size in pixels a side (default: 64 for --stability, 128 with --quick, else 320).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub size: Option<u32>,
     /// Seconds a case may take on one tracer before it counts as a hang.
     #[arg(long, default_value_t = 120, value_parser = clap::value_parser!(u64).range(1..=3600))]
     pub limit: u64,
@@ -184,12 +188,9 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     use qjulia::report::stability;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    if !args.stability {
-        anyhow::bail!("the work-precision report is not built yet; use --stability");
-    }
     let gpu = match qjulia::gpu::GpuContext::new().and_then(qjulia::gpu::GpuTracer::new) {
         Ok(t) => {
-            eprintln!("qjulia: GPU cases on {}", t.context().adapter_label());
+            eprintln!("qjulia: GPU runs on {}", t.context().adapter_label());
             Some(std::sync::Arc::new(t))
         }
         Err(e) => {
@@ -197,8 +198,12 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
             None
         }
     };
+    if !args.stability {
+        return work_precision(args, gpu);
+    }
+    let size = args.size.unwrap_or(64);
     let limit = std::time::Duration::from_secs(args.limit);
-    let outcomes = stability::run_all(args.size, gpu, limit, |o| {
+    let outcomes = stability::run_all(size, gpu, limit, |o| {
         let verdict = if o.passed() { "ok" } else { "FAILED" };
         let seconds = o.seconds.map_or("-".into(), |s| format!("{s:.3} s"));
         eprintln!(
@@ -213,13 +218,67 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         "# Stability: stiff and extreme cases\n\n`qjulia report --stability --size {}` on this machine. Each case \
          runs twice per tracer under a {} s limit; errors are against the f64 CPU render of the same \
          scene (masks and colour: share of pixels within CONTRACT_TOLERANCE).\n\n{table}",
-        args.size, args.limit
+        size, args.limit
     );
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     println!("{table}");
     if outcomes.iter().any(|o| !o.passed()) {
         anyhow::bail!("some cases failed: see {}", path.display());
     }
+    Ok(())
+}
+
+/// The machine, for the report's header: CPU model and cores, and the adapter.
+fn machine(gpu: Option<&qjulia::gpu::GpuTracer>) -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| t.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .unwrap_or_else(|| "an unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let adapter = gpu.map_or("no GPU adapter".into(), |g| g.context().adapter_label());
+    format!("{cpu} ({cores} cores), GPU adapter {adapter}")
+}
+
+fn work_precision(args: &ReportArgs, gpu: Option<std::sync::Arc<qjulia::gpu::GpuTracer>>) -> anyhow::Result<()> {
+    use qjulia::report::work_precision as wp;
+    use qjulia::scene::presets::PRESETS;
+    let size = args.size.unwrap_or(if args.quick { 128 } else { 320 });
+    let sized = |mut scene: Scene| {
+        scene.image.width = size;
+        scene.image.height = size;
+        scene
+    };
+    let mut scenes = vec![("seed's look", sized(Scene::default()))];
+    if !args.quick {
+        scenes.push(("basilica revolved", sized(PRESETS[2].scene())));
+    }
+    let repeats = if args.quick { 1 } else { 2 };
+    let bar = indicatif::ProgressBar::new(1);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    let (rows, truth_seconds) = wp::run(&scenes, gpu.clone(), repeats, |msg, k, n| {
+        bar.set_length(n as u64);
+        bar.set_position(k as u64);
+        bar.set_message(msg.to_string());
+    })?;
+    bar.finish_and_clear();
+    let command = format!(
+        "qjulia report --out {}{} --size {size}",
+        args.out.display(),
+        if args.quick { " --quick" } else { "" }
+    );
+    let csv_path = args.out.join("work_precision.csv");
+    std::fs::write(&csv_path, wp::csv(&rows)).with_context(|| format!("writing {}", csv_path.display()))?;
+    let png_path = args.out.join("work_precision.png");
+    wp::plot(&png_path, &rows).map_err(|e| anyhow::anyhow!("{}: {e}", png_path.display()))?;
+    let md = wp::markdown(&rows, &truth_seconds, &machine(gpu.as_deref()), &command);
+    let md_path = args.out.join("report.md");
+    std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
+    println!("{md}");
+    eprintln!("qjulia: wrote {}, {} and {}", csv_path.display(), png_path.display(), md_path.display());
     Ok(())
 }
 

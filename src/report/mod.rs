@@ -2,3 +2,4 @@
 //! work-precision sweep (`work_precision`).
 
 pub mod stability;
+pub mod work_precision;

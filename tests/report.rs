@@ -1,0 +1,61 @@
+//! The work-precision machinery on a tiny scene: the truth measured against itself is exact,
+//! a coarser setting measures worse, and the report's files hold what they promise.
+
+use qjulia::report::work_precision as wp;
+use qjulia::scene::Scene;
+
+fn tiny() -> Scene {
+    let mut s = Scene::default();
+    s.image.width = 40;
+    s.image.height = 40;
+    s
+}
+
+#[test]
+fn the_truth_against_itself_has_no_error_and_coarse_settings_have_more() {
+    let base = tiny();
+    let truth = wp::Truth::new(&base);
+    let exact = wp::Setting {
+        scene_name: "tiny",
+        method: "self",
+        label: "truth".into(),
+        runner: qjulia::report::stability::Runner::CpuF64,
+        scene: wp::truth_scene(&base),
+    };
+    let m = wp::measure(&exact, &truth.frame, &truth);
+    assert_eq!(m.mask_disagreement, 0.0);
+    assert_eq!(m.depth_error_max, 0.0);
+    assert!(m.normal_error_deg_p95 < 1e-9, "{m:?}");
+    assert_eq!(m.colour_rmse, 0.0);
+    assert_eq!(m.psnr_db, 99.0);
+
+    let mut coarse = exact.clone();
+    coarse.scene.fractal.epsilon = 0.03;
+    let (frame, _) = qjulia::cpu::render(&qjulia::TraceParams::<f64>::new(&coarse.scene));
+    let worse = wp::measure(&coarse, &frame, &truth);
+    assert!(worse.mask_disagreement > 0.0 && worse.colour_rmse > 1.0, "{worse:?}");
+}
+
+#[test]
+fn the_report_files_hold_every_setting() {
+    let scenes = [("tiny", tiny())];
+    let (rows, truth_seconds) = wp::run(&scenes, None, 1, |_, _, _| {}).unwrap();
+    assert_eq!(rows.len(), wp::settings("tiny", &tiny(), false).len());
+    assert!(rows.iter().all(|r| r.metrics.non_finite == 0));
+    let csv = wp::csv(&rows);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for column in [
+        "scene", "backend", "precision", "method", "epsilon", "max_iterations", "escape_radius_squared",
+        "seconds", "mask_disagreement", "depth_error_p95", "normal_error_deg_p95", "psnr_db",
+    ] {
+        assert!(header.contains(&column), "no column {column}");
+    }
+    assert_eq!(csv.lines().count(), rows.len() + 1);
+    let md = wp::markdown(&rows, &truth_seconds, "a test machine", "cargo test");
+    assert!(md.contains("Pareto front") && md.contains("The seed's settings (cpu f32)"), "{md}");
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("plot.png");
+    wp::plot(&png, &rows).unwrap();
+    let img = image::open(&png).unwrap();
+    assert!(img.width() >= 800 && img.height() >= 400);
+}
