@@ -184,13 +184,15 @@ fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32,
     return Trace(t, params.max_steps, false);
 }
 
-// v normalised, or the fallback where v is too short to have a direction.
+// v normalised, or the fallback where v is too short to have a direction. Scaled by its largest
+// component first, so that a long v (an analytic gradient can reach 1e30) cannot overflow.
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
-    let vv = dot(v, v);
-    if vv <= TINY {
+    let m = max(max(abs(v.x), abs(v.y)), abs(v.z));
+    if m * m <= TINY {
         return fallback;
     }
-    return v / sqrt(vv);
+    let w = v / m;
+    return w / sqrt(dot(w, w));
 }
 
 // The seed's normal: central differences of |z_N| along the slice axes with normal_delta,

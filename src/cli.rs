@@ -252,7 +252,7 @@ fn work_precision(args: &ReportArgs, gpu: Option<std::sync::Arc<qjulia::gpu::Gpu
     if !args.quick {
         scenes.push(("basilica revolved", sized(PRESETS[2].scene())));
     }
-    let repeats = if args.quick { 1 } else { 2 };
+    let repeats = if args.quick { 1 } else { 5 };
     let bar = indicatif::ProgressBar::new(1);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")

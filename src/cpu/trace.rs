@@ -357,13 +357,16 @@ impl<F: Real> TraceParams<F> {
     }
 }
 
-/// v normalised, or the fallback where v is too short to have a direction.
+/// v normalised, or the fallback where v is too short to have a direction. Scaled by its
+/// largest component first, so that a long v (an analytic gradient can reach 1e30) cannot
+/// overflow.
 pub fn safe_normalize<F: Real>(v: Vec3<F>, fallback: Vec3<F>) -> Vec3<F> {
-    let vv = v.dot(v);
-    if vv <= F::lit(TINY) {
+    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
+    if m * m <= F::lit(TINY) {
         return fallback;
     }
-    v / vv.sqrt()
+    let w = v / m;
+    w / w.dot(w).sqrt()
 }
 
 /// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
@@ -373,4 +376,19 @@ pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
         (c * F::lit(255.0) + F::lit(0.5)).floor().to_f64() as u32
     };
     channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16) | 0xff00_0000
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn safe_normalize_survives_long_and_short_vectors() {
+        let fallback = Vec3::new(0.0f32, 0.0, 1.0);
+        let long = safe_normalize(Vec3::new(3e30f32, 4e30, 0.0), fallback);
+        assert!((long.x - 0.6).abs() < 1e-6 && (long.y - 0.8).abs() < 1e-6, "{long:?}");
+        assert_eq!(safe_normalize(Vec3::new(1e-20f32, 0.0, 0.0), fallback), fallback);
+        let plain = safe_normalize(Vec3::new(0.0f64, -2.0, 0.0), Vec3::zero());
+        assert_eq!(plain, Vec3::new(0.0, -1.0, 0.0));
+    }
 }
