@@ -54,6 +54,19 @@ const NORMAL_CENTRAL: u32 = 0u;
 const NORMAL_TETRAHEDRAL: u32 = 1u;
 const NORMAL_ANALYTIC: u32 = 2u;
 
+// Per-scene specialisation (src/gpu/variant.rs): with SPECIALISED the pipeline is built for one
+// scene's features, fixed by these override constants, and the compiler drops what the scene does
+// not use (no shadow code without shadows, one normal method, no slice transform for the standard
+// slice, plain steps, no shading when only depth and steps are asked for). Without it, one
+// pipeline reads everything from `params` at run time.
+override SPECIALISED: bool = false;
+override SHADOWS: bool = true;
+override NORMAL_METHOD: u32 = 0u;
+override STANDARD_SLICE: bool = false;
+override OVER_RELAXED: bool = true;
+override PIXEL_EPSILON: bool = true;
+override SHADE: bool = true;
+
 @group(0) @binding(0) var<uniform> params: Params;
 // The band of rows [row_offset, row_offset + row_count) lands in the output arrays from row
 // out_row on, row_stride pixels a row: pixel (i, row_offset + r) at (out_row + r) * row_stride + i.
@@ -79,8 +92,34 @@ const MIN_NORMAL: f32 = 1.17549435e-38;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
 const NORMAL_LIMIT: f32 = 1e16;
 
+// The slice axes: constants for the standard slice when specialised (the CPU twin reads them
+// from its parameters).
+fn slice_axis_x() -> vec4<f32> {
+    if SPECIALISED && STANDARD_SLICE {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    return params.slice_x;
+}
+
+fn slice_axis_y() -> vec4<f32> {
+    if SPECIALISED && STANDARD_SLICE {
+        return vec4<f32>(0.0, 1.0, 0.0, 0.0);
+    }
+    return params.slice_y;
+}
+
+fn slice_axis_z() -> vec4<f32> {
+    if SPECIALISED && STANDARD_SLICE {
+        return vec4<f32>(0.0, 0.0, 1.0, 0.0);
+    }
+    return params.slice_z;
+}
+
 // Scene coordinates p in the 3D slice to the 4D point offset + p.x x + p.y y + p.z z.
 fn slice_point(p: vec3<f32>) -> vec4<f32> {
+    if SPECIALISED && STANDARD_SLICE {
+        return params.slice_offset + vec4<f32>(p, 0.0);
+    }
     return params.slice_offset + p.x * params.slice_x + p.y * params.slice_y + p.z * params.slice_z;
 }
 
@@ -156,6 +195,9 @@ struct Trace {
 fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps_slope: f32) -> Trace {
     var t = t_start;
     var omega = params.step_scale;
+    if SPECIALISED && !OVER_RELAXED {
+        omega = 1.0;
+    }
     var t_prev = t_start;
     var prev_radius = 0.0;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
@@ -167,7 +209,11 @@ fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32,
             continue;
         }
         let t_plain = t + radius;
-        if d < max(max(params.epsilon, eps_slope * t_plain), t_plain * RELATIVE_EPSILON) {
+        var threshold = max(params.epsilon, t_plain * RELATIVE_EPSILON);
+        if !SPECIALISED || PIXEL_EPSILON {
+            threshold = max(threshold, eps_slope * t_plain);
+        }
+        if d < threshold {
             return Trace(t_plain, steps, true);
         }
         t_prev = t;
@@ -200,9 +246,9 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 // passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
 // grad |z_n| and the direction is already known, and nothing overflows.
 fn normal_central(q: vec4<f32>) -> vec3<f32> {
-    let dx = params.normal_delta * params.slice_x;
-    let dy = params.normal_delta * params.slice_y;
-    let dz = params.normal_delta * params.slice_z;
+    let dx = params.normal_delta * slice_axis_x();
+    let dy = params.normal_delta * slice_axis_y();
+    let dz = params.normal_delta * slice_axis_z();
     var gx1 = q - dx;
     var gx2 = q + dx;
     var gy1 = q - dy;
@@ -235,10 +281,13 @@ fn normal_central(q: vec4<f32>) -> vec3<f32> {
 // normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central differences.
 fn normal_tetrahedral(q: vec4<f32>) -> vec3<f32> {
     let h = params.normal_delta;
-    var a = q + h * (params.slice_x - params.slice_y - params.slice_z);
-    var b = q + h * (-params.slice_x - params.slice_y + params.slice_z);
-    var c = q + h * (-params.slice_x + params.slice_y - params.slice_z);
-    var d = q + h * (params.slice_x + params.slice_y + params.slice_z);
+    let x = slice_axis_x();
+    let y = slice_axis_y();
+    let z = slice_axis_z();
+    var a = q + h * (x - y - z);
+    var b = q + h * (-x - y + z);
+    var c = q + h * (-x + y - z);
+    var d = q + h * (x + y + z);
     for (var i = 0u; i < params.max_iterations; i++) {
         let largest = max(max(dot(a, a), dot(b, b)), max(dot(c, c), dot(d, d)));
         if largest > NORMAL_LIMIT {
@@ -261,9 +310,9 @@ fn normal_tetrahedral(q: vec4<f32>) -> vec3<f32> {
 // then grad_i |z| = z . dz_i / |z| (the 1/|z| does not change the direction).
 fn normal_analytic(q: vec4<f32>) -> vec3<f32> {
     var z = q;
-    var jx = params.slice_x;
-    var jy = params.slice_y;
-    var jz = params.slice_z;
+    var jx = slice_axis_x();
+    var jy = slice_axis_y();
+    var jz = slice_axis_z();
     for (var i = 0u; i < params.max_iterations; i++) {
         let largest = max(max(dot(jx, jx), dot(jy, jy)), dot(jz, jz));
         if dot(z, z) > NORMAL_LIMIT || largest > DERIVATIVE_LIMIT {
@@ -282,7 +331,11 @@ fn normal_analytic(q: vec4<f32>) -> vec3<f32> {
 fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     let q = slice_point(p);
     var grad: vec3<f32>;
-    switch params.normal_method {
+    var method = params.normal_method;
+    if SPECIALISED {
+        method = NORMAL_METHOD;
+    }
+    switch method {
         case NORMAL_TETRAHEDRAL: {
             grad = normal_tetrahedral(q);
         }
@@ -360,10 +413,17 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false);
     }
+    if SPECIALISED && !SHADE {
+        return Pixel(params.background, trace.t, trace.steps, true);
+    }
     let p = params.eye + trace.t * dir;
     let n = estimate_normal(p, dir);
     var colour = phong(params.light, params.eye, p, n);
-    if params.shadows != 0u && in_shadow(p, n) {
+    var shadows = params.shadows != 0u;
+    if SPECIALISED {
+        shadows = SHADOWS;
+    }
+    if shadows && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
     return Pixel(colour, trace.t, trace.steps, true);

@@ -157,7 +157,8 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for warning in qjulia::precision_warnings(&scene, precision) {
         eprintln!("qjulia: warning: {warning}");
     }
-    let (frame, stats) = qjulia::render(&scene, backend, precision, &mut |n| {
+    let shade = paths.png.is_some();
+    let (frame, stats) = qjulia::render(&scene, backend, precision, shade, &mut |n| {
         eprintln!("qjulia: {n}")
     })?;
     write_outputs(&paths, &frame, &stats, &scene)?;
@@ -232,14 +233,21 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
 fn machine(gpu: Option<&qjulia::gpu::GpuTracer>) -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|t| t.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| "an unknown CPU".into());
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     let adapter = gpu.map_or("no GPU adapter".into(), |g| g.context().adapter_label());
     format!("{cpu} ({cores} cores), GPU adapter {adapter}")
 }
 
-fn work_precision(args: &ReportArgs, gpu: Option<std::sync::Arc<qjulia::gpu::GpuTracer>>) -> anyhow::Result<()> {
+fn work_precision(
+    args: &ReportArgs,
+    gpu: Option<std::sync::Arc<qjulia::gpu::GpuTracer>>,
+) -> anyhow::Result<()> {
     use qjulia::report::work_precision as wp;
     use qjulia::scene::presets::PRESETS;
     let size = args.size.unwrap_or(if args.quick { 128 } else { 320 });
@@ -271,14 +279,20 @@ fn work_precision(args: &ReportArgs, gpu: Option<std::sync::Arc<qjulia::gpu::Gpu
         if args.quick { " --quick" } else { "" }
     );
     let csv_path = args.out.join("work_precision.csv");
-    std::fs::write(&csv_path, wp::csv(&rows)).with_context(|| format!("writing {}", csv_path.display()))?;
+    std::fs::write(&csv_path, wp::csv(&rows))
+        .with_context(|| format!("writing {}", csv_path.display()))?;
     let png_path = args.out.join("work_precision.png");
     wp::plot(&png_path, &rows).map_err(|e| anyhow::anyhow!("{}: {e}", png_path.display()))?;
     let md = wp::markdown(&rows, &truth_seconds, &machine(gpu.as_deref()), &command);
     let md_path = args.out.join("report.md");
     std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
     println!("{md}");
-    eprintln!("qjulia: wrote {}, {} and {}", csv_path.display(), png_path.display(), md_path.display());
+    eprintln!(
+        "qjulia: wrote {}, {} and {}",
+        csv_path.display(),
+        png_path.display(),
+        md_path.display()
+    );
     Ok(())
 }
 

@@ -95,18 +95,22 @@ pub fn precision_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
     warnings
 }
 
-/// Renders a validated scene. `notice` hears what the user should know (which backend was used
-/// and why).
+/// Renders a validated scene. `shade` false asks for depth and steps only (the GPU then runs a
+/// pipeline without the shading code; the colour is the background). `notice` hears what the
+/// user should know (which backend was used and why).
 pub fn render(
     scene: &Scene,
     backend: Backend,
     precision: Precision,
+    shade: bool,
     notice: &mut dyn FnMut(&str),
 ) -> Result<(Frame, RenderStats)> {
     match (backend, precision) {
         (Backend::Cpu, _) => Ok(render_cpu(scene, precision)),
         (Backend::Gpu, Precision::F64) => Err(Error::Unsupported(GPU_F64_UNSUPPORTED.into())),
-        (Backend::Gpu, Precision::F32) => render_gpu(&GpuTracer::new(GpuContext::new()?)?, scene),
+        (Backend::Gpu, Precision::F32) => {
+            render_gpu(&GpuTracer::new(GpuContext::new()?)?, scene, shade)
+        }
         (Backend::Auto, Precision::F64) => {
             notice("f64 is not available on the GPU; rendering on the CPU");
             Ok(render_cpu(scene, precision))
@@ -117,7 +121,7 @@ pub fn render(
                     "rendering on the GPU: {}",
                     tracer.context().adapter_label()
                 ));
-                render_gpu(&tracer, scene)
+                render_gpu(&tracer, scene, shade)
             }
             Err(e) => {
                 notice(&format!("{e}; rendering on the CPU"));
@@ -137,9 +141,9 @@ pub fn render_cpu(scene: &Scene, precision: Precision) -> (Frame, RenderStats) {
     (frame, stats)
 }
 
-/// Renders on a GPU tracer (f32).
-pub fn render_gpu(tracer: &GpuTracer, scene: &Scene) -> Result<(Frame, RenderStats)> {
-    let out = tracer.render(&TraceParams::<f32>::new(scene))?;
+/// Renders on a GPU tracer (f32); `shade` false computes depth and steps only.
+pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Frame, RenderStats)> {
+    let out = tracer.render_outputs(&TraceParams::<f32>::new(scene), shade)?;
     let label = tracer.context().adapter_label();
     let stats = make_stats(
         &out.frame,

@@ -164,3 +164,44 @@ fn over_relaxed_steps_and_pixel_epsilon() {
         with(&["fractal.pixel_epsilon=1.0", "fractal.epsilon=0.0005"]),
     );
 }
+
+#[test]
+fn the_generic_pipeline_and_depth_only_agree_too() {
+    let Some(_) = common::gpu("generic_pipeline") else {
+        return;
+    };
+    let mut generic = qjulia::gpu::GpuTracer::new(qjulia::gpu::GpuContext::new().unwrap()).unwrap();
+    generic.set_specialise(false);
+    for (name, scene) in [
+        ("generic_seed_look", with(&[])),
+        (
+            "generic_rotated_over_relaxed",
+            with(&[
+                "slice.offset=[0.1, 0, 0, 0.2]",
+                "fractal.step_scale=1.5",
+                "shading.normal=analytic",
+            ]),
+        ),
+    ] {
+        let (expected, _) = cpu::render(&TraceParams::<f32>::new(&scene));
+        let actual = generic
+            .render(&TraceParams::<f32>::new(&scene))
+            .unwrap()
+            .frame;
+        common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
+    }
+    // Depth and steps alone, on the pipeline without shading: the same as with it.
+    let scene = with(&[]);
+    let tracer = common::gpu("depth_only").unwrap();
+    let params = TraceParams::<f32>::new(&scene);
+    let shaded = tracer.render(&params).unwrap().frame;
+    let bare = tracer.render_outputs(&params, false).unwrap().frame;
+    assert_eq!(shaded.steps, bare.steps);
+    assert!(
+        shaded
+            .depth
+            .iter()
+            .zip(&bare.depth)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    );
+}

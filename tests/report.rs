@@ -34,7 +34,10 @@ fn the_truth_against_itself_has_no_error_and_coarse_settings_have_more() {
     coarse.scene.fractal.epsilon = 0.03;
     let (frame, _) = qjulia::cpu::render(&qjulia::TraceParams::<f64>::new(&coarse.scene));
     let worse = wp::measure(&coarse, &frame, &truth);
-    assert!(worse.mask_disagreement > 0.0 && worse.colour_rmse > 1.0, "{worse:?}");
+    assert!(
+        worse.mask_disagreement > 0.0 && worse.colour_rmse > 1.0,
+        "{worse:?}"
+    );
 }
 
 #[test]
@@ -46,14 +49,27 @@ fn the_report_files_hold_every_setting() {
     let csv = wp::csv(&rows);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     for column in [
-        "scene", "backend", "precision", "method", "epsilon", "max_iterations", "escape_radius_squared",
-        "seconds", "mask_disagreement", "depth_error_p95", "normal_error_deg_p95", "psnr_db",
+        "scene",
+        "backend",
+        "precision",
+        "method",
+        "epsilon",
+        "max_iterations",
+        "escape_radius_squared",
+        "seconds",
+        "mask_disagreement",
+        "depth_error_p95",
+        "normal_error_deg_p95",
+        "psnr_db",
     ] {
         assert!(header.contains(&column), "no column {column}");
     }
     assert_eq!(csv.lines().count(), rows.len() + 1);
     let md = wp::markdown(&rows, &truth_seconds, "a test machine", "cargo test");
-    assert!(md.contains("Pareto front") && md.contains("The seed's settings (cpu f32)"), "{md}");
+    assert!(
+        md.contains("Pareto front") && md.contains("The seed's settings (cpu f32)"),
+        "{md}"
+    );
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("plot.png");
     wp::plot(&png, &rows).unwrap();

@@ -145,3 +145,36 @@ fn shared_constants_match_the_cpu_twin() {
         );
     }
 }
+
+#[test]
+fn every_specialised_variant_validates() {
+    use qjulia::gpu::Variant;
+    let module = validate_wgsl(&TRACE_MODULE.source()).unwrap();
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap();
+    let variants = Variant::all();
+    assert_eq!(variants.len(), 96);
+    for variant in variants {
+        let mut constants = naga::back::PipelineConstants::default();
+        for (name, value) in variant.constants() {
+            constants.insert(name.to_string(), value);
+        }
+        let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+            &module,
+            &info,
+            Some((naga::ShaderStage::Compute, "main")),
+            &constants,
+        )
+        .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&specialised)
+        .unwrap_or_else(|e| panic!("{variant:?} does not validate: {e:?}"));
+    }
+}

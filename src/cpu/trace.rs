@@ -386,8 +386,14 @@ mod tests {
     fn safe_normalize_survives_long_and_short_vectors() {
         let fallback = Vec3::new(0.0f32, 0.0, 1.0);
         let long = safe_normalize(Vec3::new(3e30f32, 4e30, 0.0), fallback);
-        assert!((long.x - 0.6).abs() < 1e-6 && (long.y - 0.8).abs() < 1e-6, "{long:?}");
-        assert_eq!(safe_normalize(Vec3::new(1e-20f32, 0.0, 0.0), fallback), fallback);
+        assert!(
+            (long.x - 0.6).abs() < 1e-6 && (long.y - 0.8).abs() < 1e-6,
+            "{long:?}"
+        );
+        assert_eq!(
+            safe_normalize(Vec3::new(1e-20f32, 0.0, 0.0), fallback),
+            fallback
+        );
         let plain = safe_normalize(Vec3::new(0.0f64, -2.0, 0.0), Vec3::zero());
         assert_eq!(plain, Vec3::new(0.0, -1.0, 0.0));
     }

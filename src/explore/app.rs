@@ -236,7 +236,7 @@ impl ExplorerApp {
         let (send, done) = channel();
         let target = path.clone();
         std::thread::spawn(move || {
-            let result = crate::render_gpu(&tracer, &scene)
+            let result = crate::render_gpu(&tracer, &scene, true)
                 .and_then(|(frame, stats)| {
                     let paths = OutputPaths {
                         png: Some(target),

@@ -68,6 +68,7 @@ struct Target {
 /// A render in progress: which target, what, and how far.
 struct Job {
     quality: Quality,
+    pipeline: wgpu::ComputePipeline,
     params: TraceParams<f32>,
     next_row: u32,
     started: Instant,
@@ -241,9 +242,15 @@ impl ViewRenderer {
         scene.image.width = size[0];
         scene.image.height = size[1];
         self.ensure_target(quality, size);
+        let params = TraceParams::<f32>::new(&scene);
+        let variant = self.tracer.variant_for(&params, true);
+        let Ok(pipeline) = self.tracer.pipeline(variant) else {
+            return;
+        };
         self.job = Some(Job {
             quality,
-            params: TraceParams::<f32>::new(&scene),
+            pipeline,
+            params,
             next_row: 0,
             started: Instant::now(),
             pending: Arc::new(AtomicU32::new(0)),
@@ -272,8 +279,13 @@ impl ViewRenderer {
                 .with_output(target.row_stride, job.next_row);
             queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.tracer
-                .encode_band(&mut encoder, &target.bind_group, (width, rows), None);
+            self.tracer.encode_band(
+                &mut encoder,
+                &job.pipeline,
+                &target.bind_group,
+                (width, rows),
+                None,
+            );
             let offset = job.next_row as u64 * target.row_stride as u64 * 4;
             encoder.copy_buffer_to_texture(
                 wgpu::TexelCopyBufferInfo {

@@ -3,9 +3,11 @@
 mod params;
 pub mod shaders;
 mod tracer;
+pub mod variant;
 
 pub use params::GpuParams;
 pub use tracer::{GpuRender, GpuTracer, OUTPUTS, WORKGROUP};
+pub use variant::Variant;
 
 use crate::error::{Error, Result};
 

@@ -1,7 +1,8 @@
 //! The tracer kernel on the GPU: pipeline built once, then any number of renders, each traced in
 //! bands of rows (bounded memory and bounded time per dispatch) and read back to host memory.
 
-use std::sync::mpsc;
+use std::collections::HashMap;
+use std::sync::{Mutex, mpsc};
 use std::time::Instant;
 
 use wgpu::util::DeviceExt;
@@ -9,6 +10,7 @@ use wgpu::util::DeviceExt;
 use super::GpuContext;
 use super::params::GpuParams;
 use super::shaders::TRACE_MODULE;
+use super::variant::Variant;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::params::TraceParams;
@@ -23,11 +25,15 @@ const BYTES_PER_PIXEL: u64 = 4;
 /// Output arrays: colour, depth, steps.
 pub const OUTPUTS: usize = 3;
 
-/// The compute pipeline of shaders/trace.wgsl on one device.
+/// The compute pipelines of shaders/trace.wgsl on one device: a generic one, and one per
+/// scene [`Variant`] built on first use and cached.
 pub struct GpuTracer {
     ctx: GpuContext,
-    pipeline: wgpu::ComputePipeline,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
     layout: wgpu::BindGroupLayout,
+    pipelines: Mutex<HashMap<Option<Variant>, wgpu::ComputePipeline>>,
+    specialise: bool,
 }
 
 /// A GPU render: the frame and how long it took.
@@ -96,22 +102,60 @@ impl GpuTracer {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("the trace shader was rejected: {e}")));
+        }
+        let tracer = Self {
+            ctx,
+            module,
+            pipeline_layout,
+            layout,
+            pipelines: Mutex::new(HashMap::new()),
+            // QJULIA_SPECIALISE=0 runs every scene on the generic pipeline (to measure the gain).
+            specialise: std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0"),
+        };
+        tracer.pipeline(None)?;
+        Ok(tracer)
+    }
+
+    /// Whether scenes get their own specialised pipelines.
+    pub fn set_specialise(&mut self, on: bool) {
+        self.specialise = on;
+    }
+
+    /// The variant a scene runs on here: its own, or None (the generic pipeline) when
+    /// specialisation is off.
+    pub fn variant_for(&self, params: &TraceParams<f32>, shade: bool) -> Option<Variant> {
+        self.specialise.then(|| Variant::of(params, shade))
+    }
+
+    /// The pipeline of a variant (None: generic), built on first use and cached.
+    pub fn pipeline(&self, variant: Option<Variant>) -> Result<wgpu::ComputePipeline> {
+        let mut cache = self.pipelines.lock().expect("pipeline cache");
+        if let Some(p) = cache.get(&variant) {
+            return Ok(p.clone());
+        }
+        let device = &self.ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let constants = variant.map(|v| v.constants()).unwrap_or_default();
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("trace"),
-            layout: Some(&pipeline_layout),
-            module: &module,
+            layout: Some(&self.pipeline_layout),
+            module: &self.module,
             entry_point: Some("main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             cache: None,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(format!("the trace pipeline was rejected: {e}")));
+            return Err(Error::Gpu(format!(
+                "the trace pipeline {variant:?} was rejected: {e}"
+            )));
         }
-        Ok(Self {
-            ctx,
-            pipeline,
-            layout,
-        })
+        cache.insert(variant, pipeline.clone());
+        Ok(pipeline)
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -154,6 +198,7 @@ impl GpuTracer {
     pub fn encode_band(
         &self,
         encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
         bind_group: &wgpu::BindGroup,
         (width, rows): (u32, u32),
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
@@ -162,7 +207,7 @@ impl GpuTracer {
             label: Some("trace"),
             timestamp_writes,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(width.div_ceil(WORKGROUP.0), rows.div_ceil(WORKGROUP.1), 1);
     }
@@ -218,6 +263,13 @@ impl GpuTracer {
     /// Traces every pixel, band by band, after an untimed warm-up dispatch (lavapipe compiles
     /// the kernel at its first dispatch, not at pipeline creation).
     pub fn render(&self, params: &TraceParams<f32>) -> Result<GpuRender> {
+        self.render_outputs(params, true)
+    }
+
+    /// As [`Self::render`]; with `shade` false only depth and steps are computed (the colour is
+    /// the background), on a pipeline without the shading code.
+    pub fn render_outputs(&self, params: &TraceParams<f32>, shade: bool) -> Result<GpuRender> {
+        let pipeline = self.pipeline(self.variant_for(params, shade))?;
         let (width, height) = (params.width, params.height);
         let band_rows = self.band_rows(width, height);
         let buffers = self.band_buffers(band_rows as u64 * width as u64);
@@ -225,7 +277,13 @@ impl GpuTracer {
         // Warm-up: one workgroup of the first band, same pipeline, results discarded.
         let warm_rows = band_rows.min(WORKGROUP.1);
         let warm = GpuParams::new(params, 0, warm_rows);
-        self.dispatch(&buffers, &warm, (width.min(WORKGROUP.0), warm_rows), None)?;
+        self.dispatch(
+            &pipeline,
+            &buffers,
+            &warm,
+            (width.min(WORKGROUP.0), warm_rows),
+            None,
+        )?;
 
         let start = Instant::now();
         let pixels = width as usize * height as usize;
@@ -242,8 +300,13 @@ impl GpuTracer {
         while row < height {
             let rows = band_rows.min(height - row);
             let band = GpuParams::new(params, row, rows);
-            let seconds =
-                self.dispatch(&buffers, &band, (width, rows), Some((&mut frame, rows)))?;
+            let seconds = self.dispatch(
+                &pipeline,
+                &buffers,
+                &band,
+                (width, rows),
+                Some((&mut frame, rows)),
+            )?;
             if let (Some(total), Some(s)) = (gpu_seconds.as_mut(), seconds) {
                 *total += s;
             }
@@ -261,6 +324,7 @@ impl GpuTracer {
     /// where timestamps are on.
     fn dispatch(
         &self,
+        pipeline: &wgpu::ComputePipeline,
         buffers: &BandBuffers,
         band: &GpuParams,
         size: (u32, u32),
@@ -278,7 +342,13 @@ impl GpuTracer {
                     beginning_of_pass_write_index: Some(0),
                     end_of_pass_write_index: Some(1),
                 });
-        self.encode_band(&mut encoder, &buffers.bind_group, size, timestamp_writes);
+        self.encode_band(
+            &mut encoder,
+            pipeline,
+            &buffers.bind_group,
+            size,
+            timestamp_writes,
+        );
         let bytes = out.as_ref().map_or(0, |(_, rows)| {
             *rows as u64 * band.width as u64 * BYTES_PER_PIXEL
         });

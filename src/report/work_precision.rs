@@ -79,19 +79,37 @@ pub fn truth_scene(base: &Scene) -> Scene {
 pub fn settings(scene_name: &'static str, base: &Scene, gpu: bool) -> Vec<Setting> {
     let fast = if gpu { Runner::GpuF32 } else { Runner::CpuF32 };
     let mut out = Vec::new();
-    let mut add = |method: &'static str, label: String, runner: Runner, edit: &dyn Fn(&mut Scene)| {
-        let mut scene = base.clone();
-        edit(&mut scene);
-        out.push(Setting { scene_name, method, label, runner, scene });
+    let mut add =
+        |method: &'static str, label: String, runner: Runner, edit: &dyn Fn(&mut Scene)| {
+            let mut scene = base.clone();
+            edit(&mut scene);
+            out.push(Setting {
+                scene_name,
+                method,
+                label,
+                runner,
+                scene,
+            });
+        };
+    let runners: &[Runner] = if gpu {
+        &[Runner::GpuF32, Runner::CpuF32, Runner::CpuF64]
+    } else {
+        &[Runner::CpuF32, Runner::CpuF64]
     };
-    let runners: &[Runner] = if gpu { &[Runner::GpuF32, Runner::CpuF32, Runner::CpuF64] } else { &[Runner::CpuF32, Runner::CpuF64] };
     for &runner in runners {
         for eps in [0.003, 0.001] {
-            add("backend", format!("{} eps {eps}", runner.name()), runner, &|s| s.fractal.epsilon = eps);
+            add(
+                "backend",
+                format!("{} eps {eps}", runner.name()),
+                runner,
+                &|s| s.fractal.epsilon = eps,
+            );
         }
     }
     for eps in [0.03, 0.01, 0.003, 0.001, 3e-4, 1e-4] {
-        add("epsilon fixed", format!("eps {eps}"), fast, &|s| s.fractal.epsilon = eps);
+        add("epsilon fixed", format!("eps {eps}"), fast, &|s| {
+            s.fractal.epsilon = eps
+        });
     }
     for k in [4.0, 2.0, 1.0, 0.5, 0.25] {
         add("epsilon per pixel", format!("{k} px"), fast, &|s| {
@@ -102,13 +120,22 @@ pub fn settings(scene_name: &'static str, base: &Scene, gpu: bool) -> Vec<Settin
     let n = base.fractal.max_iterations as f64;
     for factor in [0.6, 0.8, 1.0, 1.4, 2.0] {
         let iterations = (n * factor).round().max(1.0) as u32;
-        add("iterations", format!("{iterations} iterations"), fast, &|s| s.fractal.max_iterations = iterations);
+        add(
+            "iterations",
+            format!("{iterations} iterations"),
+            fast,
+            &|s| s.fractal.max_iterations = iterations,
+        );
     }
     for r2 in [4.5, 10.0, 100.0, 1e4, 1e8] {
-        add("escape radius", format!("|z|^2 > {r2:e}"), fast, &|s| s.fractal.escape_radius_squared = r2);
+        add("escape radius", format!("|z|^2 > {r2:e}"), fast, &|s| {
+            s.fractal.escape_radius_squared = r2
+        });
     }
     for omega in [1.2, 1.4, 1.6, 1.8] {
-        add("over-relaxation", format!("omega {omega}"), fast, &|s| s.fractal.step_scale = omega);
+        add("over-relaxation", format!("omega {omega}"), fast, &|s| {
+            s.fractal.step_scale = omega
+        });
     }
     for (method, delta) in [
         (NormalMethod::Central, 1e-3),
@@ -153,7 +180,10 @@ fn normals<F: Real>(scene: &Scene, frame: &Frame) -> Vec<Option<[f64; 3]>> {
             if depth.is_nan() {
                 return None;
             }
-            let (i, j) = ((k % frame.width as usize) as u32, (k / frame.width as usize) as u32);
+            let (i, j) = (
+                (k % frame.width as usize) as u32,
+                (k / frame.width as usize) as u32,
+            );
             let dir = p.camera_ray(i, j);
             let hit = p.eye + dir * F::lit(depth as f64);
             Some(p.estimate_normal(hit, dir).to_f64())
@@ -183,11 +213,17 @@ impl Truth {
         let params = TraceParams::<f64>::new(&scene);
         let (frame, seconds) = cpu::render(&params);
         let normals = normals::<f64>(&scene, &frame);
-        Self { frame, normals, params, seconds }
+        Self {
+            frame,
+            normals,
+            params,
+            seconds,
+        }
     }
 }
 
 /// The errors of `frame` (rendered from `setting`) against the truth.
+#[allow(clippy::needless_range_loop)] // one index into five per-pixel arrays reads best
 pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
     let n = frame.pixel_count();
     let angle = setting.scene.pixel_angle();
@@ -206,7 +242,10 @@ pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
         }
         if !d.is_nan() {
             hits += 1;
-            let (i, j) = ((k % frame.width as usize) as u32, (k / frame.width as usize) as u32);
+            let (i, j) = (
+                (k % frame.width as usize) as u32,
+                (k / frame.width as usize) as u32,
+            );
             let hit = tp.eye + tp.camera_ray(i, j) * d as f64;
             if tp.estimate_distance(hit) < -setting.scene.fractal.epsilon {
                 oversteps += 1;
@@ -215,12 +254,19 @@ pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
         if !d.is_nan() && !dt.is_nan() {
             depth_err.push((d as f64 - dt as f64).abs() / (dt as f64 * angle).max(1e-12));
             if let (Some(a), Some(b)) = (setting_normals[k], truth.normals[k]) {
-                let cos = Vec3::<f64>::from_f64(a).dot(Vec3::from_f64(b)).clamp(-1.0, 1.0);
+                let cos = Vec3::<f64>::from_f64(a)
+                    .dot(Vec3::from_f64(b))
+                    .clamp(-1.0, 1.0);
                 normal_err.push(cos.acos().to_degrees());
             }
         }
-        let (a, b) = (unpack_rgb(frame.colour[k]), unpack_rgb(truth.frame.colour[k]));
-        sq_sum += (0..3).map(|c| (a[c] as f64 - b[c] as f64).powi(2)).sum::<f64>();
+        let (a, b) = (
+            unpack_rgb(frame.colour[k]),
+            unpack_rgb(truth.frame.colour[k]),
+        );
+        sq_sum += (0..3)
+            .map(|c| (a[c] as f64 - b[c] as f64).powi(2))
+            .sum::<f64>();
     }
     let mse = sq_sum / (3 * n.max(1)) as f64;
     Metrics {
@@ -230,12 +276,19 @@ pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
         depth_error_max: depth_err.iter().copied().fold(0.0, f64::max),
         normal_error_deg_p50: percentile(&mut normal_err, 0.5),
         normal_error_deg_p95: percentile(&mut normal_err, 0.95),
-        psnr_db: if mse > 0.0 { 10.0 * (255.0f64 * 255.0 / mse).log10() } else { 99.0 },
+        psnr_db: if mse > 0.0 {
+            10.0 * (255.0f64 * 255.0 / mse).log10()
+        } else {
+            99.0
+        },
         colour_rmse: mse.sqrt(),
         overstep_rate: oversteps as f64 / hits.max(1) as f64,
         non_finite: frame.non_finite,
     }
 }
+
+/// Seconds each scene's truth took, by scene name.
+pub type TruthSeconds = Vec<(&'static str, f64)>;
 
 /// Runs every setting of every scene; `repeats` renders each and keeps the fastest time.
 pub fn run(
@@ -243,7 +296,7 @@ pub fn run(
     gpu: Option<Arc<GpuTracer>>,
     repeats: u32,
     mut progress: impl FnMut(&str, usize, usize),
-) -> crate::Result<(Vec<Row>, Vec<(&'static str, f64)>)> {
+) -> crate::Result<(Vec<Row>, TruthSeconds)> {
     let mut rows = Vec::new();
     let mut truth_seconds = Vec::new();
     for (name, base) in scenes {
@@ -252,7 +305,11 @@ pub fn run(
         truth_seconds.push((*name, truth.seconds));
         let all = settings(name, base, gpu.is_some());
         for (k, setting) in all.iter().enumerate() {
-            progress(&format!("{name}: {} {}", setting.method, setting.label), k, all.len());
+            progress(
+                &format!("{name}: {} {}", setting.method, setting.label),
+                k,
+                all.len(),
+            );
             let mut best: Option<(Frame, f64)> = None;
             for _ in 0..repeats.max(1) {
                 let start = Instant::now();
@@ -264,7 +321,12 @@ pub fn run(
             }
             let (frame, seconds) = best.expect("at least one render");
             let metrics = measure(setting, &frame, &truth);
-            rows.push(Row { setting: setting.clone(), seconds, steps_mean: frame.summary().steps_mean, metrics });
+            rows.push(Row {
+                setting: setting.clone(),
+                seconds,
+                steps_mean: frame.summary().steps_mean,
+                metrics,
+            });
         }
     }
     Ok((rows, truth_seconds))
@@ -280,7 +342,12 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let (s, m) = (&r.setting, &r.metrics);
         let f = &s.scene.fractal;
-        let (backend, precision) = r.setting.runner.name().split_once(' ').unwrap_or(("?", "?"));
+        let (backend, precision) = r
+            .setting
+            .runner
+            .name()
+            .split_once(' ')
+            .unwrap_or(("?", "?"));
         let _ = writeln!(
             out,
             "{},{backend},{precision},{},\"{}\",{},{},{},{},{},{},{},{:.6},{:.2},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.3},{:.4},{:.6},{}",
@@ -328,15 +395,28 @@ pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
 
 /// The seed's settings on the fast tracer: the row to beat.
 pub fn seed_row<'a>(rows: &[&'a Row]) -> Option<&'a Row> {
-    let fast = if rows.iter().any(|r| r.setting.runner == Runner::GpuF32) { Runner::GpuF32 } else { Runner::CpuF32 };
+    let fast = if rows.iter().any(|r| r.setting.runner == Runner::GpuF32) {
+        Runner::GpuF32
+    } else {
+        Runner::CpuF32
+    };
     rows.iter()
-        .find(|r| r.setting.method == "backend" && r.setting.runner == fast && r.setting.scene.fractal.epsilon == 0.003)
+        .find(|r| {
+            r.setting.method == "backend"
+                && r.setting.runner == fast
+                && r.setting.scene.fractal.epsilon == 0.003
+        })
         .copied()
 }
 
 /// The report: the method, per scene the seed's row, the settings that beat it, and the Pareto
 /// front.
-pub fn markdown(rows: &[Row], truth_seconds: &[(&str, f64)], machine: &str, command: &str) -> String {
+pub fn markdown(
+    rows: &[Row],
+    truth_seconds: &[(&str, f64)],
+    machine: &str,
+    command: &str,
+) -> String {
     let mut out = format!(
         "# Work-precision report\n\n`{command}` on {machine}.\n\n\
          Each setting renders its scene once per repeat (the fastest of the repeats is kept: `seconds` is the \
@@ -354,9 +434,18 @@ pub fn markdown(rows: &[Row], truth_seconds: &[(&str, f64)], machine: &str, comm
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
     scenes.dedup();
     for scene in scenes {
-        let mine: Vec<&Row> = rows.iter().filter(|r| r.setting.scene_name == scene).collect();
-        let truth = truth_seconds.iter().find(|(n, _)| *n == scene).map_or(0.0, |t| t.1);
-        let _ = writeln!(out, "## {scene}\n\nThe truth took {truth:.2} s on the CPU in f64.\n");
+        let mine: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.setting.scene_name == scene)
+            .collect();
+        let truth = truth_seconds
+            .iter()
+            .find(|(n, _)| *n == scene)
+            .map_or(0.0, |t| t.1);
+        let _ = writeln!(
+            out,
+            "## {scene}\n\nThe truth took {truth:.2} s on the CPU in f64.\n"
+        );
         let twins: Vec<f64> = mine
             .iter()
             .filter(|r| {
@@ -368,12 +457,15 @@ pub fn markdown(rows: &[Row], truth_seconds: &[(&str, f64)], machine: &str, comm
                     && n.normal == NormalMethod::Central
                     && n.normal_delta == 1e-4
                     && f.escape_radius_squared == 10.0
-                    && seed_row(&mine).is_some_and(|s| s.setting.scene.fractal.max_iterations == f.max_iterations)
+                    && seed_row(&mine)
+                        .is_some_and(|s| s.setting.scene.fractal.max_iterations == f.max_iterations)
             })
             .map(|r| r.seconds)
             .collect();
         if twins.len() > 1 {
-            let (lo, hi) = twins.iter().fold((f64::MAX, 0f64), |(a, b), &t| (a.min(t), b.max(t)));
+            let (lo, hi) = twins
+                .iter()
+                .fold((f64::MAX, 0f64), |(a, b), &t| (a.min(t), b.max(t)));
             let _ = writeln!(
                 out,
                 "Timing noise: the seed's settings, rendered as {} separate rows, took {lo:.4} to {hi:.4} s \
@@ -399,7 +491,9 @@ pub fn markdown(rows: &[Row], truth_seconds: &[(&str, f64)], machine: &str, comm
             let fastest_seed = twins.iter().copied().fold(seed.seconds, f64::min);
             let better: Vec<&&Row> = mine
                 .iter()
-                .filter(|r| r.seconds < fastest_seed && r.metrics.colour_rmse <= seed.metrics.colour_rmse)
+                .filter(|r| {
+                    r.seconds < fastest_seed && r.metrics.colour_rmse <= seed.metrics.colour_rmse
+                })
                 .collect();
             if better.is_empty() {
                 out += "No setting is both faster than every render of the seed's settings and at least as accurate.\n\n";
@@ -446,7 +540,11 @@ pub fn markdown(rows: &[Row], truth_seconds: &[(&str, f64)], machine: &str, comm
             times is the measurement's noise, and a setting that beats the seed's by less than that spread \
             does not really beat it.\n\n";
     let nan: u64 = rows.iter().map(|r| r.metrics.non_finite).sum();
-    let _ = writeln!(out, "NaN or Inf values over all {} renders: {nan}.", rows.len());
+    let _ = writeln!(
+        out,
+        "NaN or Inf values over all {} renders: {nan}.",
+        rows.len()
+    );
     out
 }
 
@@ -455,7 +553,11 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
     use plotters::prelude::*;
     static FONT: std::sync::Once = std::sync::Once::new();
     FONT.call_once(|| {
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        );
     });
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
     scenes.dedup();
@@ -477,13 +579,30 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
             RGBColor(90, 90, 90),
         ];
         for (panel, scene) in panels.iter().zip(&scenes) {
-            let mine: Vec<&Row> = rows.iter().filter(|r| r.setting.scene_name == *scene).collect();
+            let mine: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.setting.scene_name == *scene)
+                .collect();
             // Log-log, drawn as log10 values on linear axes labelled with the values themselves.
-            let point = |r: &Row| (r.seconds.max(1e-5).log10(), r.metrics.colour_rmse.max(0.01).log10());
-            let (x0, x1) = mine.iter().map(|r| point(r).0).fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
-            let (y0, y1) = mine.iter().map(|r| point(r).1).fold((f64::MAX, f64::MIN), |(a, b), y| (a.min(y), b.max(y)));
+            let point = |r: &Row| {
+                (
+                    r.seconds.max(1e-5).log10(),
+                    r.metrics.colour_rmse.max(0.01).log10(),
+                )
+            };
+            let (x0, x1) = mine
+                .iter()
+                .map(|r| point(r).0)
+                .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+            let (y0, y1) = mine
+                .iter()
+                .map(|r| point(r).1)
+                .fold((f64::MAX, f64::MIN), |(a, b), y| (a.min(y), b.max(y)));
             let mut chart = ChartBuilder::on(panel)
-                .caption(format!("{scene}: colour error against render time"), ("sans-serif", 26))
+                .caption(
+                    format!("{scene}: colour error against render time"),
+                    ("sans-serif", 26),
+                )
                 .margin(16)
                 .x_label_area_size(48)
                 .y_label_area_size(70)
@@ -507,14 +626,19 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
             methods.dedup();
             for (k, method) in methods.iter().enumerate() {
                 let colour = palette[k % palette.len()];
-                let mut points: Vec<(f64, f64)> =
-                    mine.iter().filter(|r| r.setting.method == *method).map(|r| point(r)).collect();
+                let mut points: Vec<(f64, f64)> = mine
+                    .iter()
+                    .filter(|r| r.setting.method == *method)
+                    .map(|r| point(r))
+                    .collect();
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
                 chart
                     .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
                     .map_err(|e| e.to_string())?
                     .label(*method)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                    });
                 chart
                     .draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))
                     .map_err(|e| e.to_string())?;
@@ -530,5 +654,6 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
         }
         root.present().map_err(|e| e.to_string())?;
     }
-    image::save_buffer(path, &buffer, w, h, image::ExtendedColorType::Rgb8).map_err(|e| e.to_string())
+    image::save_buffer(path, &buffer, w, h, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())
 }

@@ -88,7 +88,7 @@ pub struct Shading {
 }
 
 /// How the shading normal is computed (`shading.normal`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum NormalMethod {
     /// The seed's: central differences of |z_N|, six orbits.
