@@ -1,7 +1,13 @@
-//! `cargo bench`: the GPU path (whatever adapter wgpu finds) against the CPU reference in f32
-//! and f64 on the same scenes, throughput in pixels.
+//! `cargo bench`: the GPU path (whatever adapter wgpu finds: lavapipe on a machine without a
+//! GPU) against the CPU reference in f32 and f64, on the same scenes in one run, throughput in
+//! pixels. Criterion measures every render; a summary table at the end gives Mpixel/s, distance
+//! estimates and quaternion iterations per second, the GPU/CPU ratio and the gain of per-scene
+//! specialisation (the generic pipeline against the scene's own). GPU time is taken by timestamp
+//! queries where the adapter has them; every pipeline is compiled and warmed up before timing.
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, Throughput};
 
 use qjulia::gpu::{GpuContext, GpuTracer};
 use qjulia::scene::SceneLoader;
@@ -15,42 +21,173 @@ fn scene(sets: &[&str]) -> Scene {
     loader.build().expect("bench scene")
 }
 
-fn bench(c: &mut Criterion) {
-    let scenes = [
-        ("seed_look_512", scene(&[])),
+/// The benchmark scenes: the seed's look with and without shadows, many iterations, a wide
+/// view that mostly misses, and a close-up where every pixel hits.
+fn scenes() -> Vec<(&'static str, Scene)> {
+    vec![
+        ("seed 512 shadows", scene(&[])),
+        ("seed 512 no shadows", scene(&["shading.shadows=false"])),
         (
-            "seed_look_no_shadows_512",
-            scene(&["shading.shadows=false"]),
+            "40 iterations 256",
+            scene(&[
+                "fractal.max_iterations=40",
+                "image.width=256",
+                "image.height=256",
+            ]),
         ),
-    ];
-    let gpu = match GpuContext::new().and_then(GpuTracer::new) {
-        Ok(t) => Some(t),
-        Err(e) => {
+        (
+            "wide view 512",
+            scene(&[
+                "camera.fov_y_degrees=120",
+                "camera.eye=[0.8, 1.0, 2.0]",
+                "light.position=[-2, 3, 2]",
+            ]),
+        ),
+        (
+            "close-up 512",
+            scene(&["camera.eye=[0.2, 0.1, 1.6]", "camera.fov_y_degrees=12"]),
+        ),
+    ]
+}
+
+/// The tracers compared.
+struct Gpus {
+    specialised: GpuTracer,
+    generic: GpuTracer,
+}
+
+fn gpus() -> Option<Gpus> {
+    let make = || GpuContext::new().and_then(GpuTracer::new);
+    match (make(), make()) {
+        (Ok(specialised), Ok(mut generic)) => {
+            generic.set_specialise(false);
+            Some(Gpus {
+                specialised,
+                generic,
+            })
+        }
+        (Err(e), _) | (_, Err(e)) => {
             eprintln!("no GPU benchmarks: {e}");
             None
         }
-    };
-    for (name, scene) in &scenes {
-        let mut group = c.benchmark_group(*name);
-        group.sample_size(10);
+    }
+}
+
+fn criterion_benches(c: &mut Criterion, gpus: Option<&Gpus>) {
+    for (name, scene) in scenes() {
+        let mut group = c.benchmark_group(name);
+        group
+            .sample_size(10)
+            .measurement_time(Duration::from_secs(4));
         group.throughput(Throughput::Elements(
             scene.image.width as u64 * scene.image.height as u64,
         ));
-        if let Some(tracer) = &gpu {
-            let params = TraceParams::<f32>::new(scene);
-            tracer.render(&params).expect("GPU warm-up");
-            let label = format!("gpu {}", tracer.context().adapter_label());
-            group.bench_function(label, |b| {
-                b.iter(|| tracer.render(&params).expect("GPU render"))
-            });
+        let p32 = TraceParams::<f32>::new(&scene);
+        if let Some(g) = gpus {
+            for (label, tracer) in [
+                ("gpu specialised", &g.specialised),
+                ("gpu generic", &g.generic),
+            ] {
+                tracer.render(&p32).expect("GPU warm-up");
+                group.bench_function(label, |b| {
+                    b.iter(|| tracer.render(&p32).expect("GPU render"))
+                });
+            }
         }
-        let p32 = TraceParams::<f32>::new(scene);
         group.bench_function("cpu f32", |b| b.iter(|| cpu::render(&p32)));
-        let p64 = TraceParams::<f64>::new(scene);
+        let p64 = TraceParams::<f64>::new(&scene);
         group.bench_function("cpu f64", |b| b.iter(|| cpu::render(&p64)));
         group.finish();
     }
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+/// The median of `n` timings.
+fn median(mut times: Vec<f64>) -> f64 {
+    times.sort_by(|a, b| a.total_cmp(b));
+    times[times.len() / 2]
+}
+
+fn gpu_seconds(tracer: &GpuTracer, p: &TraceParams<f32>) -> f64 {
+    tracer.render(p).expect("GPU warm-up");
+    median(
+        (0..7)
+            .map(|_| {
+                let r = tracer.render(p).expect("GPU render");
+                r.gpu_seconds.unwrap_or(r.render_seconds)
+            })
+            .collect(),
+    )
+}
+
+fn cpu_seconds(run: impl Fn() -> f64) -> f64 {
+    median((0..3).map(|_| run()).collect())
+}
+
+/// The summary table, printed and written to target/criterion/qjulia-summary.md.
+fn summary(gpus: Option<&Gpus>) {
+    let adapter = gpus.map_or("none".to_string(), |g| {
+        g.specialised.context().adapter_label()
+    });
+    let mut out = format!(
+        "# qjulia bench summary\n\nGPU adapter: {adapter}. GPU seconds by timestamp queries (median of 7 after a \
+         warm-up); CPU seconds wall-clock (median of 3), {} threads.\n\n\
+         | scene | tracer | seconds | Mpixel/s | M estimates/s | M iterations/s | x CPU f32 |\n\
+         |---|---|---|---|---|---|---|\n",
+        rayon::current_num_threads()
+    );
+    let mut gains = String::from(
+        "\n| scene | generic pipeline s | specialised s | specialisation gain |\n|---|---|---|---|\n",
+    );
+    for (name, scene) in scenes() {
+        let p32 = TraceParams::<f32>::new(&scene);
+        let p64 = TraceParams::<f64>::new(&scene);
+        let work = cpu::count_work(&p32);
+        let cpu32 = cpu_seconds(|| cpu::render(&p32).1);
+        let cpu64 = cpu_seconds(|| cpu::render(&p64).1);
+        let mut rows = vec![("cpu f32", cpu32), ("cpu f64", cpu64)];
+        if let Some(g) = gpus {
+            let spec = gpu_seconds(&g.specialised, &p32);
+            let generic = gpu_seconds(&g.generic, &p32);
+            rows.insert(0, ("gpu specialised", spec));
+            rows.insert(1, ("gpu generic", generic));
+            gains += &format!(
+                "| {name} | {generic:.4} | {spec:.4} | {:.0}% less time |\n",
+                100.0 * (1.0 - spec / generic)
+            );
+        }
+        for (tracer, s) in rows {
+            out += &format!(
+                "| {name} | {tracer} | {s:.4} | {:.2} | {:.1} | {:.1} | {:.2} |\n",
+                work.pixels as f64 / s / 1e6,
+                work.estimates as f64 / s / 1e6,
+                work.iterations as f64 / s / 1e6,
+                cpu32 / s
+            );
+        }
+        out += &format!(
+            "| {name} | work | {} px | | {} estimates | {} iterations | |\n",
+            work.pixels, work.estimates, work.iterations
+        );
+    }
+    out += &gains;
+    println!("\n{out}");
+    let path =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("../criterion/qjulia-summary.md");
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    match std::fs::write(&path, &out) {
+        Ok(()) => println!("summary written to {}", path.display()),
+        Err(e) => eprintln!("could not write {}: {e}", path.display()),
+    }
+}
+
+fn main() {
+    let start = Instant::now();
+    let gpus = gpus();
+    let mut c = Criterion::default().configure_from_args();
+    criterion_benches(&mut c, gpus.as_ref());
+    summary(gpus.as_ref());
+    c.final_summary();
+    eprintln!("bench took {:.0} s", start.elapsed().as_secs_f64());
+}

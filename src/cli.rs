@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use qjulia::output::{OutputPaths, write_outputs};
+use qjulia::output::{OutputPaths, StreamingOutputs};
 use qjulia::scene::SceneLoader;
 use qjulia::{Backend, Precision, Scene};
 
@@ -158,10 +158,36 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         eprintln!("qjulia: warning: {warning}");
     }
     let shade = paths.png.is_some();
-    let (frame, stats) = qjulia::render(&scene, backend, precision, shade, &mut |n| {
-        eprintln!("qjulia: {n}")
-    })?;
-    write_outputs(&paths, &frame, &stats, &scene)?;
+    // Outputs are written band by band as the render goes: any size in bounded memory.
+    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
+    let rows = scene.image.height as u64;
+    let pixels = scene.image.width as u64 * rows;
+    let bar = if pixels >= 1 << 24 {
+        let bar = indicatif::ProgressBar::new(rows);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} rows, {eta} left",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let stats = qjulia::render_streaming(
+        &scene,
+        backend,
+        precision,
+        shade,
+        &mut |n| bar.suspend(|| eprintln!("qjulia: {n}")),
+        &mut |band| {
+            bar.inc(band.height as u64);
+            outputs.write_band(band)
+        },
+    )?;
+    bar.finish_and_clear();
+    outputs.finish(&stats)?;
     eprintln!(
         "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel",
         stats.width,

@@ -23,6 +23,16 @@ impl Frame {
         self.width as usize * self.height as usize
     }
 
+    /// Appends the rows of `band` (of the same width) below this frame's.
+    pub fn append(&mut self, band: &Frame) {
+        debug_assert_eq!(self.width, band.width);
+        self.height += band.height;
+        self.colour.extend_from_slice(&band.colour);
+        self.depth.extend_from_slice(&band.depth);
+        self.steps.extend_from_slice(&band.steps);
+        self.non_finite += band.non_finite;
+    }
+
     /// Colour as 8-bit RGB bytes, row by row.
     pub fn rgb8(&self) -> Vec<u8> {
         self.colour.iter().flat_map(|&c| unpack_rgb(c)).collect()

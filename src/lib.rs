@@ -105,15 +105,40 @@ pub fn render(
     shade: bool,
     notice: &mut dyn FnMut(&str),
 ) -> Result<(Frame, RenderStats)> {
+    let mut frame = Frame {
+        width: scene.image.width,
+        height: 0,
+        colour: Vec::new(),
+        depth: Vec::new(),
+        steps: Vec::new(),
+        non_finite: 0,
+    };
+    let stats = render_streaming(scene, backend, precision, shade, notice, &mut |band| {
+        frame.append(band);
+        Ok(())
+    })?;
+    Ok((frame, stats))
+}
+
+/// As [`render`], handing the image to `sink` in bands of whole rows, top to bottom, as they
+/// are done: any image size renders in bounded memory.
+pub fn render_streaming(
+    scene: &Scene,
+    backend: Backend,
+    precision: Precision,
+    shade: bool,
+    notice: &mut dyn FnMut(&str),
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
     match (backend, precision) {
-        (Backend::Cpu, _) => Ok(render_cpu(scene, precision)),
+        (Backend::Cpu, _) => render_cpu_streaming(scene, precision, sink),
         (Backend::Gpu, Precision::F64) => Err(Error::Unsupported(GPU_F64_UNSUPPORTED.into())),
         (Backend::Gpu, Precision::F32) => {
-            render_gpu(&GpuTracer::new(GpuContext::new()?)?, scene, shade)
+            render_gpu_streaming(&GpuTracer::new(GpuContext::new()?)?, scene, shade, sink)
         }
         (Backend::Auto, Precision::F64) => {
             notice("f64 is not available on the GPU; rendering on the CPU");
-            Ok(render_cpu(scene, precision))
+            render_cpu_streaming(scene, precision, sink)
         }
         (Backend::Auto, Precision::F32) => match GpuContext::new().and_then(GpuTracer::new) {
             Ok(tracer) => {
@@ -121,14 +146,91 @@ pub fn render(
                     "rendering on the GPU: {}",
                     tracer.context().adapter_label()
                 ));
-                render_gpu(&tracer, scene, shade)
+                render_gpu_streaming(&tracer, scene, shade, sink)
             }
             Err(e) => {
                 notice(&format!("{e}; rendering on the CPU"));
-                Ok(render_cpu(scene, precision))
+                render_cpu_streaming(scene, precision, sink)
             }
         },
     }
+}
+
+/// Pixels per band of a streamed render: 4 Mpixel (16 MiB per output array), or
+/// `QJULIA_BAND_PIXELS` (at least 64) to trade memory for dispatch count.
+pub fn band_pixels() -> u64 {
+    std::env::var("QJULIA_BAND_PIXELS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+        .map_or(1 << 22, |n| n.max(64))
+}
+
+/// Rows per CPU band.
+fn cpu_band_rows(width: u32) -> u32 {
+    (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32
+}
+
+fn render_cpu_streaming(
+    scene: &Scene,
+    precision: Precision,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
+    fn run<F: Real>(
+        p: &TraceParams<F>,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+        summary: &mut SummaryBuilder,
+    ) -> Result<f64> {
+        let mut seconds = 0.0;
+        let mut row = 0;
+        while row < p.height {
+            let rows = cpu_band_rows(p.width).min(p.height - row);
+            let start = std::time::Instant::now();
+            let band = cpu::render_rows(p, row..row + rows);
+            seconds += start.elapsed().as_secs_f64();
+            summary.add(&band);
+            sink(&band)?;
+            row += rows;
+        }
+        Ok(seconds)
+    }
+    let mut summary = SummaryBuilder::default();
+    let seconds = match precision {
+        Precision::F32 => run(&TraceParams::<f32>::new(scene), sink, &mut summary)?,
+        Precision::F64 => run(&TraceParams::<f64>::new(scene), sink, &mut summary)?,
+    };
+    Ok(make_stats(
+        scene,
+        &summary,
+        "cpu",
+        "cpu".into(),
+        precision,
+        seconds,
+        None,
+    ))
+}
+
+fn render_gpu_streaming(
+    tracer: &GpuTracer,
+    scene: &Scene,
+    shade: bool,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
+    let mut summary = SummaryBuilder::default();
+    let (seconds, gpu_seconds) =
+        tracer.render_bands(&TraceParams::<f32>::new(scene), shade, &mut |band| {
+            summary.add(&band);
+            sink(&band)
+        })?;
+    let label = tracer.context().adapter_label();
+    Ok(make_stats(
+        scene,
+        &summary,
+        "gpu",
+        label,
+        Precision::F32,
+        seconds,
+        gpu_seconds,
+    ))
 }
 
 /// Renders on the CPU reference tracer.
@@ -137,7 +239,17 @@ pub fn render_cpu(scene: &Scene, precision: Precision) -> (Frame, RenderStats) {
         Precision::F32 => cpu::render(&TraceParams::<f32>::new(scene)),
         Precision::F64 => cpu::render(&TraceParams::<f64>::new(scene)),
     };
-    let stats = make_stats(&frame, "cpu", "cpu".into(), precision, seconds, None);
+    let mut summary = SummaryBuilder::default();
+    summary.add(&frame);
+    let stats = make_stats(
+        scene,
+        &summary,
+        "cpu",
+        "cpu".into(),
+        precision,
+        seconds,
+        None,
+    );
     (frame, stats)
 }
 
@@ -145,8 +257,11 @@ pub fn render_cpu(scene: &Scene, precision: Precision) -> (Frame, RenderStats) {
 pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Frame, RenderStats)> {
     let out = tracer.render_outputs(&TraceParams::<f32>::new(scene), shade)?;
     let label = tracer.context().adapter_label();
+    let mut summary = SummaryBuilder::default();
+    summary.add(&out.frame);
     let stats = make_stats(
-        &out.frame,
+        scene,
+        &summary,
         "gpu",
         label,
         Precision::F32,
@@ -156,25 +271,46 @@ pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Fra
     Ok((out.frame, stats))
 }
 
+/// Hit and step figures accumulated over bands.
+#[derive(Default)]
+struct SummaryBuilder {
+    pixels: u64,
+    hits: u64,
+    steps: u64,
+    steps_max: u32,
+}
+
+impl SummaryBuilder {
+    fn add(&mut self, band: &Frame) {
+        self.pixels += band.pixel_count() as u64;
+        self.hits += band.depth.iter().filter(|d| !d.is_nan()).count() as u64;
+        self.steps += band.steps.iter().map(|&s| s as u64).sum::<u64>();
+        self.steps_max = self
+            .steps_max
+            .max(band.steps.iter().copied().max().unwrap_or(0));
+    }
+}
+
 fn make_stats(
-    frame: &Frame,
+    scene: &Scene,
+    summary: &SummaryBuilder,
     backend: &str,
     adapter: String,
     precision: Precision,
     render_seconds: f64,
     gpu_seconds: Option<f64>,
 ) -> RenderStats {
-    let summary = frame.summary();
+    let n = summary.pixels.max(1) as f64;
     RenderStats {
         backend: backend.into(),
         adapter,
         precision: precision.name().into(),
-        width: frame.width,
-        height: frame.height,
+        width: scene.image.width,
+        height: scene.image.height,
         render_seconds,
         gpu_seconds,
-        hit_fraction: summary.hit_fraction,
-        steps_mean: summary.steps_mean,
+        hit_fraction: summary.hits as f64 / n,
+        steps_mean: summary.steps as f64 / n,
         steps_max: summary.steps_max,
     }
 }

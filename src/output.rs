@@ -2,6 +2,7 @@
 //! nothing: every file goes to a temporary file beside its target first, and all are renamed
 //! into place only once every one is written.
 
+use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -107,10 +108,39 @@ pub fn write_npy<T: bytemuck::Pod>(
     frame: &Frame,
     data: &[T],
 ) -> std::io::Result<()> {
-    let dict = format!(
-        "{{'descr': '{descr}', 'fortran_order': False, 'shape': ({}, {}), }}",
-        frame.height, frame.width
-    );
+    npy_header(w, descr, frame.width, frame.height)?;
+    w.write_all(bytemuck::cast_slice(data))
+}
+
+fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *w, stats)?;
+    w.write_all(b"\n")
+}
+
+/// Outputs written band by band while the render goes (any image size in bounded memory):
+/// headers first, rows as they come, the stats last; then every file renamed into place, or none.
+pub struct StreamingOutputs {
+    png: Option<(
+        NamedTempFile,
+        PathBuf,
+        png::StreamWriter<'static, BufWriter<File>>,
+    )>,
+    depth: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
+    steps: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
+    stats: Option<PathBuf>,
+}
+
+/// A temporary file beside `path` and a buffered writer into it.
+fn temp_writer(path: &Path) -> Result<(NamedTempFile, PathBuf, BufWriter<File>)> {
+    let temp = stage(path, |_| Ok(()))?;
+    let file = temp.as_file().try_clone().map_err(|e| io_error(path, e))?;
+    Ok((temp, path.to_path_buf(), BufWriter::new(file)))
+}
+
+/// The header of a `.npy` (format 1.0) of shape (height, width).
+fn npy_header(w: &mut dyn Write, descr: &str, width: u32, height: u32) -> std::io::Result<()> {
+    let dict =
+        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({height}, {width}), }}");
     // Magic (6) + version (2) + header length (2) + dict + padding + newline, to a multiple of 64.
     let unpadded = 10 + dict.len() + 1;
     let header = format!(
@@ -119,11 +149,87 @@ pub fn write_npy<T: bytemuck::Pod>(
     );
     w.write_all(b"\x93NUMPY\x01\x00")?;
     w.write_all(&(header.len() as u16).to_le_bytes())?;
-    w.write_all(header.as_bytes())?;
-    w.write_all(bytemuck::cast_slice(data))
+    w.write_all(header.as_bytes())
 }
 
-fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
-    serde_json::to_writer_pretty(&mut *w, stats)?;
-    w.write_all(b"\n")
+impl StreamingOutputs {
+    /// Opens temporary files for every requested output and writes their headers.
+    pub fn create(paths: &OutputPaths, scene: &Scene) -> Result<Self> {
+        let (width, height) = (scene.image.width, scene.image.height);
+        let png = match &paths.png {
+            Some(path) => {
+                let (temp, path, file) = temp_writer(path)?;
+                let mut encoder = png::Encoder::new(file, width, height);
+                encoder.set_color(png::ColorType::Rgb);
+                encoder.set_depth(png::BitDepth::Eight);
+                let to_io = |e: png::EncodingError| io_error(&path, std::io::Error::other(e));
+                encoder
+                    .add_itxt_chunk(SCENE_PNG_KEYWORD.to_string(), scene.to_toml())
+                    .map_err(to_io)?;
+                let stream = encoder
+                    .write_header()
+                    .map_err(to_io)?
+                    .into_stream_writer()
+                    .map_err(to_io)?;
+                Some((temp, path, stream))
+            }
+            None => None,
+        };
+        let npy = |path: &Option<PathBuf>, descr: &str| -> Result<_> {
+            match path {
+                Some(path) => {
+                    let (temp, path, mut file) = temp_writer(path)?;
+                    npy_header(&mut file, descr, width, height).map_err(|e| io_error(&path, e))?;
+                    Ok(Some((temp, path, file)))
+                }
+                None => Ok(None),
+            }
+        };
+        Ok(Self {
+            png,
+            depth: npy(&paths.depth, "<f4")?,
+            steps: npy(&paths.steps, "<u4")?,
+            stats: paths.stats.clone(),
+        })
+    }
+
+    /// Appends a band of whole rows, top to bottom.
+    pub fn write_band(&mut self, band: &Frame) -> Result<()> {
+        if let Some((_, path, stream)) = &mut self.png {
+            stream
+                .write_all(&band.rgb8())
+                .map_err(|e| io_error(path, e))?;
+        }
+        if let Some((_, path, file)) = &mut self.depth {
+            file.write_all(bytemuck::cast_slice(&band.depth))
+                .map_err(|e| io_error(path, e))?;
+        }
+        if let Some((_, path, file)) = &mut self.steps {
+            file.write_all(bytemuck::cast_slice(&band.steps))
+                .map_err(|e| io_error(path, e))?;
+        }
+        Ok(())
+    }
+
+    /// Finishes every file, writes the stats, and renames all into place.
+    pub fn finish(self, stats: &RenderStats) -> Result<()> {
+        let mut staged: Vec<(NamedTempFile, PathBuf)> = Vec::new();
+        if let Some((temp, path, stream)) = self.png {
+            stream
+                .finish()
+                .map_err(|e| io_error(&path, std::io::Error::other(e)))?;
+            staged.push((temp, path));
+        }
+        for (temp, path, mut file) in [self.depth, self.steps].into_iter().flatten() {
+            file.flush().map_err(|e| io_error(&path, e))?;
+            staged.push((temp, path));
+        }
+        if let Some(path) = self.stats {
+            staged.push((stage(&path, |w| write_stats(w, stats))?, path));
+        }
+        for (temp, path) in staged {
+            temp.persist(&path).map_err(|e| io_error(&path, e.error))?;
+        }
+        Ok(())
+    }
 }

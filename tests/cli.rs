@@ -317,3 +317,50 @@ fn no_subcommand_without_a_display_prints_help() {
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("render"));
 }
+
+#[test]
+fn streamed_bands_make_the_same_files_as_one_band() {
+    let dir = tempfile::tempdir().unwrap();
+    for backend in ["cpu", "auto"] {
+        let args = |png: &str, npy: &str| {
+            vec![
+                "render".to_string(),
+                "--backend".into(),
+                backend.into(),
+                "--width".into(),
+                "64".into(),
+                "--height".into(),
+                "50".into(),
+                "-o".into(),
+                png.into(),
+                "--steps".into(),
+                npy.into(),
+            ]
+        };
+        let whole = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+            .args(args("whole.png", "whole.npy"))
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(whole.status.success(), "{}", stderr(&whole));
+        // 8 rows a band: 7 bands, the last one short.
+        let banded = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+            .args(args("banded.png", "banded.npy"))
+            .env("QJULIA_BAND_PIXELS", "512")
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(banded.status.success(), "{}", stderr(&banded));
+        let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+        assert_eq!(
+            read("whole.npy"),
+            read("banded.npy"),
+            "{backend}: steps differ"
+        );
+        let a = image::open(dir.path().join("whole.png")).unwrap().to_rgb8();
+        let b = image::open(dir.path().join("banded.png"))
+            .unwrap()
+            .to_rgb8();
+        assert!(a == b, "{backend}: pictures differ");
+    }
+}

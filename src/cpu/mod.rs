@@ -3,6 +3,40 @@
 
 pub mod trace;
 
+use std::cell::Cell;
+
+thread_local! {
+    /// Work done on this thread: distance estimates, and quaternion iterations (z <- z^2 + c,
+    /// in estimates and normals). Read through [`count_work`].
+    pub(crate) static ESTIMATES: Cell<u64> = const { Cell::new(0) };
+    pub(crate) static ITERATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Work a render does, counted by tracing it once on this thread.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    pub pixels: u64,
+    pub estimates: u64,
+    pub iterations: u64,
+}
+
+/// Counts the distance estimates and quaternion iterations of a render (the GPU does the same
+/// work: its kernel is this tracer's twin). Single-threaded; for benchmarks and reports.
+pub fn count_work<F: Real>(params: &TraceParams<F>) -> Work {
+    ESTIMATES.set(0);
+    ITERATIONS.set(0);
+    for j in 0..params.height {
+        for i in 0..params.width {
+            params.trace_pixel(i, j);
+        }
+    }
+    Work {
+        pixels: params.width as u64 * params.height as u64,
+        estimates: ESTIMATES.get(),
+        iterations: ITERATIONS.get(),
+    }
+}
+
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -16,7 +50,14 @@ use crate::params::TraceParams;
 /// it took.
 pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
     let start = Instant::now();
-    let (w, h) = (params.width as usize, params.height as usize);
+    let frame = render_rows(params, 0..params.height);
+    (frame, start.elapsed().as_secs_f64())
+}
+
+/// Renders the rows `rows` (0 at the top) of the image, in parallel over rows: a frame of
+/// `rows.len()` rows.
+pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>) -> Frame {
+    let (w, h) = (params.width as usize, rows.len());
     let mut colour = vec![0u32; w * h];
     let mut depth = vec![0f32; w * h];
     let mut steps = vec![0u32; w * h];
@@ -26,9 +67,10 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
         .zip(depth.par_chunks_mut(w))
         .zip(steps.par_chunks_mut(w))
         .enumerate()
-        .for_each(|(j, ((colour_row, depth_row), steps_row))| {
+        .for_each(|(r, ((colour_row, depth_row), steps_row))| {
+            let j = rows.start + r as u32;
             for i in 0..w {
-                let pixel = params.trace_pixel(i as u32, j as u32);
+                let pixel = params.trace_pixel(i as u32, j);
                 let c = pixel.colour;
                 let bad = [c.x, c.y, c.z, pixel.depth]
                     .iter()
@@ -46,13 +88,12 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
                 steps_row[i] = pixel.steps;
             }
         });
-    let frame = Frame {
+    Frame {
         width: params.width,
-        height: params.height,
+        height: h as u32,
         colour,
         depth,
         steps,
         non_finite: non_finite.into_inner(),
-    };
-    (frame, start.elapsed().as_secs_f64())
+    }
 }

@@ -46,6 +46,7 @@ impl<F: Real> TraceParams<F> {
     /// (or |z'|^2 > `Real::DERIVATIVE_LIMIT`, WGSL's DERIVATIVE_LIMIT in f32).
     pub fn iterate_intersect(&self, z: &mut Vec4<F>, zp: &mut Vec4<F>) {
         for _ in 0..self.max_iterations {
+            count(&super::ITERATIONS, 1);
             *zp = quat_mul(*z, *zp) * F::lit(2.0);
             *z = quat_sq(*z) + self.c;
             if z.dot(*z) > self.escape_radius_squared || zp.dot(*zp) > F::lit(F::DERIVATIVE_LIMIT) {
@@ -60,6 +61,7 @@ impl<F: Real> TraceParams<F> {
     /// smallest normal float, WGSL's MIN_NORMAL), |z'| = 0 (below TINY |z|, which keeps the
     /// ratio finite) or |z'| huge.
     pub fn estimate_distance(&self, p: Vec3<F>) -> F {
+        count(&super::ESTIMATES, 1);
         let mut z = self.slice_point(p);
         let mut zp = Vec4::real(F::one());
         self.iterate_intersect(&mut z, &mut zp);
@@ -196,6 +198,7 @@ impl<F: Real> TraceParams<F> {
             if largest > F::lit(NORMAL_LIMIT) {
                 break;
             }
+            count(&super::ITERATIONS, 6);
             gx1 = quat_sq(gx1) + self.c;
             gx2 = quat_sq(gx2) + self.c;
             gy1 = quat_sq(gy1) + self.c;
@@ -225,6 +228,7 @@ impl<F: Real> TraceParams<F> {
             if largest > F::lit(NORMAL_LIMIT) {
                 break;
             }
+            count(&super::ITERATIONS, 4);
             a = quat_sq(a) + self.c;
             b = quat_sq(b) + self.c;
             c = quat_sq(c) + self.c;
@@ -253,6 +257,7 @@ impl<F: Real> TraceParams<F> {
             if z.dot(z) > F::lit(NORMAL_LIMIT) || largest > F::lit(F::DERIVATIVE_LIMIT) {
                 break;
             }
+            count(&super::ITERATIONS, 1);
             jx = step(z, jx);
             jy = step(z, jy);
             jz = step(z, jz);
@@ -355,6 +360,11 @@ impl<F: Real> TraceParams<F> {
             hit: true,
         }
     }
+}
+
+/// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.
+fn count(counter: &'static std::thread::LocalKey<std::cell::Cell<u64>>, n: u64) {
+    counter.with(|c| c.set(c.get() + n));
 }
 
 /// v normalised, or the fallback where v is too short to have a direction. Scaled by its

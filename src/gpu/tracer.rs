@@ -17,9 +17,6 @@ use crate::params::TraceParams;
 
 /// The kernel's `@workgroup_size`: 8 wide, since lavapipe packs 8 lanes along x.
 pub const WORKGROUP: (u32, u32) = (8, 8);
-/// At most this many pixels per dispatch (16 MiB per output array): bounded memory, and bounded
-/// time per dispatch so that no driver watchdog fires on big images.
-const BAND_PIXELS: u64 = 1 << 22;
 /// Bytes per pixel per output array (colour u32, depth f32, steps u32).
 const BYTES_PER_PIXEL: u64 = 4;
 /// Output arrays: colour, depth, steps.
@@ -162,11 +159,12 @@ impl GpuTracer {
         &self.ctx
     }
 
-    /// Rows per dispatch for an image this wide.
+    /// Rows per dispatch for an image this wide: at most `band_pixels()` pixels (bounded memory,
+    /// and bounded time per dispatch so that no driver watchdog fires on big images).
     fn band_rows(&self, width: u32, height: u32) -> u32 {
         let limit = self.ctx.device.limits();
         let max_binding = limit.max_storage_buffer_binding_size / BYTES_PER_PIXEL;
-        let pixels = BAND_PIXELS
+        let pixels = crate::band_pixels()
             .min(max_binding)
             .min(limit.max_buffer_size / BYTES_PER_PIXEL);
         let rows = (pixels / width as u64).max(1) as u32;
@@ -269,6 +267,34 @@ impl GpuTracer {
     /// As [`Self::render`]; with `shade` false only depth and steps are computed (the colour is
     /// the background), on a pipeline without the shading code.
     pub fn render_outputs(&self, params: &TraceParams<f32>, shade: bool) -> Result<GpuRender> {
+        let mut frame = Frame {
+            width: params.width,
+            height: 0,
+            colour: Vec::new(),
+            depth: Vec::new(),
+            steps: Vec::new(),
+            non_finite: 0,
+        };
+        let (render_seconds, gpu_seconds) = self.render_bands(params, shade, &mut |band| {
+            frame.append(&band);
+            Ok(())
+        })?;
+        Ok(GpuRender {
+            frame,
+            render_seconds,
+            gpu_seconds,
+        })
+    }
+
+    /// Renders band by band (bounded memory and bounded time per dispatch, whatever the image
+    /// size), handing each band of whole rows, top to bottom, to `sink` as a frame of its own.
+    /// Returns the seconds spent rendering (the sink's time left out) and the GPU seconds.
+    pub fn render_bands(
+        &self,
+        params: &TraceParams<f32>,
+        shade: bool,
+        sink: &mut dyn FnMut(Frame) -> Result<()>,
+    ) -> Result<(f64, Option<f64>)> {
         let pipeline = self.pipeline(self.variant_for(params, shade))?;
         let (width, height) = (params.width, params.height);
         let band_rows = self.band_rows(width, height);
@@ -285,20 +311,21 @@ impl GpuTracer {
             None,
         )?;
 
-        let start = Instant::now();
-        let pixels = width as usize * height as usize;
-        let mut frame = Frame {
-            width,
-            height,
-            colour: Vec::with_capacity(pixels),
-            depth: Vec::with_capacity(pixels),
-            steps: Vec::with_capacity(pixels),
-            non_finite: 0,
-        };
+        let mut render_seconds = 0.0;
         let mut gpu_seconds = buffers.timestamps.as_ref().map(|_| 0.0);
         let mut row = 0;
         while row < height {
+            let start = Instant::now();
             let rows = band_rows.min(height - row);
+            let pixels = width as usize * rows as usize;
+            let mut frame = Frame {
+                width,
+                height: rows,
+                colour: Vec::with_capacity(pixels),
+                depth: Vec::with_capacity(pixels),
+                steps: Vec::with_capacity(pixels),
+                non_finite: 0,
+            };
             let band = GpuParams::new(params, row, rows);
             let seconds = self.dispatch(
                 &pipeline,
@@ -310,13 +337,11 @@ impl GpuTracer {
             if let (Some(total), Some(s)) = (gpu_seconds.as_mut(), seconds) {
                 *total += s;
             }
+            render_seconds += start.elapsed().as_secs_f64();
+            sink(frame)?;
             row += rows;
         }
-        Ok(GpuRender {
-            frame,
-            render_seconds: start.elapsed().as_secs_f64(),
-            gpu_seconds,
-        })
+        Ok((render_seconds, gpu_seconds))
     }
 
     /// One band of `size` (width, rows) pixels: upload its parameters, dispatch, copy out and
