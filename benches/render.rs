@@ -164,9 +164,13 @@ fn summary(gpus: Option<&Gpus>) {
                 cpu32 / s
             );
         }
+        let frame = cpu::render(&p32).0;
         out += &format!(
-            "| {name} | work | {} px | | {} estimates | {} iterations | |\n",
-            work.pixels, work.estimates, work.iterations
+            "| {name} | work | {} px | | {} estimates | {} iterations | primary steps useful in 8x8 tiles: {:.0}% |\n",
+            work.pixels,
+            work.estimates,
+            work.iterations,
+            100.0 * frame.tile_efficiency(8)
         );
     }
     out += &gains;

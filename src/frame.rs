@@ -43,6 +43,35 @@ impl Frame {
         self.depth.iter().map(|d| !d.is_nan()).collect()
     }
 
+    /// Divergence (the seed's Figure 9): for square tiles of `tile` pixels a side, the share of
+    /// the work a SIMD group would do that is useful, sum of steps over sum of tile pixels times
+    /// the tile's largest step count. 1 means every ray of a tile takes as many steps as the
+    /// slowest; lower means lanes wait.
+    pub fn tile_efficiency(&self, tile: u32) -> f64 {
+        let (w, h) = (self.width, self.height);
+        let (mut useful, mut paid) = (0u64, 0u64);
+        for ty in (0..h).step_by(tile as usize) {
+            for tx in (0..w).step_by(tile as usize) {
+                let (mut sum, mut max, mut n) = (0u64, 0u64, 0u64);
+                for j in ty..(ty + tile).min(h) {
+                    for i in tx..(tx + tile).min(w) {
+                        let s = self.steps[(j * w + i) as usize] as u64;
+                        sum += s;
+                        max = max.max(s);
+                        n += 1;
+                    }
+                }
+                useful += sum;
+                paid += max * n;
+            }
+        }
+        if paid == 0 {
+            1.0
+        } else {
+            useful as f64 / paid as f64
+        }
+    }
+
     /// Hit fraction and step figures over all pixels.
     pub fn summary(&self) -> FrameSummary {
         let n = self.pixel_count().max(1) as f64;
@@ -84,4 +113,24 @@ pub struct RenderStats {
     pub hit_fraction: f64,
     pub steps_mean: f64,
     pub steps_max: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tile_efficiency_counts_idle_lanes() {
+        let frame = |steps: Vec<u32>| Frame {
+            width: 2,
+            height: 2,
+            colour: vec![0; 4],
+            depth: vec![0.0; 4],
+            steps,
+            non_finite: 0,
+        };
+        assert_eq!(frame(vec![5, 5, 5, 5]).tile_efficiency(2), 1.0);
+        assert_eq!(frame(vec![4, 0, 0, 0]).tile_efficiency(2), 0.25);
+        assert_eq!(frame(vec![4, 0, 0, 0]).tile_efficiency(1), 1.0);
+    }
 }
