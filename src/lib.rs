@@ -233,26 +233,6 @@ fn render_gpu_streaming(
     ))
 }
 
-/// Renders on the CPU reference tracer.
-pub fn render_cpu(scene: &Scene, precision: Precision) -> (Frame, RenderStats) {
-    let (frame, seconds) = match precision {
-        Precision::F32 => cpu::render(&TraceParams::<f32>::new(scene)),
-        Precision::F64 => cpu::render(&TraceParams::<f64>::new(scene)),
-    };
-    let mut summary = SummaryBuilder::default();
-    summary.add(&frame);
-    let stats = make_stats(
-        scene,
-        &summary,
-        "cpu",
-        "cpu".into(),
-        precision,
-        seconds,
-        None,
-    );
-    (frame, stats)
-}
-
 /// Renders on a GPU tracer (f32); `shade` false computes depth and steps only.
 pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Frame, RenderStats)> {
     let out = tracer.render_outputs(&TraceParams::<f32>::new(scene), shade)?;

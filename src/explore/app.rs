@@ -442,6 +442,12 @@ impl ExplorerApp {
                 .logarithmic(true)
                 .text("max steps"),
         );
+        ui.add(
+            egui::Slider::new(&mut f.step_scale, 0.5..=2.0).text("step scale (over-relaxation)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.pixel_epsilon, 0.0..=4.0).text("epsilon in pixels (0 = off)"),
+        );
     }
 
     fn slice_controls(&mut self, ui: &mut egui::Ui) {
@@ -531,6 +537,18 @@ impl ExplorerApp {
             egui::Slider::new(&mut sh.shininess, 0.0..=200.0)
                 .logarithmic(true)
                 .text("shininess"),
+        );
+        egui::ComboBox::from_label("normal")
+            .selected_text(sh.normal.name())
+            .show_ui(ui, |ui| {
+                for method in crate::scene::NormalMethod::ALL {
+                    ui.selectable_value(&mut sh.normal, method, method.name());
+                }
+            });
+        ui.add(
+            egui::Slider::new(&mut sh.normal_delta, 1e-6..=1e-2)
+                .logarithmic(true)
+                .text("normal delta"),
         );
     }
 
