@@ -7,7 +7,17 @@ use std::process::ExitCode;
 use clap::{CommandFactory, Parser};
 
 fn main() -> ExitCode {
-    let cli = cli::Cli::parse();
+    let cli = match cli::Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version go to stdout as usual; a usage error is one line and exit 2.
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            let text = e.render().to_string();
+            let line = text.lines().next().unwrap_or("error: bad command line");
+            eprintln!("{line} (see qjulia --help)");
+            return ExitCode::from(2);
+        }
+    };
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
         Some(cli::Command::Info) => cli::info(),

@@ -364,3 +364,22 @@ fn streamed_bands_make_the_same_files_as_one_band() {
         assert!(a == b, "{backend}: pictures differ");
     }
 }
+
+#[test]
+fn usage_errors_are_one_line_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["render", "--width", "abc"][..],
+        &["render", "--bogus"],
+        &["render", "--backend", "tpu"],
+    ] {
+        let out = qjulia(dir.path(), args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let text = stderr(&out);
+        assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
+        assert!(text.starts_with("error: "), "{text}");
+        assert_eq!(files_in(dir.path()).len(), 0);
+    }
+    let help = qjulia(dir.path(), &["render", "--help"]);
+    assert!(help.status.success() && String::from_utf8_lossy(&help.stdout).contains("--precision"));
+}
