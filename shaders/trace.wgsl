@@ -423,7 +423,9 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     if SPECIALISED {
         shadows = SHADOWS;
     }
-    if shadows && in_shadow(p, n) {
+    // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
+    let lit = any(colour > vec3<f32>(0.0));
+    if shadows && lit && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
     return Pixel(colour, trace.t, trace.steps, true);

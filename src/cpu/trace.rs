@@ -350,7 +350,9 @@ impl<F: Real> TraceParams<F> {
         let p = self.eye + dir * trace.t;
         let n = self.estimate_normal(p, dir);
         let mut colour = self.phong(self.light, self.eye, p, n);
-        if self.shadows && self.in_shadow(p, n) {
+        // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
+        let lit = colour.x > F::zero() || colour.y > F::zero() || colour.z > F::zero();
+        if self.shadows && lit && self.in_shadow(p, n) {
             colour = colour * self.shadow_factor;
         }
         Pixel {
