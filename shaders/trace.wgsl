@@ -45,7 +45,7 @@ struct Params {
     step_scale: f32,
     pixel_epsilon: f32,
     pixel_angle: f32,
-    _pad: u32,
+    tracing: u32,
 }
 
 // params.normal_method: the seed's central differences, a tetrahedron of four samples, or the
@@ -66,6 +66,19 @@ override STANDARD_SLICE: bool = false;
 override OVER_RELAXED: bool = true;
 override PIXEL_EPSILON: bool = true;
 override SHADE: bool = true;
+override CONE_TRACING: bool = false;
+
+// params.tracing: the seed's sphere tracing of every ray, or a cone per 8x8 block first.
+const TRACING_SEED: u32 = 0u;
+const TRACING_CONE: u32 = 1u;
+// Pixels a side of the blocks that share a cone (one workgroup).
+const CONE_BLOCK: u32 = 8u;
+// The cone stops this many epsilons short: the estimate is about half the true distance near
+// the surface, so rays must start where it is still well above epsilon.
+const CONE_MARGIN: f32 = 4.0;
+
+// The cone's start, shared by the workgroup's invocations.
+var<workgroup> cone_t: f32;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The band of rows [row_offset, row_offset + row_count) lands in the output arrays from row
@@ -387,11 +400,47 @@ fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
     return intersect_qjulia(origin, dir, bounds.t_enter, t_end, 0.0).hit;
 }
 
+// The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left corner.
+fn camera_ray_at(x: f32, y: f32) -> vec3<f32> {
+    let px = (2.0 * x / f32(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
+    let py = (1.0 - 2.0 * y / f32(params.height)) * params.tan_half_fov_y;
+    return normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
+}
+
 // The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
 fn camera_ray(i: u32, j: u32) -> vec3<f32> {
-    let px = (2.0 * (f32(i) + 0.5) / f32(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
-    let py = (1.0 - 2.0 * (f32(j) + 0.5) / f32(params.height)) * params.tan_half_fov_y;
-    return normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
+    return camera_ray_at(f32(i) + 0.5, f32(j) + 0.5);
+}
+
+// Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
+// through the block's centre, shrinking each unbounding sphere by the cone's radius at that
+// distance (t times the tangent of the widest angle to a corner ray), so that the whole cone is
+// known to be at least epsilon from the set up to the t returned. Every ray of the block may
+// start there. Bounded by max_steps; 0 where the centre ray misses the ball.
+fn cone_start(bi: u32, bj: u32) -> f32 {
+    let x0 = f32(bi * CONE_BLOCK);
+    let y0 = f32(bj * CONE_BLOCK);
+    let size = f32(CONE_BLOCK);
+    let centre = camera_ray_at(x0 + 0.5 * size, y0 + 0.5 * size);
+    var spread = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        let corner = camera_ray_at(x0 + size * f32(k & 1u), y0 + size * f32(k >> 1u));
+        let cos_angle = max(dot(centre, corner), 0.1);
+        spread = max(spread, length(cross(centre, corner)) / cos_angle);
+    }
+    let bounds = intersect_bounds(params.eye, centre);
+    if !bounds.hit {
+        return 0.0;
+    }
+    var t = bounds.t_enter;
+    for (var step = 0u; step < params.max_steps; step++) {
+        let free = estimate_distance(params.eye + t * centre) - spread * t;
+        if free < CONE_MARGIN * params.epsilon || t > bounds.t_exit {
+            return t;
+        }
+        t += free;
+    }
+    return t;
 }
 
 // One pixel's outcome.
@@ -402,14 +451,16 @@ struct Pixel {
     hit: bool,
 }
 
-// Everything for pixel (i, j): bounds, sphere tracing, normal, Phong, shadow.
-fn trace_pixel(i: u32, j: u32) -> Pixel {
+// Everything for pixel (i, j): bounds, sphere tracing (from t_min on: the cone's start, or 0),
+// normal, Phong, shadow.
+fn trace_pixel(i: u32, j: u32, t_min: f32) -> Pixel {
     let dir = camera_ray(i, j);
     let bounds = intersect_bounds(params.eye, dir);
     if !bounds.hit {
         return Pixel(params.background, -1.0, 0u, false);
     }
-    let trace = intersect_qjulia(params.eye, dir, bounds.t_enter, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
+    let t_start = max(bounds.t_enter, t_min);
+    let trace = intersect_qjulia(params.eye, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false);
     }
@@ -437,14 +488,35 @@ fn pack_colour(colour: vec3<f32>) -> u32 {
     return v.x | (v.y << 8u) | (v.z << 16u) | 0xff000000u;
 }
 
+// Whether this pipeline traces a cone per block first.
+fn cone_tracing() -> bool {
+    if SPECIALISED {
+        return CONE_TRACING;
+    }
+    return params.tracing == TRACING_CONE;
+}
+
+// One workgroup is one CONE_BLOCK x CONE_BLOCK block (bands start on block rows).
 @compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let cone = cone_tracing();
+    if cone {
+        if lid == 0u {
+            cone_t = cone_start(wid.x, params.row_offset / CONE_BLOCK + wid.y);
+        }
+        workgroupBarrier();
+    }
+    let t_min = select(0.0, cone_t, cone);
     let i = gid.x;
     let row = gid.y;
     if i >= params.width || row >= params.row_count {
         return;
     }
-    let pixel = trace_pixel(i, params.row_offset + row);
+    let pixel = trace_pixel(i, params.row_offset + row, t_min);
     let index = (params.out_row + row) * params.row_stride + i;
     out_colour[index] = pack_colour(pixel.colour);
     out_depth[index] = select(-1.0, pixel.depth, pixel.hit);

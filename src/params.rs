@@ -3,7 +3,7 @@
 //! frame and the slice's bounding ball already worked out.
 
 use crate::algebra::{Real, Vec3, Vec4};
-use crate::scene::{NormalMethod, Scene};
+use crate::scene::{NormalMethod, Scene, Tracing};
 
 /// The tracer's inputs in precision `F`. Field names are those of `Params` in
 /// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
@@ -44,6 +44,7 @@ pub struct TraceParams<F> {
     pub pixel_epsilon: F,
     /// A pixel's footprint per unit distance, 2 tan(fov/2) / height.
     pub pixel_angle: F,
+    pub tracing: Tracing,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -85,6 +86,7 @@ impl<F: Real> TraceParams<F> {
             step_scale: F::lit(f.step_scale),
             pixel_epsilon: F::lit(f.pixel_epsilon),
             pixel_angle: F::lit(scene.pixel_angle()),
+            tracing: f.tracing,
         }
     }
 }

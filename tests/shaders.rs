@@ -89,7 +89,7 @@ fn uniform_layout_matches_the_shader() {
         step_scale,
         pixel_epsilon,
         pixel_angle,
-        _pad,
+        tracing,
     );
     let shader: Vec<(String, u32)> = members
         .iter()
@@ -131,6 +131,10 @@ fn shared_constants_match_the_cpu_twin() {
     assert_eq!(code("NORMAL_CENTRAL"), NormalMethod::Central.code());
     assert_eq!(code("NORMAL_TETRAHEDRAL"), NormalMethod::Tetrahedral.code());
     assert_eq!(code("NORMAL_ANALYTIC"), NormalMethod::Analytic.code());
+    use qjulia::scene::Tracing;
+    assert_eq!(code("TRACING_SEED"), Tracing::Seed.code());
+    assert_eq!(code("TRACING_CONE"), Tracing::Cone.code());
+    assert_eq!(code("CONE_BLOCK"), qjulia::cpu::trace::CONE_BLOCK);
     for (name, cpu) in [
         ("DERIVATIVE_LIMIT", <f32 as Real>::DERIVATIVE_LIMIT),
         ("TINY", TINY),
@@ -157,7 +161,7 @@ fn every_specialised_variant_validates() {
     .validate(&module)
     .unwrap();
     let variants = Variant::all();
-    assert_eq!(variants.len(), 96);
+    assert_eq!(variants.len(), 192);
     for variant in variants {
         let mut constants = naga::back::PipelineConstants::default();
         for (name, value) in variant.constants() {

@@ -25,9 +25,20 @@ pub struct Work {
 pub fn count_work<F: Real>(params: &TraceParams<F>) -> Work {
     ESTIMATES.set(0);
     ITERATIONS.set(0);
+    let mut cones: Vec<F> = Vec::new();
     for j in 0..params.height {
+        // One cone per block, as on the GPU.
+        if params.tracing == Tracing::Cone && j % trace::CONE_BLOCK == 0 {
+            cones = (0..params.width.div_ceil(trace::CONE_BLOCK))
+                .map(|bi| params.cone_start(bi, j / trace::CONE_BLOCK))
+                .collect();
+        }
         for i in 0..params.width {
-            params.trace_pixel(i, j);
+            let t_min = cones
+                .get((i / trace::CONE_BLOCK) as usize)
+                .copied()
+                .unwrap_or(F::zero());
+            params.trace_pixel(i, j, t_min);
         }
     }
     Work {
@@ -45,6 +56,7 @@ use rayon::prelude::*;
 use crate::algebra::Real;
 use crate::frame::Frame;
 use crate::params::TraceParams;
+use crate::scene::Tracing;
 
 /// Renders every pixel of the scene the parameters describe; returns the frame and the seconds
 /// it took.
@@ -69,8 +81,20 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
         .enumerate()
         .for_each(|(r, ((colour_row, depth_row), steps_row))| {
             let j = rows.start + r as u32;
+            // The cone starts of this row's blocks (each block row computes them again: the
+            // CPU has no shared workgroup memory to hand them over in).
+            let cones: Vec<F> = match params.tracing {
+                Tracing::Cone => (0..(w as u32).div_ceil(trace::CONE_BLOCK))
+                    .map(|bi| params.cone_start(bi, j / trace::CONE_BLOCK))
+                    .collect(),
+                Tracing::Seed => Vec::new(),
+            };
             for i in 0..w {
-                let pixel = params.trace_pixel(i as u32, j);
+                let t_min = cones
+                    .get(i / trace::CONE_BLOCK as usize)
+                    .copied()
+                    .unwrap_or(F::zero());
+                let pixel = params.trace_pixel(i as u32, j, t_min);
                 let c = pixel.colour;
                 let bad = [c.x, c.y, c.z, pixel.depth]
                     .iter()

@@ -6,6 +6,11 @@ use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
 use crate::params::TraceParams;
 use crate::scene::NormalMethod;
 
+/// Pixels a side of the blocks that share a cone (one workgroup on the GPU).
+pub const CONE_BLOCK: u32 = 8;
+/// The cone stops this many epsilons short: the estimate is about half the true distance near
+/// the surface, so rays must start where it is still well above epsilon.
+pub const CONE_MARGIN: f64 = 4.0;
 /// Below this a squared length counts as zero: nothing is divided by it or normalised.
 pub const TINY: f64 = 1e-30;
 /// |z|^2 at which the normal's six orbits stop, long before they can overflow.
@@ -318,19 +323,59 @@ impl<F: Real> TraceParams<F> {
             .hit
     }
 
-    /// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
-    pub fn camera_ray(&self, i: u32, j: u32) -> Vec3<F> {
-        let (one, two, half) = (F::one(), F::lit(2.0), F::lit(0.5));
-        let px = (two * (F::lit(i as f64) + half) / F::lit(self.width as f64) - one)
-            * self.tan_half_fov_y
-            * self.aspect;
-        let py = (one - two * (F::lit(j as f64) + half) / F::lit(self.height as f64))
-            * self.tan_half_fov_y;
+    /// The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left
+    /// corner.
+    pub fn camera_ray_at(&self, x: F, y: F) -> Vec3<F> {
+        let (one, two) = (F::one(), F::lit(2.0));
+        let px = (two * x / F::lit(self.width as f64) - one) * self.tan_half_fov_y * self.aspect;
+        let py = (one - two * y / F::lit(self.height as f64)) * self.tan_half_fov_y;
         (self.cam_forward + self.cam_right * px + self.cam_up * py).normalize()
     }
 
-    /// Everything for pixel (i, j): bounds, sphere tracing, normal, Phong, shadow.
-    pub fn trace_pixel(&self, i: u32, j: u32) -> Pixel<F> {
+    /// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
+    pub fn camera_ray(&self, i: u32, j: u32) -> Vec3<F> {
+        let half = F::lit(0.5);
+        self.camera_ray_at(F::lit(i as f64) + half, F::lit(j as f64) + half)
+    }
+
+    /// Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the
+    /// ray through the block's centre, shrinking each unbounding sphere by the cone's radius at
+    /// that distance (t times the tangent of the widest angle to a corner ray), so that the whole
+    /// cone is known to be at least epsilon from the set up to the t returned. Every ray of the
+    /// block may start there. Bounded by max_steps; 0 where the centre ray misses the ball.
+    pub fn cone_start(&self, bi: u32, bj: u32) -> F {
+        let x0 = F::lit((bi * CONE_BLOCK) as f64);
+        let y0 = F::lit((bj * CONE_BLOCK) as f64);
+        let size = F::lit(CONE_BLOCK as f64);
+        let half = F::lit(0.5);
+        let centre = self.camera_ray_at(x0 + half * size, y0 + half * size);
+        let mut spread = F::zero();
+        for k in 0..4u32 {
+            let corner = self.camera_ray_at(
+                x0 + size * F::lit((k & 1) as f64),
+                y0 + size * F::lit((k >> 1) as f64),
+            );
+            let cos_angle = centre.dot(corner).max(F::lit(0.1));
+            spread = spread.max(centre.cross(corner).length() / cos_angle);
+        }
+        let bounds = self.intersect_bounds(self.eye, centre);
+        if !bounds.hit {
+            return F::zero();
+        }
+        let mut t = bounds.t_enter;
+        for _ in 0..self.max_steps {
+            let free = self.estimate_distance(self.eye + centre * t) - spread * t;
+            if free < F::lit(CONE_MARGIN) * self.epsilon || t > bounds.t_exit {
+                return t;
+            }
+            t = t + free;
+        }
+        t
+    }
+
+    /// Everything for pixel (i, j): bounds, sphere tracing (from t_min on: the cone's start, or
+    /// 0), normal, Phong, shadow.
+    pub fn trace_pixel(&self, i: u32, j: u32, t_min: F) -> Pixel<F> {
         let miss = |steps| Pixel {
             colour: self.background,
             depth: -F::one(),
@@ -342,8 +387,9 @@ impl<F: Real> TraceParams<F> {
         if !bounds.hit {
             return miss(0);
         }
+        let t_start = bounds.t_enter.max(t_min);
         let eps_slope = self.pixel_epsilon * self.pixel_angle;
-        let trace = self.intersect_qjulia(self.eye, dir, bounds.t_enter, bounds.t_exit, eps_slope);
+        let trace = self.intersect_qjulia(self.eye, dir, t_start, bounds.t_exit, eps_slope);
         if !trace.hit {
             return miss(trace.steps);
         }

@@ -50,7 +50,7 @@ pub struct GpuParams {
     pub step_scale: f32,
     pub pixel_epsilon: f32,
     pub pixel_angle: f32,
-    pub _pad: u32,
+    pub tracing: u32,
 }
 
 impl GpuParams {
@@ -96,7 +96,7 @@ impl GpuParams {
             step_scale: p.step_scale,
             pixel_epsilon: p.pixel_epsilon,
             pixel_angle: p.pixel_angle,
-            _pad: 0,
+            tracing: p.tracing.code(),
         }
     }
 

@@ -167,7 +167,8 @@ impl GpuTracer {
         let pixels = crate::band_pixels()
             .min(max_binding)
             .min(limit.max_buffer_size / BYTES_PER_PIXEL);
-        let rows = (pixels / width as u64).max(1) as u32;
+        // Whole workgroup rows, so that every band starts on a block row (cone tracing).
+        let rows = ((pixels / width as u64) as u32 / WORKGROUP.1 * WORKGROUP.1).max(WORKGROUP.1);
         let max_groups = limit.max_compute_workgroups_per_dimension;
         rows.min(height).min(max_groups.saturating_mul(WORKGROUP.1))
     }

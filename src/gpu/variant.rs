@@ -19,6 +19,8 @@ pub struct Variant {
     pub pixel_epsilon: bool,
     /// Colour is wanted (false: only depth and steps, no normal, light or shadow).
     pub shade: bool,
+    /// fractal.tracing = "cone".
+    pub cone: bool,
 }
 
 impl Variant {
@@ -35,6 +37,7 @@ impl Variant {
             over_relaxed: p.step_scale > 1.0,
             pixel_epsilon: p.pixel_epsilon > 0.0,
             shade,
+            cone: p.tracing == crate::scene::Tracing::Cone,
         }
     }
 
@@ -49,6 +52,7 @@ impl Variant {
             ("OVER_RELAXED", b(self.over_relaxed)),
             ("PIXEL_EPSILON", b(self.pixel_epsilon)),
             ("SHADE", b(self.shade)),
+            ("CONE_TRACING", b(self.cone)),
         ]
     }
 
@@ -56,7 +60,7 @@ impl Variant {
     pub fn all() -> Vec<Variant> {
         let mut out = Vec::new();
         for normal in NormalMethod::ALL {
-            for bits in 0..32u32 {
+            for bits in 0..64u32 {
                 let bit = |k: u32| bits & (1 << k) != 0;
                 out.push(Variant {
                     shadows: bit(0),
@@ -65,6 +69,7 @@ impl Variant {
                     over_relaxed: bit(2),
                     pixel_epsilon: bit(3),
                     shade: bit(4),
+                    cone: bit(5),
                 });
             }
         }

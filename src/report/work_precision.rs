@@ -132,6 +132,9 @@ pub fn settings(scene_name: &'static str, base: &Scene, gpu: bool) -> Vec<Settin
             s.fractal.escape_radius_squared = r2
         });
     }
+    add("cone tracing", "cone per 8x8 block".into(), fast, &|s| {
+        s.fractal.tracing = crate::scene::Tracing::Cone
+    });
     for omega in [1.2, 1.4, 1.6, 1.8] {
         add("over-relaxation", format!("omega {omega}"), fast, &|s| {
             s.fractal.step_scale = omega

@@ -87,6 +87,7 @@ pub const KEYS: &[&str] = &[
     "fractal.max_steps",
     "fractal.step_scale",
     "fractal.pixel_epsilon",
+    "fractal.tracing",
     "slice.x",
     "slice.y",
     "slice.z",
@@ -211,6 +212,7 @@ impl SceneLoader {
         r.integer("fractal.max_steps", &mut s.fractal.max_steps)?;
         r.float("fractal.step_scale", &mut s.fractal.step_scale)?;
         r.float("fractal.pixel_epsilon", &mut s.fractal.pixel_epsilon)?;
+        r.tracing("fractal.tracing", &mut s.fractal.tracing)?;
         r.vector("slice.x", &mut s.slice.x)?;
         r.vector("slice.y", &mut s.slice.y)?;
         r.vector("slice.z", &mut s.slice.z)?;
@@ -362,6 +364,17 @@ impl Reader {
                         "must be \"central\", \"tetrahedral\" or \"analytic\"",
                     )
                 })?;
+        }
+        Ok(())
+    }
+
+    fn tracing(&mut self, key: &'static str, out: &mut super::Tracing) -> Result<(), SceneError> {
+        if let Some((v, src)) = self.take(key) {
+            let name = v.as_str().unwrap_or_default();
+            *out = super::Tracing::ALL
+                .into_iter()
+                .find(|m| m.name() == name)
+                .ok_or_else(|| SceneError::value(&src, key, &v, "must be \"seed\" or \"cone\""))?;
         }
         Ok(())
     }

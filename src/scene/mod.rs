@@ -40,6 +40,35 @@ pub struct Fractal {
     /// Also hit where d < pixel_epsilon times the pixel's footprint at that distance (0: off,
     /// the seed's fixed epsilon only).
     pub pixel_epsilon: f64,
+    /// "seed": every ray sphere-traced from the bounding ball (CONTRACT.md's definitions,
+    /// exactly); "cone": each 8x8 block of rays first marches one cone, and its rays start where
+    /// the cone stopped.
+    pub tracing: Tracing,
+}
+
+/// How primary rays are traced (`fractal.tracing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Tracing {
+    #[default]
+    Seed,
+    Cone,
+}
+
+impl Tracing {
+    pub const ALL: [Tracing; 2] = [Tracing::Seed, Tracing::Cone];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Tracing::Seed => "seed",
+            Tracing::Cone => "cone",
+        }
+    }
+
+    /// The number the shader's `tracing` uses.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
 }
 
 /// The 3D slice of 4D space: p -> offset + p.x*x + p.y*y + p.z*z.
@@ -138,6 +167,7 @@ impl Default for Fractal {
             max_steps: 1000,
             step_scale: 1.0,
             pixel_epsilon: 0.0,
+            tracing: Tracing::Seed,
         }
     }
 }
