@@ -448,6 +448,13 @@ impl ExplorerApp {
         ui.add(
             egui::Slider::new(&mut f.pixel_epsilon, 0.0..=4.0).text("epsilon in pixels (0 = off)"),
         );
+        egui::ComboBox::from_label("tracing")
+            .selected_text(f.tracing.name())
+            .show_ui(ui, |ui| {
+                for tracing in crate::scene::Tracing::ALL {
+                    ui.selectable_value(&mut f.tracing, tracing, tracing.name());
+                }
+            });
     }
 
     fn slice_controls(&mut self, ui: &mut egui::Ui) {
