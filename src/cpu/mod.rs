@@ -12,6 +12,17 @@ thread_local! {
     pub(crate) static ITERATIONS: Cell<u64> = const { Cell::new(0) };
 }
 
+/// The cone starts of the blocks in the row of blocks holding pixel row `j` (none for the
+/// seed's tracing: every ray starts at the ball).
+fn cone_starts<F: Real>(params: &TraceParams<F>, j: u32) -> Vec<F> {
+    match params.tracing {
+        Tracing::Cone => (0..params.width.div_ceil(trace::CONE_BLOCK))
+            .map(|bi| params.cone_start(bi, j / trace::CONE_BLOCK))
+            .collect(),
+        Tracing::Seed => Vec::new(),
+    }
+}
+
 /// Work a render does, counted by tracing it once on this thread.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Work {
@@ -28,10 +39,8 @@ pub fn count_work<F: Real>(params: &TraceParams<F>) -> Work {
     let mut cones: Vec<F> = Vec::new();
     for j in 0..params.height {
         // One cone per block, as on the GPU.
-        if params.tracing == Tracing::Cone && j % trace::CONE_BLOCK == 0 {
-            cones = (0..params.width.div_ceil(trace::CONE_BLOCK))
-                .map(|bi| params.cone_start(bi, j / trace::CONE_BLOCK))
-                .collect();
+        if j % trace::CONE_BLOCK == 0 {
+            cones = cone_starts(params, j);
         }
         for i in 0..params.width {
             let t_min = cones
@@ -81,14 +90,9 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
         .enumerate()
         .for_each(|(r, ((colour_row, depth_row), steps_row))| {
             let j = rows.start + r as u32;
-            // The cone starts of this row's blocks (each block row computes them again: the
-            // CPU has no shared workgroup memory to hand them over in).
-            let cones: Vec<F> = match params.tracing {
-                Tracing::Cone => (0..(w as u32).div_ceil(trace::CONE_BLOCK))
-                    .map(|bi| params.cone_start(bi, j / trace::CONE_BLOCK))
-                    .collect(),
-                Tracing::Seed => Vec::new(),
-            };
+            // Each row computes its blocks' cones again: the CPU has no shared workgroup
+            // memory to hand them over in.
+            let cones = cone_starts(params, j);
             for i in 0..w {
                 let t_min = cones
                     .get(i / trace::CONE_BLOCK as usize)

@@ -212,7 +212,13 @@ impl SceneLoader {
         r.integer("fractal.max_steps", &mut s.fractal.max_steps)?;
         r.float("fractal.step_scale", &mut s.fractal.step_scale)?;
         r.float("fractal.pixel_epsilon", &mut s.fractal.pixel_epsilon)?;
-        r.tracing("fractal.tracing", &mut s.fractal.tracing)?;
+        let tracings = super::Tracing::ALL;
+        r.choice(
+            "fractal.tracing",
+            &mut s.fractal.tracing,
+            &tracings,
+            super::Tracing::name,
+        )?;
         r.vector("slice.x", &mut s.slice.x)?;
         r.vector("slice.y", &mut s.slice.y)?;
         r.vector("slice.z", &mut s.slice.z)?;
@@ -223,7 +229,13 @@ impl SceneLoader {
         r.float("camera.fov_y_degrees", &mut s.camera.fov_y_degrees)?;
         r.vector("light.position", &mut s.light.position)?;
         r.boolean("shading.shadows", &mut s.shading.shadows)?;
-        r.normal_method("shading.normal", &mut s.shading.normal)?;
+        let normals = super::NormalMethod::ALL;
+        r.choice(
+            "shading.normal",
+            &mut s.shading.normal,
+            &normals,
+            super::NormalMethod::name,
+        )?;
         r.float("shading.normal_delta", &mut s.shading.normal_delta)?;
         r.vector("shading.diffuse", &mut s.shading.diffuse)?;
         r.float("shading.normal_tint", &mut s.shading.normal_tint)?;
@@ -346,35 +358,30 @@ impl Reader {
         Ok(())
     }
 
-    fn normal_method(
+    /// One of a fixed set of names, e.g. `shading.normal = "analytic"`.
+    fn choice<T: Copy>(
         &mut self,
         key: &'static str,
-        out: &mut super::NormalMethod,
+        out: &mut T,
+        all: &[T],
+        name: fn(T) -> &'static str,
     ) -> Result<(), SceneError> {
         if let Some((v, src)) = self.take(key) {
-            let name = v.as_str().unwrap_or_default();
-            *out = super::NormalMethod::ALL
-                .into_iter()
-                .find(|m| m.name() == name)
+            let given = v.as_str().unwrap_or_default();
+            *out = all
+                .iter()
+                .copied()
+                .find(|&c| name(c) == given)
                 .ok_or_else(|| {
+                    let names: Vec<String> =
+                        all.iter().map(|&c| format!("\"{}\"", name(c))).collect();
                     SceneError::value(
                         &src,
                         key,
                         &v,
-                        "must be \"central\", \"tetrahedral\" or \"analytic\"",
+                        &format!("must be one of {}", names.join(", ")),
                     )
                 })?;
-        }
-        Ok(())
-    }
-
-    fn tracing(&mut self, key: &'static str, out: &mut super::Tracing) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            let name = v.as_str().unwrap_or_default();
-            *out = super::Tracing::ALL
-                .into_iter()
-                .find(|m| m.name() == name)
-                .ok_or_else(|| SceneError::value(&src, key, &v, "must be \"seed\" or \"cone\""))?;
         }
         Ok(())
     }
