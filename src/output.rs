@@ -24,36 +24,16 @@ pub struct OutputPaths {
     pub stats: Option<PathBuf>,
 }
 
-/// Writes every requested output, whole or not at all.
+/// Writes every requested output of a whole frame, whole or not at all.
 pub fn write_outputs(
     paths: &OutputPaths,
     frame: &Frame,
     stats: &RenderStats,
     scene: &Scene,
 ) -> Result<()> {
-    let mut staged: Vec<(NamedTempFile, &Path)> = Vec::new();
-    if let Some(path) = &paths.png {
-        staged.push((stage(path, |w| write_png(w, frame, scene))?, path));
-    }
-    if let Some(path) = &paths.depth {
-        staged.push((
-            stage(path, |w| write_npy(w, "<f4", frame, &frame.depth))?,
-            path,
-        ));
-    }
-    if let Some(path) = &paths.steps {
-        staged.push((
-            stage(path, |w| write_npy(w, "<u4", frame, &frame.steps))?,
-            path,
-        ));
-    }
-    if let Some(path) = &paths.stats {
-        staged.push((stage(path, |w| write_stats(w, stats))?, path));
-    }
-    for (temp, path) in staged {
-        temp.persist(path).map_err(|e| io_error(path, e.error))?;
-    }
-    Ok(())
+    let mut outputs = StreamingOutputs::create(paths, scene)?;
+    outputs.write_band(frame)?;
+    outputs.finish(stats)
 }
 
 /// Writes one output to a temporary file in its target's directory.
@@ -86,32 +66,6 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
-/// 8-bit RGB, no gamma curve, the scene in an iTXt chunk.
-pub fn write_png(w: &mut dyn Write, frame: &Frame, scene: &Scene) -> std::io::Result<()> {
-    let mut encoder = png::Encoder::new(w, frame.width, frame.height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder
-        .add_itxt_chunk(SCENE_PNG_KEYWORD.to_string(), scene.to_toml())
-        .map_err(std::io::Error::other)?;
-    let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
-    writer
-        .write_image_data(&frame.rgb8())
-        .map_err(std::io::Error::other)?;
-    writer.finish().map_err(std::io::Error::other)
-}
-
-/// A NumPy `.npy` (format 1.0) of shape (height, width), little-endian.
-pub fn write_npy<T: bytemuck::Pod>(
-    w: &mut dyn Write,
-    descr: &str,
-    frame: &Frame,
-    data: &[T],
-) -> std::io::Result<()> {
-    npy_header(w, descr, frame.width, frame.height)?;
-    w.write_all(bytemuck::cast_slice(data))
-}
-
 fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
     serde_json::to_writer_pretty(&mut *w, stats)?;
     w.write_all(b"\n")
@@ -119,6 +73,8 @@ fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
 
 /// Outputs written band by band while the render goes (any image size in bounded memory):
 /// headers first, rows as they come, the stats last; then every file renamed into place, or none.
+/// The PNG is 8-bit RGB with no gamma curve and the scene in an iTXt chunk; depth and steps are
+/// little-endian `.npy` of shape (height, width).
 pub struct StreamingOutputs {
     png: Option<(
         NamedTempFile,

@@ -191,15 +191,17 @@ impl Runner {
         }
     }
 
-    fn render(self, scene: &Scene, gpu: Option<&GpuTracer>) -> crate::Result<Frame> {
+    /// Renders the scene on this tracer: the frame and its render seconds.
+    pub fn render(self, scene: &Scene, gpu: Option<&GpuTracer>) -> crate::Result<(Frame, f64)> {
         Ok(match self {
             Runner::GpuF32 => {
                 let tracer =
-                    gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this case".into()))?;
-                tracer.render(&TraceParams::<f32>::new(scene))?.frame
+                    gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?;
+                let out = tracer.render(&TraceParams::<f32>::new(scene))?;
+                (out.frame, out.render_seconds)
             }
-            Runner::CpuF32 => cpu::render(&TraceParams::<f32>::new(scene)).0,
-            Runner::CpuF64 => cpu::render(&TraceParams::<f64>::new(scene)).0,
+            Runner::CpuF32 => cpu::render(&TraceParams::<f32>::new(scene)),
+            Runner::CpuF64 => cpu::render(&TraceParams::<f64>::new(scene)),
         })
     }
 }
@@ -281,9 +283,9 @@ pub fn run_case(
     };
     let run = with_time_limit(limit, move || {
         let start = Instant::now();
-        let first = runner.render(&scene, gpu.as_deref())?;
+        let (first, _) = runner.render(&scene, gpu.as_deref())?;
         let seconds = start.elapsed().as_secs_f64();
-        let second = runner.render(&scene, gpu.as_deref())?;
+        let (second, _) = runner.render(&scene, gpu.as_deref())?;
         Ok::<_, crate::Error>((first, second, seconds))
     });
     match run {

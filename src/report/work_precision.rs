@@ -160,18 +160,6 @@ pub fn settings(scene_name: &'static str, base: &Scene, gpu: bool) -> Vec<Settin
     out
 }
 
-fn render(runner: Runner, scene: &Scene, gpu: Option<&GpuTracer>) -> crate::Result<(Frame, f64)> {
-    Ok(match runner {
-        Runner::GpuF32 => {
-            let tracer = gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU".into()))?;
-            let out = tracer.render(&TraceParams::<f32>::new(scene))?;
-            (out.frame, out.render_seconds)
-        }
-        Runner::CpuF32 => cpu::render(&TraceParams::<f32>::new(scene)),
-        Runner::CpuF64 => cpu::render(&TraceParams::<f64>::new(scene)),
-    })
-}
-
 /// The normal each hit pixel's tracer would shade with, at its own hit point (recomputed by the
 /// CPU twin in the setting's precision).
 fn normals<F: Real>(scene: &Scene, frame: &Frame) -> Vec<Option<[f64; 3]>> {
@@ -316,7 +304,7 @@ pub fn run(
             let mut best: Option<(Frame, f64)> = None;
             for _ in 0..repeats.max(1) {
                 let start = Instant::now();
-                let (frame, seconds) = render(setting.runner, &setting.scene, gpu.as_deref())?;
+                let (frame, seconds) = setting.runner.render(&setting.scene, gpu.as_deref())?;
                 let seconds = seconds.min(start.elapsed().as_secs_f64());
                 if best.as_ref().is_none_or(|(_, s)| seconds < *s) {
                     best = Some((frame, seconds));
