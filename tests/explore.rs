@@ -112,7 +112,7 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
     );
 
     // A slider: c's real part.
-    let before = harness.state().scene.fractal.c;
+    let before = harness.state().scene.fractal.c.clone();
     harness
         .get_by_role_and_label(egui::Role::Slider, "c real")
         .set_value_accesskit(-0.35);

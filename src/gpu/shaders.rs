@@ -1,8 +1,8 @@
 //! The WGSL sources, compiled into the binary from shaders/ so that it stands alone.
 
 /// Quaternion arithmetic (twin: src/algebra.rs).
-pub const QUATERNION_WGSL: &str = include_str!("../../shaders/quaternion.wgsl");
-/// The tracer kernel (twin: src/cpu/trace.rs); needs [`QUATERNION_WGSL`] in front of it.
+pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
+/// The tracer kernel (twin: src/cpu/trace.rs); needs [`ALGEBRA_WGSL`] in front of it.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 
 /// One WGSL module the GPU runs: a name and its source files in order.
@@ -21,7 +21,7 @@ impl ShaderModuleSource {
 /// The tracer: quaternion arithmetic, then the kernel.
 pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "trace",
-    parts: &[QUATERNION_WGSL, TRACE_WGSL],
+    parts: &[ALGEBRA_WGSL, TRACE_WGSL],
 };
 
 /// Every module the GPU path builds; the tests validate each with naga.
