@@ -49,8 +49,8 @@ impl<F: Real> TraceParams<F> {
     /// algebra.
     pub fn slice_point(&self, p: Vec3<F>) -> Hyper<F> {
         let mut q = self.slice_offset;
-        for k in 0..self.algebra_parts as usize {
-            q[k] = q[k] + (self.slice_x[k] * p.x + self.slice_y[k] * p.y + self.slice_z[k] * p.z);
+        for (k, qk) in q.iter_mut().enumerate().take(self.algebra_parts as usize) {
+            *qk += self.slice_x[k] * p.x + self.slice_y[k] * p.y + self.slice_z[k] * p.z;
         }
         q
     }

@@ -237,7 +237,7 @@ pub fn orthonormalise(basis: [&[f64]; 3]) -> Option<[Vec<f64>; 3]> {
             }
         }
         let length = dot(&w, &w).sqrt();
-        if !(length > 1e-9) {
+        if length.is_nan() || length <= 1e-9 {
             return None;
         }
         out.push(w.iter().map(|x| x / length).collect());
