@@ -90,6 +90,7 @@ fn uniform_layout_matches_the_shader() {
         pixel_epsilon,
         pixel_angle,
         tracing,
+        algebra_parts,
     );
     let shader: Vec<(String, u32)> = members
         .iter()

@@ -409,11 +409,12 @@ impl Reader {
         let Some((v, src)) = self.take(key) else {
             return Ok(());
         };
-        let shape = || {
-            format!(
+        let shape = || match algebra {
+            super::Algebra::Quaternion => format!("must be an array of {dim} numbers"),
+            _ => format!(
                 "must be an array of {dim} numbers (fractal.algebra is \"{}\")",
                 algebra.name()
-            )
+            ),
         };
         let items = v
             .as_array()
