@@ -948,6 +948,34 @@ mod tests {
     }
 
     #[test]
+    fn switching_the_algebra_pads_c_and_the_slice_and_rotates_in_every_plane() {
+        let mut app = ExplorerApp::with_scene(Scene::default());
+        app.set_algebra(crate::scene::Algebra::Octonion);
+        assert_eq!(
+            app.scene.fractal.c,
+            vec![-0.2, 0.6, 0.2, 0.2, 0.0, 0.0, 0.0, 0.0]
+        );
+        assert_eq!(app.angles.len(), 28);
+        // Turn i into e7: the slice's y axis leaves the quaternions.
+        let p = planes(8).iter().position(|&p| p == (1, 7)).unwrap();
+        app.angles[p] = std::f64::consts::FRAC_PI_2;
+        app.apply_rotation();
+        assert!((app.scene.slice.y[7] - 1.0).abs() < 1e-12);
+        assert!(
+            crate::scene::rotation::orthonormality_error(&[
+                app.scene.slice.x.clone(),
+                app.scene.slice.y.clone(),
+                app.scene.slice.z.clone(),
+            ]) < 1e-12
+        );
+        // Back to quaternions: cut to 4D, the basis still orthonormal.
+        app.set_algebra(crate::scene::Algebra::Quaternion);
+        assert_eq!(app.scene.fractal.c.len(), 4);
+        assert_eq!(app.angles.len(), 6);
+        assert_eq!(app.scene.slice.x.len(), 4);
+    }
+
+    #[test]
     fn the_animation_path_is_closed_and_starts_at_c() {
         let a = Animation {
             playing: true,
