@@ -2,8 +2,8 @@
 //! on the host from [`Frame::steps`], so both backends give them without a shader of their own.
 //! `steps` is the sphere-tracing steps per primary ray; `divergence` is, for fixed 8x8 screen
 //! tiles aligned to pixel (0, 0), the tile's most steps minus the pixel's own (the work its SIMD
-//! lane idles through, Crane's Figure 9). Both are heat maps in one perceptual colour map, with
-//! a legend strip added below the image in the PNG.
+//! lane idles through, Crane's Figure 9). Both are heat maps in one perceptual colour map on a
+//! logarithmic scale, with a legend strip added below the image in the PNG.
 
 use crate::frame::Frame;
 use crate::scene::View;
@@ -11,7 +11,7 @@ use crate::scene::View;
 /// Pixels a side of the divergence view's tiles (a workgroup of the tracer, `WORKGROUP`).
 pub const TILE: u32 = 8;
 /// Rows of the legend strip added below a heat map's PNG.
-pub const LEGEND_HEIGHT: u32 = 36;
+pub const LEGEND_HEIGHT: u32 = 52;
 /// The legend strip's background (dark grey, apart from the black of pixels with no work).
 pub const LEGEND_BACKGROUND: [u8; 3] = [32, 32, 32];
 
@@ -39,12 +39,38 @@ pub fn colour_map(t: f64) -> [u8; 3] {
     [0, 1, 2].map(|c| (a[c] as f64 + (b[c] as f64 - a[c] as f64) * f).round() as u8)
 }
 
-/// What the legend says: the values at the ends of the colour bar and what they count.
+/// What the legend says: the values at the ends and the middle of the colour bar, and what
+/// they count.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Legend {
     pub min: u32,
+    /// The value at the bar's middle (the scale is logarithmic), rounded.
+    pub mid: u32,
     pub max: u32,
     pub title: &'static str,
+}
+
+/// Where a value lies on the colour bar from `min` to `max`: the logarithmic scale
+/// ln(1 + v - min) / ln(1 + max - min), so that the many pixels with few steps are told apart
+/// as well as the few with many; 0 when min = max.
+pub fn scale(v: u32, min: u32, max: u32) -> f64 {
+    if max <= min {
+        return 0.0;
+    }
+    (v.saturating_sub(min) as f64).ln_1p() / ((max - min) as f64).ln_1p()
+}
+
+impl Legend {
+    fn new(min: u32, max: u32, title: &'static str) -> Self {
+        // scale(mid) = 1/2: 1 + mid - min = sqrt(1 + max - min).
+        let mid = min + ((1.0 + (max - min) as f64).sqrt() - 1.0).round() as u32;
+        Self {
+            min,
+            mid,
+            max,
+            title,
+        }
+    }
 }
 
 /// A heat map: RGB8 pixels row by row, row 0 at the top, and its legend.
@@ -86,7 +112,9 @@ fn tile_maxima(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
 /// The `steps` view: steps per primary ray, from the fewest to the most taken in this image
 /// (min and max in the legend), black where the ray misses the bounding ball (0 steps).
 pub fn steps_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
-    heat_map(steps, width, height, "steps per ray", |k| steps[k] > 0)
+    heat_map(steps, width, height, "steps per ray (log scale)", |k| {
+        steps[k] > 0
+    })
 }
 
 /// The `divergence` view: wasted steps per pixel (see [`divergence`]), black where its whole
@@ -104,13 +132,13 @@ pub fn divergence_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
         &wasted,
         width,
         height,
-        "wasted steps per pixel (8x8 tiles)",
+        "wasted steps per pixel, 8x8 tiles (log scale)",
         works,
     )
 }
 
-/// Values mapped linearly from their smallest to their largest (over the pixels `shown`) onto
-/// the colour map; black where not shown.
+/// Values mapped from their smallest to their largest (over the pixels `shown`) onto the colour
+/// map by [`scale`]; black where not shown.
 fn heat_map(
     values: &[u32],
     width: u32,
@@ -128,13 +156,12 @@ fn heat_map(
     if min > max {
         (min, max) = (0, 0);
     }
-    let span = (max - min).max(1) as f64;
     let rgb = values
         .iter()
         .enumerate()
         .flat_map(|(k, &v)| {
             if shown(k) {
-                colour_map((v - min) as f64 / span)
+                colour_map(scale(v, min, max))
             } else {
                 [0, 0, 0]
             }
@@ -144,7 +171,7 @@ fn heat_map(
         width,
         height,
         rgb,
-        legend: Legend { min, max, title },
+        legend: Legend::new(min, max, title),
     }
 }
 
@@ -179,7 +206,8 @@ pub fn view_image(frame: &Frame, view: View) -> (u32, u32, Vec<u8>) {
 }
 
 /// The legend strip, `width` by [`LEGEND_HEIGHT`] pixels: the colour bar from min (left) to max
-/// (right), the two values under its ends and the title between them (where it fits).
+/// (right) with ticks at its ends and middle, their values under them, and the title below
+/// (where it fits).
 pub fn legend_strip(legend: &Legend, width: u32) -> Vec<u8> {
     use plotters::prelude::*;
     use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -189,32 +217,47 @@ pub fn legend_strip(legend: &Legend, width: u32) -> Vec<u8> {
         .collect();
     let margin = 6u32;
     let (bar_top, bar_bottom) = (5u32, 15u32);
+    let white = [235u8; 3];
+    let mut put = |x: u32, y: u32, colour: [u8; 3]| {
+        let k = ((y * width + x) * 3) as usize;
+        buffer[k..k + 3].copy_from_slice(&colour);
+    };
     if width > 2 * margin + 1 {
-        let span = (width - 2 * margin - 1) as f64;
-        for x in margin..width - margin {
-            let colour = colour_map((x - margin) as f64 / span);
+        let (left, right) = (margin, width - margin - 1);
+        let span = (right - left) as f64;
+        for x in left..=right {
             for y in bar_top..bar_bottom {
-                let k = ((y * width + x) * 3) as usize;
-                buffer[k..k + 3].copy_from_slice(&colour);
+                put(x, y, colour_map((x - left) as f64 / span));
+            }
+        }
+        for x in [left, (left + right) / 2, right] {
+            for y in bar_bottom..bar_bottom + 3 {
+                put(x, y, white);
             }
         }
     }
     register_plot_font();
     {
         let root = BitMapBackend::with_buffer(&mut buffer, (width, h)).into_drawing_area();
-        let white = RGBColor(235, 235, 235);
-        let font = ("sans-serif", 13).into_font().color(&white);
+        let font = ("sans-serif", 13)
+            .into_font()
+            .color(&RGBColor(235, 235, 235));
         let at = |h| font.pos(Pos::new(h, VPos::Top));
-        let y = (bar_bottom + 3) as i32;
-        let (lo, hi) = (legend.min.to_string(), legend.max.to_string());
+        let y = (bar_bottom + 5) as i32;
+        let labels = [
+            (legend.min, HPos::Left, margin as i32),
+            (legend.mid, HPos::Center, width as i32 / 2),
+            (legend.max, HPos::Right, (width - margin) as i32),
+        ];
         // Drawing errors only mean text that does not fit: the bar is what matters.
-        let _ = root.draw_text(&lo, &at(HPos::Left), (margin as i32, y));
-        let _ = root.draw_text(&hi, &at(HPos::Right), ((width - margin) as i32, y));
+        for (value, anchor, x) in labels {
+            let _ = root.draw_text(&value.to_string(), &at(anchor), (x, y));
+        }
         let fits = root
             .estimate_text_size(legend.title, &font)
-            .is_ok_and(|(w, _)| w + 2 * 48 < width);
+            .is_ok_and(|(w, _)| w + 2 * margin < width);
         if fits {
-            let _ = root.draw_text(legend.title, &at(HPos::Center), (width as i32 / 2, y));
+            let _ = root.draw_text(legend.title, &at(HPos::Center), (width as i32 / 2, y + 16));
         }
         let _ = root.present();
     }
@@ -382,13 +425,15 @@ mod tests {
             map.legend,
             Legend {
                 min: 3,
+                mid: 5,
                 max: 11,
-                title: "steps per ray"
+                title: "steps per ray (log scale)"
             }
         );
         assert_eq!(&map.rgb[0..3], &[0, 0, 0]);
         assert_eq!(&map.rgb[3..6], &COLOUR_STOPS[0]);
-        assert_eq!(&map.rgb[6..9], &colour_map(0.25));
+        // 5 is 2 above the minimum of 3, on a scale of 8: ln 3 / ln 9 = 1/2.
+        assert_eq!(&map.rgb[6..9], &COLOUR_STOPS[4]);
         assert_eq!(&map.rgb[9..12], &COLOUR_STOPS[8]);
         // Nothing hit: all black, legend 0 to 0.
         let none = steps_view(&[0, 0], 2, 1);
@@ -402,11 +447,20 @@ mod tests {
         let mut steps = vec![0u32; 128];
         steps[0] = 4;
         let map = divergence_view(&steps, 16, 8);
-        assert_eq!((map.legend.min, map.legend.max), (0, 4));
+        assert_eq!((map.legend.min, map.legend.mid, map.legend.max), (0, 1, 4));
         let px = |i: usize, j: usize| &map.rgb[(j * 16 + i) * 3..(j * 16 + i) * 3 + 3];
         assert_eq!(px(0, 0), &COLOUR_STOPS[0]);
         assert_eq!(px(1, 0), &COLOUR_STOPS[8]);
         assert_eq!(px(12, 3), &[0, 0, 0]);
+    }
+
+    #[test]
+    fn the_scale_is_logarithmic_from_min_to_max() {
+        assert_eq!(scale(3, 3, 11), 0.0);
+        assert_eq!(scale(11, 3, 11), 1.0);
+        assert!((scale(5, 3, 11) - 0.5).abs() < 1e-15);
+        assert_eq!(scale(7, 7, 7), 0.0);
+        assert_eq!(Legend::new(4, 171, "").mid, 4 + 12);
     }
 
     #[test]
@@ -443,7 +497,8 @@ mod tests {
         };
         assert_eq!(px(6, 20 + 8), COLOUR_STOPS[0]);
         assert_eq!(px(193, 20 + 8), COLOUR_STOPS[8]);
-        let text = (20 + 18..h)
+        assert_eq!(px(99, 20 + 8), colour_map((99 - 6) as f64 / 187.0));
+        let text = (20 + 20..h)
             .flat_map(|j| (0..w).map(move |i| (i, j)))
             .filter(|&(i, j)| px(i, j)[0] > 150)
             .count();

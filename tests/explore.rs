@@ -243,6 +243,17 @@ fn the_2d_mode_shows_render2d_and_the_mouse_pans_and_zooms() {
         });
         harness.step();
     }
+    // Smooth scrolling goes on for a few frames: wait until the extent holds still.
+    let mut last = harness.state().scene.view2d.extent;
+    let mut still = 0;
+    while still < 5 {
+        harness.step();
+        let extent = harness.state().scene.view2d.extent;
+        still = if extent == last { still + 1 } else { 0 };
+        last = extent;
+    }
+    // The harness draws the pointer: move it off the view before looking.
+    harness.hover_at(egui::pos2(4.0, WINDOW[1] - 4.0));
     settle(&mut harness);
     let zoomed = harness.state().scene.view2d.clone();
     assert!(
@@ -277,8 +288,8 @@ fn step_views_show_the_heat_map_of_the_steps() {
         let map =
             qjulia::views::heat_map_of(view, &frame.steps, frame.width, frame.height).unwrap();
         assert_eq!(harness.state().heat_legend(), Some(&map.legend));
-        // Above the legend strip (36 points at the bottom), the screen holds the heat map.
-        let rows = frame.height - 40;
+        // Above the legend strip at the bottom, the screen holds the heat map.
+        let rows = frame.height - qjulia::views::LEGEND_HEIGHT - 4;
         let crop = |rgb: Vec<u8>| -> Frame {
             let n = (frame.width * rows) as usize;
             Frame {

@@ -1084,36 +1084,51 @@ fn clamp_extent(extent: f64) -> f64 {
 }
 
 /// A step view's legend over the bottom of the view: the colour bar from min to max, the values
-/// at its ends and what it counts (as the PNG's legend strip shows them).
+/// at its ends and middle and what it counts (as the PNG's legend strip shows them).
 fn draw_legend(painter: &egui::Painter, rect: egui::Rect, legend: &Legend) {
-    let strip = egui::Rect::from_min_max(egui::pos2(rect.min.x, rect.max.y - 36.0), rect.max);
+    let height = crate::views::LEGEND_HEIGHT as f32;
+    let strip = egui::Rect::from_min_max(egui::pos2(rect.min.x, rect.max.y - height), rect.max);
     let [r, g, b] = crate::views::LEGEND_BACKGROUND;
     painter.rect_filled(strip, 0.0, egui::Color32::from_rgb(r, g, b));
     let (left, right) = (strip.min.x + 6.0, strip.max.x - 6.0);
+    let (top, bottom) = (strip.min.y + 5.0, strip.min.y + 15.0);
     let segments = 96;
     for k in 0..segments {
         let x0 = left + (right - left) * k as f32 / segments as f32;
         let x1 = left + (right - left) * (k + 1) as f32 / segments as f32;
         let [r, g, b] = crate::views::colour_map(k as f64 / (segments - 1) as f64);
         painter.rect_filled(
-            egui::Rect::from_min_max(
-                egui::pos2(x0, strip.min.y + 5.0),
-                egui::pos2(x1 + 0.5, strip.min.y + 15.0),
-            ),
+            egui::Rect::from_min_max(egui::pos2(x0, top), egui::pos2(x1 + 0.5, bottom)),
             0.0,
             egui::Color32::from_rgb(r, g, b),
         );
     }
     let font = egui::FontId::proportional(12.0);
     let colour = egui::Color32::from_gray(235);
-    let y = strip.min.y + 18.0;
-    let text = |x, align, s: String| painter.text(egui::pos2(x, y), align, s, font.clone(), colour);
-    text(left, egui::Align2::LEFT_TOP, legend.min.to_string());
-    text(right, egui::Align2::RIGHT_TOP, legend.max.to_string());
-    text(
-        strip.center().x,
+    let middle = strip.center().x;
+    for (x, align, value) in [
+        (left, egui::Align2::LEFT_TOP, legend.min),
+        (middle, egui::Align2::CENTER_TOP, legend.mid),
+        (right, egui::Align2::RIGHT_TOP, legend.max),
+    ] {
+        painter.line_segment(
+            [egui::pos2(x, bottom), egui::pos2(x, bottom + 3.0)],
+            egui::Stroke::new(1.0, colour),
+        );
+        painter.text(
+            egui::pos2(x, bottom + 5.0),
+            align,
+            value.to_string(),
+            font.clone(),
+            colour,
+        );
+    }
+    painter.text(
+        egui::pos2(middle, bottom + 21.0),
         egui::Align2::CENTER_TOP,
-        legend.title.to_string(),
+        legend.title,
+        font,
+        colour,
     );
 }
 
