@@ -325,7 +325,7 @@ impl TileWork {
                 t.2 = t.2.max(s);
             }
             self.rows += 1;
-            if self.rows % self.tile == 0 {
+            if self.rows.is_multiple_of(self.tile) {
                 self.close();
             }
         }

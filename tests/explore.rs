@@ -197,7 +197,7 @@ fn the_2d_mode_shows_render2d_and_the_mouse_pans_and_zooms() {
         &qjulia::compare::JULIA2D_TOLERANCE,
     );
     assert!(
-        shown.colour.iter().any(|&c| c == 0xffff_ffff),
+        shown.colour.contains(&0xffff_ffff),
         "no point of the set shown"
     );
 

@@ -913,8 +913,8 @@ impl ExplorerApp {
                         v.center[0] + (p.x - rect.center().x) as f64 * per_point,
                         v.center[1] - (p.y - rect.center().y) as f64 * per_point,
                     ];
-                    for k in 0..2 {
-                        v.center[k] = under[k] - (under[k] - v.center[k]) * factor;
+                    for (centre, under) in v.center.iter_mut().zip(under) {
+                        *centre = under - (under - *centre) * factor;
                     }
                 }
                 v.extent = extent;
