@@ -3,17 +3,17 @@
 // shading and the shadow ray.
 //
 // Twin: src/cpu/trace.rs, function by function, with the same names in the same order; a change
-// to one is a change to both. Needs shaders/quaternion.wgsl in front of it (src/gpu/shaders.rs).
+// to one is a change to both. Needs shaders/algebra.wgsl in front of it (src/gpu/shaders.rs).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
 // Keep in sync with `GpuParams` in src/gpu/params.rs.
 struct Params {
-    c: vec4<f32>,
-    slice_x: vec4<f32>,
-    slice_y: vec4<f32>,
-    slice_z: vec4<f32>,
-    slice_offset: vec4<f32>,
+    c: Hyper,
+    slice_x: Hyper,
+    slice_y: Hyper,
+    slice_z: Hyper,
+    slice_offset: Hyper,
     eye: vec3<f32>,
     epsilon: f32,
     cam_forward: vec3<f32>,
@@ -46,6 +46,8 @@ struct Params {
     pixel_epsilon: f32,
     pixel_angle: f32,
     tracing: u32,
+    // Quaternion parts of a number of the scene's algebra: 1 quaternion, 2 octonion, 4 sedenion.
+    algebra_parts: u32,
 }
 
 // params.normal_method: the seed's central differences, a tetrahedron of four samples, or the
@@ -67,6 +69,7 @@ override OVER_RELAXED: bool = true;
 override PIXEL_EPSILON: bool = true;
 override SHADE: bool = true;
 override CONE_TRACING: bool = false;
+override ALGEBRA_PARTS: u32 = 1u;
 
 // params.tracing: the seed's sphere tracing of every ray, or a cone per 8x8 block first.
 const TRACING_SEED: u32 = 0u;
@@ -105,43 +108,66 @@ const MIN_NORMAL: f32 = 1.17549435e-38;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
 const NORMAL_LIMIT: f32 = 1e16;
 
+// Quaternion parts of the scene's algebra (1, 2 or 4): a constant when specialised.
+fn algebra_parts() -> u32 {
+    if SPECIALISED {
+        return ALGEBRA_PARTS;
+    }
+    return params.algebra_parts;
+}
+
 // The slice axes: constants for the standard slice when specialised (the CPU twin reads them
 // from its parameters).
-fn slice_axis_x() -> vec4<f32> {
+fn slice_axis_x() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+        return Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     }
     return params.slice_x;
 }
 
-fn slice_axis_y() -> vec4<f32> {
+fn slice_axis_y() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return vec4<f32>(0.0, 1.0, 0.0, 0.0);
+        return Hyper(vec4<f32>(0.0, 1.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     }
     return params.slice_y;
 }
 
-fn slice_axis_z() -> vec4<f32> {
+fn slice_axis_z() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return vec4<f32>(0.0, 0.0, 1.0, 0.0);
+        return Hyper(vec4<f32>(0.0, 0.0, 1.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     }
     return params.slice_z;
 }
 
-// Scene coordinates p in the 3D slice to the 4D point offset + p.x x + p.y y + p.z z.
-fn slice_point(p: vec3<f32>) -> vec4<f32> {
+// Scene coordinates p in the 3D slice to the point offset + p.x x + p.y y + p.z z of the
+// algebra.
+fn slice_point(p: vec3<f32>) -> Hyper {
+    var q = params.slice_offset;
     if SPECIALISED && STANDARD_SLICE {
-        return params.slice_offset + vec4<f32>(p, 0.0);
+        q[0] += vec4<f32>(p, 0.0);
+        return q;
     }
-    return params.slice_offset + p.x * params.slice_x + p.y * params.slice_y + p.z * params.slice_z;
+    let x = params.slice_x;
+    let y = params.slice_y;
+    let z = params.slice_z;
+    q[0] += p.x * x[0] + p.y * y[0] + p.z * z[0];
+    if algebra_parts() >= 2u {
+        q[1] += p.x * x[1] + p.y * y[1] + p.z * z[1];
+    }
+    if algebra_parts() >= 4u {
+        q[2] += p.x * x[2] + p.y * y[2] + p.z * z[2];
+        q[3] += p.x * x[3] + p.y * y[3] + p.z * z[3];
+    }
+    return q;
 }
 
 // z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations.
-fn iterate_intersect(z: ptr<function, vec4<f32>>, zp: ptr<function, vec4<f32>>) {
+fn iterate_intersect(z: ptr<function, Hyper>, zp: ptr<function, Hyper>) {
+    let parts = algebra_parts();
     for (var i = 0u; i < params.max_iterations; i++) {
-        *zp = 2.0 * quat_mul(*z, *zp);
-        *z = quat_sq(*z) + params.c;
-        if dot(*z, *z) > params.escape_radius_squared || dot(*zp, *zp) > DERIVATIVE_LIMIT {
+        *zp = hyper_scale(2.0, hyper_mul(*z, *zp, parts));
+        *z = hyper_add(hyper_sq(*z, parts), params.c);
+        if hyper_dot(*z, *z, parts) > params.escape_radius_squared || hyper_dot(*zp, *zp, parts) > DERIVATIVE_LIMIT {
             break;
         }
     }
@@ -153,10 +179,11 @@ fn iterate_intersect(z: ptr<function, vec4<f32>>, zp: ptr<function, vec4<f32>>) 
 // normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
 fn estimate_distance(p: vec3<f32>) -> f32 {
     var z = slice_point(p);
-    var zp = vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    var zp = Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     iterate_intersect(&z, &zp);
-    let zz = dot(z, z);
-    let zpzp = dot(zp, zp);
+    let parts = algebra_parts();
+    let zz = hyper_dot(z, z, parts);
+    let zpzp = hyper_dot(zp, zp, parts);
     if zz < MIN_NORMAL || zpzp > DERIVATIVE_LIMIT || zpzp <= zz * TINY {
         return 0.0;
     }
@@ -258,85 +285,91 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 // max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
 // passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
 // grad |z_n| and the direction is already known, and nothing overflows.
-fn normal_central(q: vec4<f32>) -> vec3<f32> {
-    let dx = params.normal_delta * slice_axis_x();
-    let dy = params.normal_delta * slice_axis_y();
-    let dz = params.normal_delta * slice_axis_z();
-    var gx1 = q - dx;
-    var gx2 = q + dx;
-    var gy1 = q - dy;
-    var gy2 = q + dy;
-    var gz1 = q - dz;
-    var gz2 = q + dz;
+fn normal_central(q: Hyper) -> vec3<f32> {
+    let parts = algebra_parts();
+    let dx = hyper_scale(params.normal_delta, slice_axis_x());
+    let dy = hyper_scale(params.normal_delta, slice_axis_y());
+    let dz = hyper_scale(params.normal_delta, slice_axis_z());
+    var gx1 = hyper_sub(q, dx);
+    var gx2 = hyper_add(q, dx);
+    var gy1 = hyper_sub(q, dy);
+    var gy2 = hyper_add(q, dy);
+    var gz1 = hyper_sub(q, dz);
+    var gz2 = hyper_add(q, dz);
     for (var i = 0u; i < params.max_iterations; i++) {
         let largest = max(
-            max(max(dot(gx1, gx1), dot(gx2, gx2)), max(dot(gy1, gy1), dot(gy2, gy2))),
-            max(dot(gz1, gz1), dot(gz2, gz2)),
+            max(max(hyper_dot(gx1, gx1, parts), hyper_dot(gx2, gx2, parts)), max(hyper_dot(gy1, gy1, parts), hyper_dot(gy2, gy2, parts))),
+            max(hyper_dot(gz1, gz1, parts), hyper_dot(gz2, gz2, parts)),
         );
         if largest > NORMAL_LIMIT {
             break;
         }
-        gx1 = quat_sq(gx1) + params.c;
-        gx2 = quat_sq(gx2) + params.c;
-        gy1 = quat_sq(gy1) + params.c;
-        gy2 = quat_sq(gy2) + params.c;
-        gz1 = quat_sq(gz1) + params.c;
-        gz2 = quat_sq(gz2) + params.c;
+        gx1 = hyper_add(hyper_sq(gx1, parts), params.c);
+        gx2 = hyper_add(hyper_sq(gx2, parts), params.c);
+        gy1 = hyper_add(hyper_sq(gy1, parts), params.c);
+        gy2 = hyper_add(hyper_sq(gy2, parts), params.c);
+        gz1 = hyper_add(hyper_sq(gz1, parts), params.c);
+        gz2 = hyper_add(hyper_sq(gz2, parts), params.c);
     }
     return vec3<f32>(
-        length(gx2) - length(gx1),
-        length(gy2) - length(gy1),
-        length(gz2) - length(gz1),
+        sqrt(hyper_dot(gx2, gx2, parts)) - sqrt(hyper_dot(gx1, gx1, parts)),
+        sqrt(hyper_dot(gy2, gy2, parts)) - sqrt(hyper_dot(gy1, gy1, parts)),
+        sqrt(hyper_dot(gz2, gz2, parts)) - sqrt(hyper_dot(gz1, gz1, parts)),
     );
 }
 
 // Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) times
 // normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central differences.
-fn normal_tetrahedral(q: vec4<f32>) -> vec3<f32> {
+fn normal_tetrahedral(q: Hyper) -> vec3<f32> {
+    let parts = algebra_parts();
     let h = params.normal_delta;
     let x = slice_axis_x();
     let y = slice_axis_y();
     let z = slice_axis_z();
-    var a = q + h * (x - y - z);
-    var b = q + h * (-x - y + z);
-    var c = q + h * (-x + y - z);
-    var d = q + h * (x + y + z);
+    var a = hyper_add(q, hyper_scale(h, hyper_sub(hyper_sub(x, y), z)));
+    var b = hyper_add(q, hyper_scale(h, hyper_add(hyper_sub(hyper_scale(-1.0, x), y), z)));
+    var c = hyper_add(q, hyper_scale(h, hyper_sub(hyper_add(hyper_scale(-1.0, x), y), z)));
+    var d = hyper_add(q, hyper_scale(h, hyper_add(hyper_add(x, y), z)));
     for (var i = 0u; i < params.max_iterations; i++) {
-        let largest = max(max(dot(a, a), dot(b, b)), max(dot(c, c), dot(d, d)));
+        let largest = max(
+            max(hyper_dot(a, a, parts), hyper_dot(b, b, parts)),
+            max(hyper_dot(c, c, parts), hyper_dot(d, d, parts)),
+        );
         if largest > NORMAL_LIMIT {
             break;
         }
-        a = quat_sq(a) + params.c;
-        b = quat_sq(b) + params.c;
-        c = quat_sq(c) + params.c;
-        d = quat_sq(d) + params.c;
+        a = hyper_add(hyper_sq(a, parts), params.c);
+        b = hyper_add(hyper_sq(b, parts), params.c);
+        c = hyper_add(hyper_sq(c, parts), params.c);
+        d = hyper_add(hyper_sq(d, parts), params.c);
     }
-    let la = length(a);
-    let lb = length(b);
-    let lc = length(c);
-    let ld = length(d);
+    let la = sqrt(hyper_dot(a, a, parts));
+    let lb = sqrt(hyper_dot(b, b, parts));
+    let lc = sqrt(hyper_dot(c, c, parts));
+    let ld = sqrt(hyper_dot(d, d, parts));
     return vec3<f32>(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld);
 }
 
 // The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried through
-// the iteration (d(z^2) = z dz + dz z = 2 (z.x dz.x - z.yzw . dz.yzw, z.x dz.yzw + dz.x z.yzw)),
-// then grad_i |z| = z . dz_i / |z| (the 1/|z| does not change the direction).
-fn normal_analytic(q: vec4<f32>) -> vec3<f32> {
+// the iteration (d(z^2) = z dz + dz z, square_derivative), then grad_i |z| = z . dz_i / |z| (the
+// 1/|z| does not change the direction).
+fn normal_analytic(q: Hyper) -> vec3<f32> {
+    let parts = algebra_parts();
     var z = q;
     var jx = slice_axis_x();
     var jy = slice_axis_y();
     var jz = slice_axis_z();
     for (var i = 0u; i < params.max_iterations; i++) {
-        let largest = max(max(dot(jx, jx), dot(jy, jy)), dot(jz, jz));
-        if dot(z, z) > NORMAL_LIMIT || largest > DERIVATIVE_LIMIT {
+        let largest = max(max(hyper_dot(jx, jx, parts), hyper_dot(jy, jy, parts)), hyper_dot(jz, jz, parts));
+        if hyper_dot(z, z, parts) > NORMAL_LIMIT || largest > DERIVATIVE_LIMIT {
             break;
         }
-        jx = 2.0 * vec4<f32>(z.x * jx.x - dot(z.yzw, jx.yzw), z.x * jx.yzw + jx.x * z.yzw);
-        jy = 2.0 * vec4<f32>(z.x * jy.x - dot(z.yzw, jy.yzw), z.x * jy.yzw + jy.x * z.yzw);
-        jz = 2.0 * vec4<f32>(z.x * jz.x - dot(z.yzw, jz.yzw), z.x * jz.yzw + jz.x * z.yzw);
-        z = quat_sq(z) + params.c;
+        jx = square_derivative(z, jx, parts);
+        jy = square_derivative(z, jy, parts);
+        jz = square_derivative(z, jz, parts);
+        z = hyper_add(hyper_sq(z, parts), params.c);
     }
-    return vec3<f32>(dot(z, jx), dot(z, jy), dot(z, jz));
+    return vec3<f32>(hyper_dot(z, jx, parts), hyper_dot(z, jy, parts), hyper_dot(z, jz, parts));
 }
 
 // The shading normal by params.normal_method; where no gradient can be formed it points back

@@ -2,18 +2,18 @@
 //! the precision the tracer runs in: the twin of the WGSL `Params` uniform, with the camera
 //! frame and the slice's bounding ball already worked out.
 
-use crate::algebra::{Real, Vec2, Vec3, Vec4};
+use crate::algebra::{Hyper, Real, Vec2, Vec3, hyper_from_f64};
 use crate::scene::{NormalMethod, Scene, Tracing};
 
 /// The tracer's inputs in precision `F`. Field names are those of `Params` in
 /// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TraceParams<F> {
-    pub c: Vec4<F>,
-    pub slice_x: Vec4<F>,
-    pub slice_y: Vec4<F>,
-    pub slice_z: Vec4<F>,
-    pub slice_offset: Vec4<F>,
+    pub c: Hyper<F>,
+    pub slice_x: Hyper<F>,
+    pub slice_y: Hyper<F>,
+    pub slice_z: Hyper<F>,
+    pub slice_offset: Hyper<F>,
     pub eye: Vec3<F>,
     pub epsilon: F,
     pub cam_forward: Vec3<F>,
@@ -45,6 +45,8 @@ pub struct TraceParams<F> {
     /// A pixel's footprint per unit distance, 2 tan(fov/2) / height.
     pub pixel_angle: F,
     pub tracing: Tracing,
+    /// Quaternion parts of a number of the algebra: 1 quaternion, 2 octonion, 4 sedenion.
+    pub algebra_parts: u32,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -54,11 +56,11 @@ impl<F: Real> TraceParams<F> {
         let bounds = scene.slice_bounds();
         let (f, s, sh) = (&scene.fractal, &scene.slice, &scene.shading);
         Self {
-            c: Vec4::from_f64(f.c),
-            slice_x: Vec4::from_f64(s.x),
-            slice_y: Vec4::from_f64(s.y),
-            slice_z: Vec4::from_f64(s.z),
-            slice_offset: Vec4::from_f64(s.offset),
+            c: hyper_from_f64(&f.c),
+            slice_x: hyper_from_f64(&s.x),
+            slice_y: hyper_from_f64(&s.y),
+            slice_z: hyper_from_f64(&s.z),
+            slice_offset: hyper_from_f64(&s.offset),
             eye: Vec3::from_f64(scene.camera.eye),
             epsilon: F::lit(f.epsilon),
             cam_forward: Vec3::from_f64(frame.forward),
@@ -87,6 +89,7 @@ impl<F: Real> TraceParams<F> {
             pixel_epsilon: F::lit(f.pixel_epsilon),
             pixel_angle: F::lit(scene.pixel_angle()),
             tracing: f.tracing,
+            algebra_parts: f.algebra.parts(),
         }
     }
 }

@@ -115,7 +115,7 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
     );
 
     // A slider: c's real part.
-    let before = harness.state().scene.fractal.c;
+    let before = harness.state().scene.fractal.c.clone();
     harness
         .get_by_role_and_label(egui::Role::Slider, "c real")
         .set_value_accesskit(-0.35);
@@ -186,7 +186,7 @@ fn the_2d_mode_shows_render2d_and_the_mouse_pans_and_zooms() {
     let Some(mut harness) = harness("explorer_2d") else {
         return;
     };
-    harness.state_mut().scene.fractal.c = [-0.12, 0.75, 0.0, 0.0];
+    harness.state_mut().scene.fractal.c = vec![-0.12, 0.75, 0.0, 0.0];
     harness.state_mut().mode = Mode::Julia2d;
     settle(&mut harness);
     let shown = shown_view(&mut harness);

@@ -6,7 +6,7 @@ use std::mem::offset_of;
 use qjulia::algebra::Real;
 use qjulia::cpu::trace::{NORMAL_LIMIT, TINY};
 use qjulia::gpu::GpuParams;
-use qjulia::gpu::shaders::{ALL_MODULES, QUATERNION_WGSL, TRACE_MODULE, validate_wgsl};
+use qjulia::gpu::shaders::{ALGEBRA_WGSL, ALL_MODULES, TRACE_MODULE, validate_wgsl};
 
 #[test]
 fn every_module_validates() {
@@ -16,7 +16,7 @@ fn every_module_validates() {
         }
     }
     // The library file stands alone too.
-    validate_wgsl(QUATERNION_WGSL).expect("quaternion.wgsl validates on its own");
+    validate_wgsl(ALGEBRA_WGSL).expect("algebra.wgsl validates on its own");
 }
 
 #[test]
@@ -161,7 +161,7 @@ fn every_specialised_variant_validates() {
     .validate(&module)
     .unwrap();
     let variants = Variant::all();
-    assert_eq!(variants.len(), 192);
+    assert_eq!(variants.len(), 576);
     for variant in variants {
         let mut constants = naga::back::PipelineConstants::default();
         for (name, value) in variant.constants() {

@@ -135,7 +135,7 @@ mod tests {
 
     fn params(c: [f64; 2], extent: f64, size: u32) -> Julia2dParams<f64> {
         let mut scene = Scene::default();
-        scene.fractal.c = [c[0], c[1], 0.0, 0.0];
+        scene.fractal.c = vec![c[0], c[1], 0.0, 0.0];
         scene.view2d.extent = extent;
         scene.image.width = size;
         scene.image.height = size;

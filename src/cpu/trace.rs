@@ -2,7 +2,10 @@
 //! order, generic over the float type. WGSL's global `params` is `self` here; a change to one
 //! file is a change to both, and the GPU-vs-CPU tests hold them together.
 
-use crate::algebra::{Real, Vec3, Vec4, quat_mul, quat_sq};
+use crate::algebra::{
+    Hyper, Real, Vec3, Vec4, hyper_add, hyper_dot, hyper_mul, hyper_scale, hyper_sq, hyper_sub,
+    square_derivative,
+};
 use crate::params::TraceParams;
 use crate::scene::NormalMethod;
 
@@ -42,19 +45,27 @@ pub struct Pixel<F> {
 }
 
 impl<F: Real> TraceParams<F> {
-    /// Scene coordinates p in the 3D slice to the 4D point offset + p.x x + p.y y + p.z z.
-    pub fn slice_point(&self, p: Vec3<F>) -> Vec4<F> {
-        self.slice_offset + self.slice_x * p.x + self.slice_y * p.y + self.slice_z * p.z
+    /// Scene coordinates p in the 3D slice to the point offset + p.x x + p.y y + p.z z of the
+    /// algebra.
+    pub fn slice_point(&self, p: Vec3<F>) -> Hyper<F> {
+        let mut q = self.slice_offset;
+        for (k, qk) in q.iter_mut().enumerate().take(self.algebra_parts as usize) {
+            *qk += self.slice_x[k] * p.x + self.slice_y[k] * p.y + self.slice_z[k] * p.z;
+        }
+        q
     }
 
     /// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations
     /// (or |z'|^2 > `Real::DERIVATIVE_LIMIT`, WGSL's DERIVATIVE_LIMIT in f32).
-    pub fn iterate_intersect(&self, z: &mut Vec4<F>, zp: &mut Vec4<F>) {
+    pub fn iterate_intersect(&self, z: &mut Hyper<F>, zp: &mut Hyper<F>) {
+        let parts = self.algebra_parts;
         for _ in 0..self.max_iterations {
             count(&super::ITERATIONS, 1);
-            *zp = quat_mul(*z, *zp) * F::lit(2.0);
-            *z = quat_sq(*z) + self.c;
-            if z.dot(*z) > self.escape_radius_squared || zp.dot(*zp) > F::lit(F::DERIVATIVE_LIMIT) {
+            *zp = hyper_scale(F::lit(2.0), hyper_mul(*z, *zp, parts));
+            *z = hyper_add(hyper_sq(*z, parts), self.c);
+            if hyper_dot(*z, *z, parts) > self.escape_radius_squared
+                || hyper_dot(*zp, *zp, parts) > F::lit(F::DERIVATIVE_LIMIT)
+            {
                 break;
             }
         }
@@ -68,10 +79,16 @@ impl<F: Real> TraceParams<F> {
     pub fn estimate_distance(&self, p: Vec3<F>) -> F {
         count(&super::ESTIMATES, 1);
         let mut z = self.slice_point(p);
-        let mut zp = Vec4::real(F::one());
+        let mut zp = [
+            Vec4::real(F::one()),
+            Vec4::zero(),
+            Vec4::zero(),
+            Vec4::zero(),
+        ];
         self.iterate_intersect(&mut z, &mut zp);
-        let zz = z.dot(z);
-        let zpzp = zp.dot(zp);
+        let parts = self.algebra_parts;
+        let zz = hyper_dot(z, z, parts);
+        let zpzp = hyper_dot(zp, zp, parts);
         if zz < F::min_positive_value()
             || zpzp > F::lit(F::DERIVATIVE_LIMIT)
             || zpzp <= zz * F::lit(TINY)
@@ -186,89 +203,97 @@ impl<F: Real> TraceParams<F> {
     /// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
     /// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
     /// grad |z_n| and the direction is already known, and nothing overflows.
-    pub fn normal_central(&self, q: Vec4<F>) -> Vec3<F> {
-        let dx = self.slice_x * self.normal_delta;
-        let dy = self.slice_y * self.normal_delta;
-        let dz = self.slice_z * self.normal_delta;
-        let mut gx1 = q - dx;
-        let mut gx2 = q + dx;
-        let mut gy1 = q - dy;
-        let mut gy2 = q + dy;
-        let mut gz1 = q - dz;
-        let mut gz2 = q + dz;
+    pub fn normal_central(&self, q: Hyper<F>) -> Vec3<F> {
+        let parts = self.algebra_parts;
+        let dx = hyper_scale(self.normal_delta, self.slice_x);
+        let dy = hyper_scale(self.normal_delta, self.slice_y);
+        let dz = hyper_scale(self.normal_delta, self.slice_z);
+        let mut gx1 = hyper_sub(q, dx);
+        let mut gx2 = hyper_add(q, dx);
+        let mut gy1 = hyper_sub(q, dy);
+        let mut gy2 = hyper_add(q, dy);
+        let mut gz1 = hyper_sub(q, dz);
+        let mut gz2 = hyper_add(q, dz);
+        let norm2 = |g: Hyper<F>| hyper_dot(g, g, parts);
         for _ in 0..self.max_iterations {
-            let largest = (gx1.dot(gx1).max(gx2.dot(gx2)))
-                .max(gy1.dot(gy1).max(gy2.dot(gy2)))
-                .max(gz1.dot(gz1).max(gz2.dot(gz2)));
+            let largest = (norm2(gx1).max(norm2(gx2)))
+                .max(norm2(gy1).max(norm2(gy2)))
+                .max(norm2(gz1).max(norm2(gz2)));
             if largest > F::lit(NORMAL_LIMIT) {
                 break;
             }
             count(&super::ITERATIONS, 6);
-            gx1 = quat_sq(gx1) + self.c;
-            gx2 = quat_sq(gx2) + self.c;
-            gy1 = quat_sq(gy1) + self.c;
-            gy2 = quat_sq(gy2) + self.c;
-            gz1 = quat_sq(gz1) + self.c;
-            gz2 = quat_sq(gz2) + self.c;
+            gx1 = hyper_add(hyper_sq(gx1, parts), self.c);
+            gx2 = hyper_add(hyper_sq(gx2, parts), self.c);
+            gy1 = hyper_add(hyper_sq(gy1, parts), self.c);
+            gy2 = hyper_add(hyper_sq(gy2, parts), self.c);
+            gz1 = hyper_add(hyper_sq(gz1, parts), self.c);
+            gz2 = hyper_add(hyper_sq(gz2, parts), self.c);
         }
         Vec3::new(
-            gx2.length() - gx1.length(),
-            gy2.length() - gy1.length(),
-            gz2.length() - gz1.length(),
+            norm2(gx2).sqrt() - norm2(gx1).sqrt(),
+            norm2(gy2).sqrt() - norm2(gy1).sqrt(),
+            norm2(gz2).sqrt() - norm2(gz1).sqrt(),
         )
     }
 
     /// Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1)
     /// times normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central
     /// differences.
-    pub fn normal_tetrahedral(&self, q: Vec4<F>) -> Vec3<F> {
+    pub fn normal_tetrahedral(&self, q: Hyper<F>) -> Vec3<F> {
+        let parts = self.algebra_parts;
         let h = self.normal_delta;
         let (x, y, z) = (self.slice_x, self.slice_y, self.slice_z);
-        let mut a = q + (x - y - z) * h;
-        let mut b = q + (-x - y + z) * h;
-        let mut c = q + (-x + y - z) * h;
-        let mut d = q + (x + y + z) * h;
+        let minus_x = hyper_scale(-F::one(), x);
+        let mut a = hyper_add(q, hyper_scale(h, hyper_sub(hyper_sub(x, y), z)));
+        let mut b = hyper_add(q, hyper_scale(h, hyper_add(hyper_sub(minus_x, y), z)));
+        let mut c = hyper_add(q, hyper_scale(h, hyper_sub(hyper_add(minus_x, y), z)));
+        let mut d = hyper_add(q, hyper_scale(h, hyper_add(hyper_add(x, y), z)));
+        let norm2 = |g: Hyper<F>| hyper_dot(g, g, parts);
         for _ in 0..self.max_iterations {
-            let largest = a.dot(a).max(b.dot(b)).max(c.dot(c).max(d.dot(d)));
+            let largest = (norm2(a).max(norm2(b))).max(norm2(c).max(norm2(d)));
             if largest > F::lit(NORMAL_LIMIT) {
                 break;
             }
             count(&super::ITERATIONS, 4);
-            a = quat_sq(a) + self.c;
-            b = quat_sq(b) + self.c;
-            c = quat_sq(c) + self.c;
-            d = quat_sq(d) + self.c;
+            a = hyper_add(hyper_sq(a, parts), self.c);
+            b = hyper_add(hyper_sq(b, parts), self.c);
+            c = hyper_add(hyper_sq(c, parts), self.c);
+            d = hyper_add(hyper_sq(d, parts), self.c);
         }
-        let (la, lb, lc, ld) = (a.length(), b.length(), c.length(), d.length());
+        let (la, lb, lc, ld) = (
+            norm2(a).sqrt(),
+            norm2(b).sqrt(),
+            norm2(c).sqrt(),
+            norm2(d).sqrt(),
+        );
         Vec3::new(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld)
     }
 
     /// The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried
-    /// through the iteration (d(z^2) = z dz + dz z = 2 (z.x dz.x - z.yzw . dz.yzw,
-    /// z.x dz.yzw + dz.x z.yzw)), then grad_i |z| = z . dz_i / |z| (the 1/|z| does not change
-    /// the direction).
-    pub fn normal_analytic(&self, q: Vec4<F>) -> Vec3<F> {
-        let two = F::lit(2.0);
-        let step = |z: Vec4<F>, j: Vec4<F>| {
-            Vec4::from_parts(
-                z.x * j.x - z.yzw().dot(j.yzw()),
-                j.yzw() * z.x + z.yzw() * j.x,
-            ) * two
-        };
+    /// through the iteration (d(z^2) = z dz + dz z, `square_derivative`), then
+    /// grad_i |z| = z . dz_i / |z| (the 1/|z| does not change the direction).
+    pub fn normal_analytic(&self, q: Hyper<F>) -> Vec3<F> {
+        let parts = self.algebra_parts;
         let mut z = q;
         let (mut jx, mut jy, mut jz) = (self.slice_x, self.slice_y, self.slice_z);
+        let norm2 = |g: Hyper<F>| hyper_dot(g, g, parts);
         for _ in 0..self.max_iterations {
-            let largest = jx.dot(jx).max(jy.dot(jy)).max(jz.dot(jz));
-            if z.dot(z) > F::lit(NORMAL_LIMIT) || largest > F::lit(F::DERIVATIVE_LIMIT) {
+            let largest = norm2(jx).max(norm2(jy)).max(norm2(jz));
+            if norm2(z) > F::lit(NORMAL_LIMIT) || largest > F::lit(F::DERIVATIVE_LIMIT) {
                 break;
             }
             count(&super::ITERATIONS, 1);
-            jx = step(z, jx);
-            jy = step(z, jy);
-            jz = step(z, jz);
-            z = quat_sq(z) + self.c;
+            jx = square_derivative(z, jx, parts);
+            jy = square_derivative(z, jy, parts);
+            jz = square_derivative(z, jz, parts);
+            z = hyper_add(hyper_sq(z, parts), self.c);
         }
-        Vec3::new(z.dot(jx), z.dot(jy), z.dot(jz))
+        Vec3::new(
+            hyper_dot(z, jx, parts),
+            hyper_dot(z, jy, parts),
+            hyper_dot(z, jz, parts),
+        )
     }
 
     /// The shading normal by normal_method; where no gradient can be formed it points back

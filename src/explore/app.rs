@@ -17,7 +17,7 @@ use super::view2d::View2dRenderer;
 use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
 use crate::output::{OutputPaths, write_outputs, write_view_outputs};
 use crate::scene::presets::PRESETS;
-use crate::scene::rotation::{PLANES, rotate_basis};
+use crate::scene::rotation::{axis_name, plane_name, planes, rotate_basis};
 use crate::scene::{Camera, Scene, SceneLoader, SceneSource, View, View2d};
 use crate::views::{HeatMap, Legend};
 
@@ -58,21 +58,26 @@ pub struct Animation {
     /// The path's size.
     pub radius: f64,
     pub phase: f64,
-    pub center: [f64; 4],
+    pub center: Vec<f64>,
 }
 
 impl Animation {
     /// The point of the closed path at `phase`: every component moves, with different
     /// frequencies, and the path returns to its start after 2 pi.
-    pub fn point(&self, phase: f64) -> [f64; 4] {
+    pub fn point(&self, phase: f64) -> Vec<f64> {
         let r = self.radius;
-        let c = self.center;
-        [
-            c[0] + r * (phase.cos() - 1.0),
-            c[1] + r * phase.sin(),
-            c[2] + 0.6 * r * (2.0 * phase).sin(),
-            c[3] + 0.6 * r * ((3.0 * phase).cos() - 1.0),
-        ]
+        self.center
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| match k {
+                0 => c + r * (phase.cos() - 1.0),
+                1 => c + r * phase.sin(),
+                2 => c + 0.6 * r * (2.0 * phase).sin(),
+                3 => c + 0.6 * r * ((3.0 * phase).cos() - 1.0),
+                // Octonion and sedenion components: smaller, each at its own frequency.
+                _ => c + 0.3 * r * ((k as f64 - 2.0) * phase).sin(),
+            })
+            .collect()
     }
 }
 
@@ -106,8 +111,9 @@ pub struct ExplorerApp {
     /// The camera that "reset" returns to.
     home_camera: Camera,
     /// The slice basis the rotation angles turn, and the angles.
-    base_basis: [[f64; 4]; 3],
-    pub angles: [f64; 6],
+    base_basis: [Vec<f64>; 3],
+    /// One per plane of `rotation::planes(dim)`.
+    pub angles: Vec<f64>,
     pub view: Option<ViewRenderer>,
     /// The 2D mode's renderer (the render2d kernel).
     pub view2d: Option<View2dRenderer>,
@@ -175,14 +181,18 @@ impl ExplorerApp {
     pub fn with_scene(scene: Scene) -> Self {
         Self {
             home_camera: scene.camera.clone(),
-            base_basis: [scene.slice.x, scene.slice.y, scene.slice.z],
-            angles: [0.0; 6],
+            base_basis: [
+                scene.slice.x.clone(),
+                scene.slice.y.clone(),
+                scene.slice.z.clone(),
+            ],
+            angles: vec![0.0; planes(scene.fractal.algebra.dim()).len()],
             animation: Animation {
                 playing: false,
                 speed: 0.4,
                 radius: 0.08,
                 phase: 0.0,
-                center: scene.fractal.c,
+                center: scene.fractal.c.clone(),
             },
             scene,
             view: None,
@@ -342,8 +352,20 @@ impl ExplorerApp {
         self.dialog = Some(FileDialog::new(purpose, &self.last_dir, name));
     }
 
+    /// Switches the algebra (c, slice and offset cut or padded), the rotation starting afresh.
+    fn set_algebra(&mut self, algebra: crate::scene::Algebra) {
+        self.scene.set_algebra(algebra);
+        self.base_basis = [
+            self.scene.slice.x.clone(),
+            self.scene.slice.y.clone(),
+            self.scene.slice.z.clone(),
+        ];
+        self.angles = vec![0.0; planes(algebra.dim()).len()];
+        self.animation.center = self.scene.fractal.c.clone();
+    }
+
     fn apply_rotation(&mut self) {
-        let [x, y, z] = rotate_basis(self.base_basis, &self.angles);
+        let [x, y, z] = rotate_basis(&self.base_basis, &self.angles);
         self.scene.slice.x = x;
         self.scene.slice.y = y;
         self.scene.slice.z = z;
@@ -383,7 +405,7 @@ impl ExplorerApp {
             if i.key_pressed(Key::Space) {
                 self.animation.playing = !self.animation.playing;
                 if self.animation.playing {
-                    self.animation.center = self.scene.fractal.c;
+                    self.animation.center = self.scene.fractal.c.clone();
                     self.animation.phase = 0.0;
                 }
             }
@@ -518,38 +540,53 @@ impl ExplorerApp {
     }
 
     fn fractal_controls(&mut self, ui: &mut egui::Ui) {
-        let f = &mut self.scene.fractal;
-        for (k, name) in ["c real", "c i", "c j", "c k"].iter().enumerate() {
-            ui.add(egui::Slider::new(&mut f.c[k], -1.5..=1.5).text(*name));
+        let mut algebra = self.scene.fractal.algebra;
+        egui::ComboBox::from_label("algebra")
+            .selected_text(algebra.name())
+            .show_ui(ui, |ui| {
+                for a in crate::scene::Algebra::ALL {
+                    ui.selectable_value(&mut algebra, a, a.name());
+                }
+            });
+        if algebra != self.scene.fractal.algebra {
+            self.set_algebra(algebra);
         }
-        // c as a 4D direction and a magnitude.
+        let f = &mut self.scene.fractal;
+        for k in 0..f.c.len() {
+            let name = format!("c {}", axis_name(k));
+            ui.add(egui::Slider::new(&mut f.c[k], -1.5..=1.5).text(name));
+        }
+        // c as a direction on the unit sphere of the algebra and a magnitude.
         let magnitude = f.c.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let direction = if magnitude > 0.0 {
-            f.c.map(|v| v / magnitude)
+        let direction: Vec<f64> = if magnitude > 0.0 {
+            f.c.iter().map(|v| v / magnitude).collect()
         } else {
-            [1.0, 0.0, 0.0, 0.0]
+            (0..f.c.len())
+                .map(|k| if k == 0 { 1.0 } else { 0.0 })
+                .collect()
         };
-        let mut angles = hyperspherical(direction);
+        let mut angles = hyperspherical(&direction);
         let mut new_magnitude = magnitude;
         let mut turned = false;
         ui.add(egui::Slider::new(&mut new_magnitude, 0.0..=2.0).text("|c|"));
-        for (k, name) in ["c angle 1", "c angle 2", "c angle 3"].iter().enumerate() {
-            let range = if k == 2 {
+        let last = angles.len() - 1;
+        for (k, angle) in angles.iter_mut().enumerate() {
+            let range = if k == last {
                 -std::f64::consts::PI..=std::f64::consts::PI
             } else {
                 0.0..=std::f64::consts::PI
             };
             turned |= ui
-                .add(egui::Slider::new(&mut angles[k], range).text(*name))
+                .add(egui::Slider::new(angle, range).text(format!("c angle {}", k + 1)))
                 .changed();
         }
         if turned || new_magnitude != magnitude {
             let dir = if turned {
-                from_hyperspherical(angles)
+                from_hyperspherical(&angles)
             } else {
                 direction
             };
-            f.c = dir.map(|v| v * new_magnitude);
+            f.c = dir.iter().map(|v| v * new_magnitude).collect();
         }
         ui.add(
             egui::Slider::new(&mut f.max_iterations, 1..=200)
@@ -590,7 +627,7 @@ impl ExplorerApp {
     }
 
     fn view2d_controls(&mut self, ui: &mut egui::Ui) {
-        let c = self.scene.fractal.c;
+        let c = &self.scene.fractal.c;
         ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
         let v = &mut self.scene.view2d;
         let speed = 0.002 * v.extent;
@@ -620,25 +657,30 @@ impl ExplorerApp {
 
     fn slice_controls(&mut self, ui: &mut egui::Ui) {
         let mut turned = false;
-        for (k, (_, _, name)) in PLANES.iter().enumerate() {
-            let slider = egui::Slider::new(
-                &mut self.angles[k],
-                -std::f64::consts::PI..=std::f64::consts::PI,
-            );
-            turned |= ui.add(slider.text(format!("turn {name}"))).changed();
-        }
+        let dim = self.scene.fractal.algebra.dim();
+        let angles = &mut self.angles;
+        egui::ScrollArea::vertical()
+            .id_salt("rotation planes")
+            .max_height(260.0)
+            .show(ui, |ui| {
+                for (angle, plane) in angles.iter_mut().zip(planes(dim)) {
+                    let slider =
+                        egui::Slider::new(angle, -std::f64::consts::PI..=std::f64::consts::PI);
+                    turned |= ui
+                        .add(slider.text(format!("turn {}", plane_name(plane))))
+                        .changed();
+                }
+            });
         if ui.button("Reset rotation").clicked() {
-            self.angles = [0.0; 6];
+            self.angles.iter_mut().for_each(|a| *a = 0.0);
             turned = true;
         }
         if turned {
             self.apply_rotation();
         }
-        for (k, name) in ["offset real", "offset i", "offset j", "offset k"]
-            .iter()
-            .enumerate()
-        {
-            ui.add(egui::Slider::new(&mut self.scene.slice.offset[k], -1.5..=1.5).text(*name));
+        for k in 0..self.scene.slice.offset.len() {
+            let name = format!("offset {}", axis_name(k));
+            ui.add(egui::Slider::new(&mut self.scene.slice.offset[k], -1.5..=1.5).text(name));
         }
     }
 
@@ -652,7 +694,7 @@ impl ExplorerApp {
             if ui.button(label).clicked() {
                 self.animation.playing = !self.animation.playing;
                 if self.animation.playing {
-                    self.animation.center = self.scene.fractal.c;
+                    self.animation.center = self.scene.fractal.c.clone();
                     self.animation.phase = 0.0;
                 }
             }
@@ -1140,26 +1182,32 @@ fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
     }
 }
 
-/// Three angles of a unit 4-vector: (cos a, sin a cos b, sin a sin b cos g, sin a sin b sin g).
-fn hyperspherical(d: [f64; 4]) -> [f64; 3] {
-    let a = d[0].clamp(-1.0, 1.0).acos();
-    let rest = (d[1] * d[1] + d[2] * d[2] + d[3] * d[3]).sqrt();
-    let b = if rest > 0.0 {
-        (d[1] / rest).clamp(-1.0, 1.0).acos()
-    } else {
-        0.0
-    };
-    let g = d[3].atan2(d[2]);
-    [a, b, g]
+/// The n - 1 hyperspherical angles of a unit n-vector: d = (cos a1, sin a1 cos a2,
+/// sin a1 sin a2 cos a3, ..., sin a1 ... sin a(n-1)), the last angle in (-pi, pi].
+fn hyperspherical(d: &[f64]) -> Vec<f64> {
+    let n = d.len();
+    let mut angles = Vec::with_capacity(n - 1);
+    for k in 0..n - 2 {
+        let rest = d[k..].iter().map(|v| v * v).sum::<f64>().sqrt();
+        angles.push(if rest > 0.0 {
+            (d[k] / rest).clamp(-1.0, 1.0).acos()
+        } else {
+            0.0
+        });
+    }
+    angles.push(d[n - 1].atan2(d[n - 2]));
+    angles
 }
 
-fn from_hyperspherical([a, b, g]: [f64; 3]) -> [f64; 4] {
-    [
-        a.cos(),
-        a.sin() * b.cos(),
-        a.sin() * b.sin() * g.cos(),
-        a.sin() * b.sin() * g.sin(),
-    ]
+fn from_hyperspherical(angles: &[f64]) -> Vec<f64> {
+    let mut d = Vec::with_capacity(angles.len() + 1);
+    let mut sines = 1.0;
+    for &a in angles {
+        d.push(sines * a.cos());
+        sines *= a.sin();
+    }
+    d.push(sines);
+    d
 }
 
 #[cfg(test)]
@@ -1200,14 +1248,15 @@ mod tests {
     #[test]
     fn hyperspherical_angles_round_trip() {
         for d in [
-            [0.5, 0.5, 0.5, 0.5],
-            [-0.2, 0.6, 0.2, 0.2],
-            [0.0, 0.0, -1.0, 0.0],
+            vec![0.5, 0.5, 0.5, 0.5],
+            vec![-0.2, 0.6, 0.2, 0.2],
+            vec![0.0, 0.0, -1.0, 0.0],
+            vec![0.1, -0.3, 0.2, 0.0, 0.5, -0.1, 0.0, 0.7],
         ] {
             let n = d.iter().map(|v: &f64| v * v).sum::<f64>().sqrt();
-            let u = d.map(|v| v / n);
-            let back = from_hyperspherical(hyperspherical(u));
-            for k in 0..4 {
+            let u: Vec<f64> = d.iter().map(|v| v / n).collect();
+            let back = from_hyperspherical(&hyperspherical(&u));
+            for k in 0..u.len() {
                 assert!((back[k] - u[k]).abs() < 1e-12, "{u:?} -> {back:?}");
             }
         }
@@ -1220,10 +1269,10 @@ mod tests {
             speed: 1.0,
             radius: 0.1,
             phase: 0.0,
-            center: [-0.2, 0.6, 0.2, 0.2],
+            center: vec![-0.2, 0.6, 0.2, 0.2, 0.1, 0.0, 0.0, -0.1],
         };
         assert_eq!(a.point(0.0), a.center);
         let end = a.point(std::f64::consts::TAU);
-        assert!((0..4).all(|k| (end[k] - a.center[k]).abs() < 1e-12));
+        assert!((0..8).all(|k| (end[k] - a.center[k]).abs() < 1e-12));
     }
 }

@@ -10,11 +10,11 @@ use crate::params::TraceParams;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuParams {
-    pub c: [f32; 4],
-    pub slice_x: [f32; 4],
-    pub slice_y: [f32; 4],
-    pub slice_z: [f32; 4],
-    pub slice_offset: [f32; 4],
+    pub c: [[f32; 4]; 4],
+    pub slice_x: [[f32; 4]; 4],
+    pub slice_y: [[f32; 4]; 4],
+    pub slice_z: [[f32; 4]; 4],
+    pub slice_offset: [[f32; 4]; 4],
     pub eye: [f32; 3],
     pub epsilon: f32,
     pub cam_forward: [f32; 3],
@@ -51,6 +51,9 @@ pub struct GpuParams {
     pub pixel_epsilon: f32,
     pub pixel_angle: f32,
     pub tracing: u32,
+    pub algebra_parts: u32,
+    /// The WGSL struct's size is a multiple of 16 bytes.
+    pub _pad: [u32; 3],
 }
 
 impl GpuParams {
@@ -58,7 +61,7 @@ impl GpuParams {
     /// output (row_stride = width, out_row = 0); see [`Self::with_output`].
     pub fn new(p: &TraceParams<f32>, row_offset: u32, row_count: u32) -> Self {
         let v3 = |v: crate::algebra::Vec3<f32>| [v.x, v.y, v.z];
-        let v4 = |v: crate::algebra::Vec4<f32>| [v.x, v.y, v.z, v.w];
+        let v4 = |v: crate::algebra::Hyper<f32>| v.map(|q| [q.x, q.y, q.z, q.w]);
         Self {
             c: v4(p.c),
             slice_x: v4(p.slice_x),
@@ -97,6 +100,8 @@ impl GpuParams {
             pixel_epsilon: p.pixel_epsilon,
             pixel_angle: p.pixel_angle,
             tracing: p.tracing.code(),
+            algebra_parts: p.algebra_parts,
+            _pad: [0; 3],
         }
     }
 

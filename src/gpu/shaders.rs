@@ -1,8 +1,8 @@
 //! The WGSL sources, compiled into the binary from shaders/ so that it stands alone.
 
 /// Quaternion arithmetic (twin: src/algebra.rs).
-pub const QUATERNION_WGSL: &str = include_str!("../../shaders/quaternion.wgsl");
-/// The tracer kernel (twin: src/cpu/trace.rs); needs [`QUATERNION_WGSL`] in front of it.
+pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
+/// The tracer kernel (twin: src/cpu/trace.rs); needs [`ALGEBRA_WGSL`] in front of it.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); stands alone.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
@@ -23,7 +23,7 @@ impl ShaderModuleSource {
 /// The tracer: quaternion arithmetic, then the kernel.
 pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "trace",
-    parts: &[QUATERNION_WGSL, TRACE_WGSL],
+    parts: &[ALGEBRA_WGSL, TRACE_WGSL],
 };
 
 /// The 2D Julia view.

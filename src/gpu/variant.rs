@@ -3,7 +3,7 @@
 //! (`SPECIALISED` and the rest), and the tracer builds and caches one pipeline per variant.
 
 use crate::params::TraceParams;
-use crate::scene::NormalMethod;
+use crate::scene::{Algebra, NormalMethod};
 
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
@@ -21,14 +21,16 @@ pub struct Variant {
     pub shade: bool,
     /// fractal.tracing = "cone".
     pub cone: bool,
+    /// fractal.algebra.
+    pub algebra: Algebra,
 }
 
 impl Variant {
     /// The variant a scene needs; `shade` is false when only depth and steps are wanted.
     pub fn of(p: &TraceParams<f32>, shade: bool) -> Self {
-        let unit = |v: crate::algebra::Vec4<f32>, k: usize| {
-            let a = [v.x, v.y, v.z, v.w];
-            (0..4).all(|i| a[i] == if i == k { 1.0 } else { 0.0 })
+        let unit = |v: crate::algebra::Hyper<f32>, k: usize| {
+            let a: Vec<f32> = v.iter().flat_map(|q| [q.x, q.y, q.z, q.w]).collect();
+            (0..16).all(|i| a[i] == if i == k { 1.0 } else { 0.0 })
         };
         Self {
             shadows: p.shadows,
@@ -38,6 +40,11 @@ impl Variant {
             pixel_epsilon: p.pixel_epsilon > 0.0,
             shade,
             cone: p.tracing == crate::scene::Tracing::Cone,
+            algebra: match p.algebra_parts {
+                1 => Algebra::Quaternion,
+                2 => Algebra::Octonion,
+                _ => Algebra::Sedenion,
+            },
         }
     }
 
@@ -53,13 +60,17 @@ impl Variant {
             ("PIXEL_EPSILON", b(self.pixel_epsilon)),
             ("SHADE", b(self.shade)),
             ("CONE_TRACING", b(self.cone)),
+            ("ALGEBRA_PARTS", self.algebra.parts() as f64),
         ]
     }
 
     /// Every variant there is.
     pub fn all() -> Vec<Variant> {
         let mut out = Vec::new();
-        for normal in NormalMethod::ALL {
+        for (normal, algebra) in NormalMethod::ALL
+            .into_iter()
+            .flat_map(|n| Algebra::ALL.map(|a| (n, a)))
+        {
             for bits in 0..64u32 {
                 let bit = |k: u32| bits & (1 << k) != 0;
                 out.push(Variant {
@@ -70,6 +81,7 @@ impl Variant {
                     pixel_epsilon: bit(3),
                     shade: bit(4),
                     cone: bit(5),
+                    algebra,
                 });
             }
         }

@@ -79,6 +79,7 @@ impl SceneError {
 
 /// Every leaf key a scene has, as dotted paths. Keep in sync with [`SceneLoader::build`].
 pub const KEYS: &[&str] = &[
+    "fractal.algebra",
     "fractal.c",
     "fractal.max_iterations",
     "fractal.escape_radius_squared",
@@ -202,7 +203,18 @@ impl SceneLoader {
             used: BTreeMap::new(),
         };
         let mut s = Scene::default();
-        r.vector("fractal.c", &mut s.fractal.c)?;
+        let algebras = super::Algebra::ALL;
+        let mut algebra = s.fractal.algebra;
+        r.choice(
+            "fractal.algebra",
+            &mut algebra,
+            &algebras,
+            super::Algebra::name,
+        )?;
+        // The defaults follow the algebra; vectors given must have its length.
+        s.set_algebra(algebra);
+        let dim = algebra.dim();
+        r.hyper("fractal.c", &mut s.fractal.c, dim, algebra)?;
         r.integer("fractal.max_iterations", &mut s.fractal.max_iterations)?;
         r.float(
             "fractal.escape_radius_squared",
@@ -223,10 +235,10 @@ impl SceneLoader {
             &tracings,
             super::Tracing::name,
         )?;
-        r.vector("slice.x", &mut s.slice.x)?;
-        r.vector("slice.y", &mut s.slice.y)?;
-        r.vector("slice.z", &mut s.slice.z)?;
-        r.vector("slice.offset", &mut s.slice.offset)?;
+        r.hyper("slice.x", &mut s.slice.x, dim, algebra)?;
+        r.hyper("slice.y", &mut s.slice.y, dim, algebra)?;
+        r.hyper("slice.z", &mut s.slice.z, dim, algebra)?;
+        r.hyper("slice.offset", &mut s.slice.offset, dim, algebra)?;
         r.vector("camera.eye", &mut s.camera.eye)?;
         r.vector("camera.target", &mut s.camera.target)?;
         r.vector("camera.up", &mut s.camera.up)?;
@@ -395,6 +407,41 @@ impl Reader {
         Ok(())
     }
 
+    /// A vector of the algebra: exactly its dimension of numbers.
+    fn hyper(
+        &mut self,
+        key: &'static str,
+        out: &mut Vec<f64>,
+        dim: usize,
+        algebra: super::Algebra,
+    ) -> Result<(), SceneError> {
+        let Some((v, src)) = self.take(key) else {
+            return Ok(());
+        };
+        let shape = || {
+            format!(
+                "must be an array of {dim} numbers (fractal.algebra is \"{}\")",
+                algebra.name()
+            )
+        };
+        let items = v
+            .as_array()
+            .ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
+        if items.len() != dim {
+            let reason = format!("{}, not {}", shape(), items.len());
+            return Err(SceneError::value(&src, key, &v, &reason));
+        }
+        out.clear();
+        for item in items {
+            let x = number(item).ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
+            if !x.is_finite() {
+                return Err(SceneError::value(&src, key, &v, "must be finite"));
+            }
+            out.push(x);
+        }
+        Ok(())
+    }
+
     fn vector<const N: usize>(
         &mut self,
         key: &'static str,
@@ -550,11 +597,11 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
 
     // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
     let keys = ["slice.x", "slice.y", "slice.z"];
-    let basis = [s.slice.x, s.slice.y, s.slice.z].map(glam::DVec4::from_array);
+    let basis = [&s.slice.x, &s.slice.y, &s.slice.z];
     for i in 0..3 {
         for j in 0..=i {
             let expected = if i == j { 1.0 } else { 0.0 };
-            if (basis[i].dot(basis[j]) - expected).abs() > SLICE_ORTHONORMAL_TOLERANCE {
+            if (super::dot(basis[i], basis[j]) - expected).abs() > SLICE_ORTHONORMAL_TOLERANCE {
                 let key = latest(&keys[..=i]);
                 return Err(fail(
                     &key,
@@ -563,12 +610,9 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
             }
         }
     }
-    let x = basis[0].normalize();
-    let y = (basis[1] - x * x.dot(basis[1])).normalize();
-    let z = (basis[2] - x * x.dot(basis[2]) - y * y.dot(basis[2])).normalize();
-    s.slice.x = x.to_array();
-    s.slice.y = y.to_array();
-    s.slice.z = z.to_array();
+    let [x, y, z] = super::orthonormalise(basis.map(|v| v.as_slice()))
+        .ok_or_else(|| fail(&latest(&keys), "makes the slice basis degenerate"))?;
+    (s.slice.x, s.slice.y, s.slice.z) = (x, y, z);
     Ok(())
 }
 

@@ -24,8 +24,10 @@ pub struct Scene {
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Fractal {
-    /// The Julia constant, `[real, i, j, k]`.
-    pub c: [f64; 4],
+    /// The algebra z and c live in: quaternions (4D), octonions (8D) or sedenions (16D).
+    pub algebra: Algebra,
+    /// The Julia constant, `[real, i, j, k, ...]`: as many numbers as the algebra has dimensions.
+    pub c: Vec<f64>,
     /// Iterations of z <- z^2 + c per distance estimate.
     pub max_iterations: u32,
     /// |z|^2 above this counts as escaped (the seed's ESCAPE_THRESHOLD).
@@ -46,6 +48,43 @@ pub struct Fractal {
     /// exactly); "cone": each 8x8 block of rays first marches one cone, and its rays start where
     /// the cone stopped.
     pub tracing: Tracing,
+}
+
+/// The algebra of z and c (`fractal.algebra`): the quaternions and the next two Cayley-Dickson
+/// algebras, whose numbers are pairs of numbers of the one before.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Algebra {
+    #[default]
+    Quaternion,
+    Octonion,
+    Sedenion,
+}
+
+impl Algebra {
+    pub const ALL: [Algebra; 3] = [Algebra::Quaternion, Algebra::Octonion, Algebra::Sedenion];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Algebra::Quaternion => "quaternion",
+            Algebra::Octonion => "octonion",
+            Algebra::Sedenion => "sedenion",
+        }
+    }
+
+    /// Real dimensions: 4, 8 or 16.
+    pub fn dim(self) -> usize {
+        4 * self.parts() as usize
+    }
+
+    /// Quaternion parts of a number (the shader's `algebra_parts`): 1, 2 or 4.
+    pub fn parts(self) -> u32 {
+        match self {
+            Algebra::Quaternion => 1,
+            Algebra::Octonion => 2,
+            Algebra::Sedenion => 4,
+        }
+    }
 }
 
 /// How primary rays are traced (`fractal.tracing`).
@@ -73,13 +112,14 @@ impl Tracing {
     }
 }
 
-/// The 3D slice of 4D space: p -> offset + p.x*x + p.y*y + p.z*z.
+/// The 3D slice of the algebra's space: p -> offset + p.x*x + p.y*y + p.z*z, each vector with
+/// as many numbers as the algebra has dimensions.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Slice {
-    pub x: [f64; 4],
-    pub y: [f64; 4],
-    pub z: [f64; 4],
-    pub offset: [f64; 4],
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub z: Vec<f64>,
+    pub offset: Vec<f64>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -201,7 +241,8 @@ pub struct View2d {
 impl Default for Fractal {
     fn default() -> Self {
         Self {
-            c: [-0.2, 0.6, 0.2, 0.2],
+            algebra: Algebra::Quaternion,
+            c: vec![-0.2, 0.6, 0.2, 0.2],
             max_iterations: 10,
             escape_radius_squared: 10.0,
             epsilon: 0.003,
@@ -214,13 +255,45 @@ impl Default for Fractal {
     }
 }
 
+impl Slice {
+    /// The standard axes 1, i, j in `dim` dimensions.
+    pub fn axes(&self, dim: usize) -> [Vec<f64>; 3] {
+        std::array::from_fn(|a| (0..dim).map(|k| if k == a { 1.0 } else { 0.0 }).collect())
+    }
+}
+
+/// The Euclidean inner product of two vectors (of equal length).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Gram-Schmidt in x, y, z order; None where the vectors are (nearly) dependent.
+pub fn orthonormalise(basis: [&[f64]; 3]) -> Option<[Vec<f64>; 3]> {
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for v in basis {
+        let mut w = v.to_vec();
+        for u in &out {
+            let d = dot(u, &w);
+            for (wk, uk) in w.iter_mut().zip(u) {
+                *wk -= d * uk;
+            }
+        }
+        let length = dot(&w, &w).sqrt();
+        if length.is_nan() || length <= 1e-9 {
+            return None;
+        }
+        out.push(w.iter().map(|x| x / length).collect());
+    }
+    out.try_into().ok()
+}
+
 impl Default for Slice {
     fn default() -> Self {
         Self {
-            x: [1.0, 0.0, 0.0, 0.0],
-            y: [0.0, 1.0, 0.0, 0.0],
-            z: [0.0, 0.0, 1.0, 0.0],
-            offset: [0.0; 4],
+            x: vec![1.0, 0.0, 0.0, 0.0],
+            y: vec![0.0, 1.0, 0.0, 0.0],
+            z: vec![0.0, 0.0, 1.0, 0.0],
+            offset: vec![0.0; 4],
         }
     }
 }
@@ -312,15 +385,39 @@ impl Scene {
     /// The 3D ball that the 4D bounding ball cuts out of the slice: centre `-B^T w` and
     /// radius^2 `bounding_radius_squared - |w - B B^T w|^2` (empty when that is <= 0).
     pub fn slice_bounds(&self) -> SliceBounds {
-        let w = glam::DVec4::from_array(self.slice.offset);
-        let basis = [self.slice.x, self.slice.y, self.slice.z].map(glam::DVec4::from_array);
-        let coords = basis.map(|b| b.dot(w));
-        let in_slice = basis[0] * coords[0] + basis[1] * coords[1] + basis[2] * coords[2];
-        let off_slice = w - in_slice;
+        let w = &self.slice.offset;
+        let basis = [&self.slice.x, &self.slice.y, &self.slice.z];
+        let coords = basis.map(|b| dot(b, w));
+        let off_slice: f64 = (0..w.len())
+            .map(|k| {
+                let v = w[k] - (0..3).map(|a| basis[a][k] * coords[a]).sum::<f64>();
+                v * v
+            })
+            .sum();
         SliceBounds {
             center: [-coords[0], -coords[1], -coords[2]],
-            radius_squared: self.fractal.bounding_radius_squared - off_slice.length_squared(),
+            radius_squared: self.fractal.bounding_radius_squared - off_slice,
         }
+    }
+
+    /// Changes the algebra, keeping what fits: c, the slice axes and the offset are cut or
+    /// padded with zeros to its dimension (the axes stay orthonormal: they lie in the first
+    /// four dimensions unless rotated out, and cutting a rotated axis re-orthonormalises it).
+    pub fn set_algebra(&mut self, algebra: Algebra) {
+        let dim = algebra.dim();
+        self.fractal.algebra = algebra;
+        for v in [
+            &mut self.fractal.c,
+            &mut self.slice.x,
+            &mut self.slice.y,
+            &mut self.slice.z,
+            &mut self.slice.offset,
+        ] {
+            v.resize(dim, 0.0);
+        }
+        let [x, y, z] = orthonormalise([&self.slice.x, &self.slice.y, &self.slice.z])
+            .unwrap_or_else(|| Slice::default().axes(dim));
+        (self.slice.x, self.slice.y, self.slice.z) = (x, y, z);
     }
 }
 
@@ -357,7 +454,7 @@ mod tests {
     fn slice_bounds_of_an_offset_slice() {
         let mut s = Scene::default();
         // offset (0.5, 0, 0, 0.6): 0.5 lies in the slice (along x), 0.6 off it (along k).
-        s.slice.offset = [0.5, 0.0, 0.0, 0.6];
+        s.slice.offset = vec![0.5, 0.0, 0.0, 0.6];
         let b = s.slice_bounds();
         assert_eq!(b.center, [-0.5, -0.0, -0.0]);
         assert!((b.radius_squared - (3.0 - 0.36)).abs() < 1e-12);

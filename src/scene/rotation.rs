@@ -1,22 +1,38 @@
-//! Turning a slice of 4D space: six rotation angles, one per coordinate plane, applied to a base
-//! slice basis. Every rotation is orthogonal, so an orthonormal basis stays orthonormal.
+//! Turning a slice of the algebra's space: one rotation angle per coordinate plane (6 in 4D, 28
+//! in 8D, 120 in 16D), applied in order to a base slice basis. Every rotation is orthogonal, so
+//! an orthonormal basis stays orthonormal.
 
-use glam::DVec4;
+/// The name of axis k: 1, i, j, k for the quaternion units, then e4 ... e15.
+pub fn axis_name(k: usize) -> String {
+    match k {
+        0 => "real".into(),
+        1 => "i".into(),
+        2 => "j".into(),
+        3 => "k".into(),
+        _ => format!("e{k}"),
+    }
+}
 
-/// The six planes of 4D rotation, in the order the angles are given and applied.
-pub const PLANES: [(usize, usize, &str); 6] = [
-    (0, 1, "real-i"),
-    (0, 2, "real-j"),
-    (0, 3, "real-k"),
-    (1, 2, "i-j"),
-    (1, 3, "i-k"),
-    (2, 3, "j-k"),
-];
+/// The coordinate planes (a, b), a < b < dim, in the order the angles are given and applied:
+/// for 4D (real-i, real-j, real-k, i-j, i-k, j-k).
+pub fn planes(dim: usize) -> Vec<(usize, usize)> {
+    (0..dim)
+        .flat_map(|a| (a + 1..dim).map(move |b| (a, b)))
+        .collect()
+}
 
-/// Rotates `v` by `angles[p]` radians in plane `PLANES[p]`, for p = 0..6 in order.
-pub fn rotate4(v: [f64; 4], angles: &[f64; 6]) -> [f64; 4] {
-    let mut v = v;
-    for (&(a, b, _), &theta) in PLANES.iter().zip(angles) {
+/// A plane's name, e.g. "real-k" or "j-e6".
+pub fn plane_name((a, b): (usize, usize)) -> String {
+    format!("{}-{}", axis_name(a), axis_name(b))
+}
+
+/// Rotates `v` by `angles[p]` radians in plane `planes(v.len())[p]`, in order.
+pub fn rotate(v: &[f64], angles: &[f64]) -> Vec<f64> {
+    let mut v = v.to_vec();
+    for (&(a, b), &theta) in planes(v.len()).iter().zip(angles) {
+        if theta == 0.0 {
+            continue;
+        }
         let (s, c) = theta.sin_cos();
         let (va, vb) = (v[a], v[b]);
         v[a] = c * va - s * vb;
@@ -26,18 +42,17 @@ pub fn rotate4(v: [f64; 4], angles: &[f64; 6]) -> [f64; 4] {
 }
 
 /// The slice basis (x, y, z) rotated by the angles; orthonormal when `base` is.
-pub fn rotate_basis(base: [[f64; 4]; 3], angles: &[f64; 6]) -> [[f64; 4]; 3] {
-    base.map(|b| rotate4(b, angles))
+pub fn rotate_basis(base: &[Vec<f64>; 3], angles: &[f64]) -> [Vec<f64>; 3] {
+    std::array::from_fn(|i| rotate(&base[i], angles))
 }
 
 /// How far a basis is from orthonormal: the largest |b_i . b_j - delta_ij|.
-pub fn orthonormality_error(basis: &[[f64; 4]; 3]) -> f64 {
-    let v = basis.map(DVec4::from_array);
+pub fn orthonormality_error(basis: &[Vec<f64>; 3]) -> f64 {
     let mut worst = 0f64;
     for i in 0..3 {
         for j in 0..3 {
             let expected = if i == j { 1.0 } else { 0.0 };
-            worst = worst.max((v[i].dot(v[j]) - expected).abs());
+            worst = worst.max((super::dot(&basis[i], &basis[j]) - expected).abs());
         }
     }
     worst
@@ -47,28 +62,41 @@ pub fn orthonormality_error(basis: &[[f64; 4]; 3]) -> f64 {
 mod tests {
     use super::*;
 
-    const STANDARD: [[f64; 4]; 3] = [
-        [1.0, 0.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0, 0.0],
-        [0.0, 0.0, 1.0, 0.0],
-    ];
+    fn standard(dim: usize) -> [Vec<f64>; 3] {
+        super::super::Slice::default().axes(dim)
+    }
 
     #[test]
     fn zero_angles_keep_the_basis() {
-        assert_eq!(rotate_basis(STANDARD, &[0.0; 6]), STANDARD);
+        for dim in [4, 8, 16] {
+            let angles = vec![0.0; planes(dim).len()];
+            assert_eq!(rotate_basis(&standard(dim), &angles), standard(dim));
+        }
+    }
+
+    #[test]
+    fn plane_counts_and_names() {
+        assert_eq!(planes(4).len(), 6);
+        assert_eq!(planes(8).len(), 28);
+        assert_eq!(planes(16).len(), 120);
+        let names: Vec<String> = planes(4).into_iter().map(plane_name).collect();
+        assert_eq!(names, ["real-i", "real-j", "real-k", "i-j", "i-k", "j-k"]);
+        assert_eq!(plane_name((2, 6)), "j-e6");
     }
 
     #[test]
     fn rotated_bases_stay_orthonormal() {
         let mut seed = 0.1234f64;
-        for _ in 0..500 {
-            let mut angles = [0.0; 6];
-            for a in &mut angles {
-                seed = (seed * 997.0 + 0.31).fract();
-                *a = (seed - 0.5) * 4.0 * std::f64::consts::PI;
+        for dim in [4, 8, 16] {
+            for _ in 0..100 {
+                let mut angles = vec![0.0; planes(dim).len()];
+                for a in &mut angles {
+                    seed = (seed * 997.0 + 0.31).fract();
+                    *a = (seed - 0.5) * 4.0 * std::f64::consts::PI;
+                }
+                let basis = rotate_basis(&standard(dim), &angles);
+                assert!(orthonormality_error(&basis) < 1e-12, "{dim}: {angles:?}");
             }
-            let basis = rotate_basis(STANDARD, &angles);
-            assert!(orthonormality_error(&basis) < 1e-12, "{angles:?}");
         }
     }
 
@@ -76,7 +104,17 @@ mod tests {
     fn a_quarter_turn_in_the_real_k_plane_maps_real_to_k() {
         let mut angles = [0.0; 6];
         angles[2] = std::f64::consts::FRAC_PI_2;
-        let x = rotate4([1.0, 0.0, 0.0, 0.0], &angles);
+        let x = rotate(&[1.0, 0.0, 0.0, 0.0], &angles);
         assert!((x[3] - 1.0).abs() < 1e-15 && x[0].abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_quarter_turn_into_a_higher_dimension() {
+        // In 8D, plane index of (1, 7): i turns into e7.
+        let p = planes(8).iter().position(|&p| p == (1, 7)).unwrap();
+        let mut angles = vec![0.0; 28];
+        angles[p] = std::f64::consts::FRAC_PI_2;
+        let x = rotate(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], &angles);
+        assert!((x[7] - 1.0).abs() < 1e-15 && x[1].abs() < 1e-15);
     }
 }
