@@ -57,6 +57,13 @@ impl Real for f64 {
     }
 }
 
+/// A 2-vector, the twin of WGSL's `vec2<f32>`; as a complex number `x` is the real part.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Vec2<F> {
+    pub x: F,
+    pub y: F,
+}
+
 /// A 3-vector, the twin of WGSL's `vec3<f32>`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vec3<F> {
@@ -72,6 +79,19 @@ pub struct Vec4<F> {
     pub y: F,
     pub z: F,
     pub w: F,
+}
+
+impl<F: Real> Vec2<F> {
+    pub const fn new(x: F, y: F) -> Self {
+        Self { x, y }
+    }
+    /// Converts a host-side f64 vector to this precision.
+    pub fn from_f64(v: [f64; 2]) -> Self {
+        Self::new(F::lit(v[0]), F::lit(v[1]))
+    }
+    pub fn dot(self, o: Self) -> F {
+        self.x * o.x + self.y * o.y
+    }
 }
 
 impl<F: Real> Vec3<F> {
@@ -193,6 +213,7 @@ macro_rules! impl_vector_ops {
     };
 }
 
+impl_vector_ops!(Vec2 { x, y });
 impl_vector_ops!(Vec3 { x, y, z });
 impl_vector_ops!(Vec4 { x, y, z, w });
 

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use qjulia::output::{OutputPaths, StreamingOutputs};
-use qjulia::scene::SceneLoader;
+use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
+use qjulia::scene::{SceneLoader, View};
 use qjulia::{Backend, Precision, Scene};
 
 #[derive(Parser, Debug)]
@@ -24,9 +24,12 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG (and optionally depth, steps and stats).
     Render(RenderArgs),
+    /// Render the 2D Julia set of c = c[0] + c[1] i (the scene's [view2d]) to a grey PNG.
+    #[command(name = "render2d")]
+    Render2d(Render2dArgs),
     /// The desktop explorer: every scene value live (starts from the scene options when given,
     /// else from the last scene shown, else the default).
-    Explore(SceneArgs),
+    Explore(ExploreArgs),
     /// List the GPU adapters wgpu finds and say which one `render` would use.
     Info,
     /// Accuracy and stability reports.
@@ -66,10 +69,44 @@ pub struct RenderArgs {
     /// Write render statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Shorthand for image.view: the shaded picture, or a heat map of the steps per ray or of
+    /// the wasted steps in 8x8 tiles (with a legend strip below).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     pub backend: BackendArg,
     #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
     pub precision: PrecisionArg,
+}
+
+#[derive(Args, Debug)]
+pub struct Render2dArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The PNG to write.
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE.png",
+        default_value = "qjulia.png"
+    )]
+    pub output: PathBuf,
+    /// Write render statistics as JSON (hits: points in the set; steps: iterations).
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    pub precision: PrecisionArg,
+}
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct ExploreArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Shorthand for image.view (what the 3D view shows).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
 }
 
 #[derive(Args, Debug)]
@@ -110,6 +147,42 @@ pub enum PrecisionArg {
     F64,
 }
 
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ViewArg {
+    Shaded,
+    Steps,
+    Divergence,
+}
+
+impl ViewArg {
+    fn view(self) -> View {
+        match self {
+            ViewArg::Shaded => View::Shaded,
+            ViewArg::Steps => View::Steps,
+            ViewArg::Divergence => View::Divergence,
+        }
+    }
+}
+
+impl BackendArg {
+    fn backend(self) -> Backend {
+        match self {
+            BackendArg::Auto => Backend::Auto,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Cpu => Backend::Cpu,
+        }
+    }
+}
+
+impl PrecisionArg {
+    fn precision(self) -> Precision {
+        match self {
+            PrecisionArg::F32 => Precision::F32,
+            PrecisionArg::F64 => Precision::F64,
+        }
+    }
+}
+
 impl SceneArgs {
     /// Whether any scene option was given.
     pub fn given(&self) -> bool {
@@ -121,6 +194,11 @@ impl SceneArgs {
 
     /// The scene these options describe, validated once all layers are in.
     pub fn load(&self) -> Result<Scene, qjulia::Error> {
+        self.load_with_view(None)
+    }
+
+    /// As [`Self::load`], with `--view` (a shorthand flag of `render` and `explore`).
+    pub fn load_with_view(&self, view: Option<ViewArg>) -> Result<Scene, qjulia::Error> {
         let mut loader = SceneLoader::new();
         if let Some(path) = &self.scene {
             loader.file(path)?;
@@ -133,6 +211,14 @@ impl SceneArgs {
                 loader.flag(key, toml::Value::Integer(v), format!("{flag} {v}"));
             }
         }
+        if let Some(view) = view {
+            let name = view.view().name();
+            loader.flag(
+                "image.view",
+                toml::Value::String(name.into()),
+                format!("--view {name}"),
+            );
+        }
         for raw in &self.sets {
             loader.set(raw)?;
         }
@@ -141,7 +227,7 @@ impl SceneArgs {
 }
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
-    let scene = args.scene.load()?;
+    let scene = args.scene.load_with_view(args.view)?;
     let paths = OutputPaths {
         png: args.output.clone().or_else(|| {
             (args.depth.is_none() && args.steps.is_none()).then(|| PathBuf::from("qjulia.png"))
@@ -150,17 +236,17 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         steps: args.steps.clone(),
         stats: args.stats.clone(),
     };
-    let backend = match args.backend {
-        BackendArg::Auto => Backend::Auto,
-        BackendArg::Gpu => Backend::Gpu,
-        BackendArg::Cpu => Backend::Cpu,
-    };
-    let precision = match args.precision {
-        PrecisionArg::F32 => Precision::F32,
-        PrecisionArg::F64 => Precision::F64,
-    };
+    let (backend, precision) = (args.backend.backend(), args.precision.precision());
     for warning in qjulia::precision_warnings(&scene, precision) {
         eprintln!("qjulia: warning: {warning}");
+    }
+    if scene.image.view != View::Shaded && paths.png.is_some() {
+        // A heat map is scaled to the whole image's steps: rendered whole, then written.
+        let notice = &mut |n: &str| eprintln!("qjulia: {n}");
+        let (frame, stats) = qjulia::render(&scene, backend, precision, false, notice)?;
+        write_view_outputs(&paths, &frame, &stats, &scene)?;
+        report_render(&stats);
+        return Ok(());
     }
     let shade = paths.png.is_some();
     // Outputs are written band by band as the render goes: any size in bounded memory.
@@ -193,8 +279,45 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     bar.finish_and_clear();
     outputs.finish(&stats)?;
+    report_render(&stats);
+    Ok(())
+}
+
+/// One line on stderr about a finished render.
+fn report_render(stats: &qjulia::RenderStats) {
     eprintln!(
-        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel",
+        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel, 8x8 tile efficiency {:.1}%",
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.render_seconds,
+        stats.hit_fraction * 100.0,
+        stats.steps_mean,
+        stats.tile_efficiency * 100.0
+    );
+}
+
+pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let paths = OutputPaths {
+        png: Some(args.output.clone()),
+        stats: args.stats.clone(),
+        ..Default::default()
+    };
+    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
+    let stats = qjulia::render2d_streaming(
+        &scene,
+        args.backend.backend(),
+        args.precision.precision(),
+        &mut |n| eprintln!("qjulia: {n}"),
+        &mut |band| outputs.write_band(band),
+    )?;
+    outputs.finish(&stats)?;
+    eprintln!(
+        "qjulia: 2D Julia set of c = {} + {} i, {}x{} on {} ({}) in {:.3} s, {:.1}% in the set, {:.1} iterations/pixel",
+        scene.fractal.c[0],
+        scene.fractal.c[1],
         stats.width,
         stats.height,
         stats.adapter,
@@ -206,9 +329,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-pub fn explore(args: &SceneArgs) -> anyhow::Result<()> {
-    let initial = if args.given() {
-        Some(args.load()?)
+pub fn explore(args: &ExploreArgs) -> anyhow::Result<()> {
+    let initial = if args.scene.given() || args.view.is_some() {
+        Some(args.scene.load_with_view(args.view)?)
     } else {
         None
     };

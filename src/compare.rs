@@ -32,6 +32,17 @@ pub const CONTRACT_TOLERANCE: Tolerance = Tolerance {
     colour_agreement: 0.99,
 };
 
+/// The 2D Julia view, GPU against the CPU twin in f32: in-set masks on 99.5% of pixels, grey
+/// within 2/255 on 99% (orbits near the boundary are chaotic: one rounding apart, they can
+/// escape an iteration apart). Depth is 0 wherever both are in the set.
+pub const JULIA2D_TOLERANCE: Tolerance = Tolerance {
+    mask_agreement: 0.995,
+    depth_abs: 0.0,
+    depth_agreement: 1.0,
+    colour_abs: 2,
+    colour_agreement: 0.99,
+};
+
 /// How well two frames agree.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Agreement {

@@ -48,28 +48,9 @@ impl Frame {
     /// the tile's largest step count. 1 means every ray of a tile takes as many steps as the
     /// slowest; lower means lanes wait.
     pub fn tile_efficiency(&self, tile: u32) -> f64 {
-        let (w, h) = (self.width, self.height);
-        let (mut useful, mut paid) = (0u64, 0u64);
-        for ty in (0..h).step_by(tile as usize) {
-            for tx in (0..w).step_by(tile as usize) {
-                let (mut sum, mut max, mut n) = (0u64, 0u64, 0u64);
-                for j in ty..(ty + tile).min(h) {
-                    for i in tx..(tx + tile).min(w) {
-                        let s = self.steps[(j * w + i) as usize] as u64;
-                        sum += s;
-                        max = max.max(s);
-                        n += 1;
-                    }
-                }
-                useful += sum;
-                paid += max * n;
-            }
-        }
-        if paid == 0 {
-            1.0
-        } else {
-            useful as f64 / paid as f64
-        }
+        let mut work = crate::views::TileWork::new(self.width, tile);
+        work.add_rows(&self.steps);
+        work.finish().efficiency
     }
 
     /// Hit fraction and step figures over all pixels.
@@ -113,6 +94,11 @@ pub struct RenderStats {
     pub hit_fraction: f64,
     pub steps_mean: f64,
     pub steps_max: u32,
+    /// Divergence in 8x8 tiles (README's "Views"): sum of steps over the sum of tile pixels
+    /// times the tile's most steps.
+    pub tile_efficiency: f64,
+    /// Mean over pixels of the 8x8 tile's most steps minus the pixel's own.
+    pub wasted_steps_mean: f64,
 }
 
 #[cfg(test)]

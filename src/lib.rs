@@ -15,14 +15,15 @@ pub mod output;
 pub mod params;
 pub mod report;
 pub mod scene;
+pub mod views;
 
 pub use error::{Error, Result};
 pub use frame::{Frame, RenderStats};
-pub use params::TraceParams;
+pub use params::{Julia2dParams, TraceParams};
 pub use scene::Scene;
 
 use algebra::Real;
-use gpu::{GpuContext, GpuTracer};
+use gpu::{GpuContext, GpuJulia2d, GpuTracer};
 
 /// Which tracer renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -193,7 +194,7 @@ fn render_cpu_streaming(
         }
         Ok(seconds)
     }
-    let mut summary = SummaryBuilder::default();
+    let mut summary = SummaryBuilder::new(scene.image.width);
     let seconds = match precision {
         Precision::F32 => run(&TraceParams::<f32>::new(scene), sink, &mut summary)?,
         Precision::F64 => run(&TraceParams::<f64>::new(scene), sink, &mut summary)?,
@@ -215,7 +216,7 @@ fn render_gpu_streaming(
     shade: bool,
     sink: &mut dyn FnMut(&Frame) -> Result<()>,
 ) -> Result<RenderStats> {
-    let mut summary = SummaryBuilder::default();
+    let mut summary = SummaryBuilder::new(scene.image.width);
     let (seconds, gpu_seconds) =
         tracer.render_bands(&TraceParams::<f32>::new(scene), shade, &mut |band| {
             summary.add(&band);
@@ -237,7 +238,7 @@ fn render_gpu_streaming(
 pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Frame, RenderStats)> {
     let out = tracer.render_outputs(&TraceParams::<f32>::new(scene), shade)?;
     let label = tracer.context().adapter_label();
-    let mut summary = SummaryBuilder::default();
+    let mut summary = SummaryBuilder::new(scene.image.width);
     summary.add(&out.frame);
     let stats = make_stats(
         scene,
@@ -251,17 +252,165 @@ pub fn render_gpu(tracer: &GpuTracer, scene: &Scene, shade: bool) -> Result<(Fra
     Ok((out.frame, stats))
 }
 
-/// Hit and step figures accumulated over bands.
-#[derive(Default)]
+/// The 2D Julia view of a validated scene (`qjulia render2d`), handed to `sink` in bands of
+/// whole rows, top to bottom: colour the grey, depth 0 in the set and NaN outside it, steps the
+/// iterations made. Backends and precisions as for [`render_streaming`]; the stats count points
+/// in the set as hits and iterations as steps.
+pub fn render2d_streaming(
+    scene: &Scene,
+    backend: Backend,
+    precision: Precision,
+    notice: &mut dyn FnMut(&str),
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
+    match (backend, precision) {
+        (Backend::Cpu, _) => render2d_cpu(scene, precision, sink),
+        (Backend::Gpu, Precision::F64) => Err(Error::Unsupported(GPU_F64_UNSUPPORTED.into())),
+        (Backend::Gpu, Precision::F32) => {
+            render2d_gpu(&GpuJulia2d::new(GpuContext::new()?)?, scene, sink)
+        }
+        (Backend::Auto, Precision::F64) => {
+            notice("f64 is not available on the GPU; rendering on the CPU");
+            render2d_cpu(scene, precision, sink)
+        }
+        (Backend::Auto, Precision::F32) => match GpuContext::new().and_then(GpuJulia2d::new) {
+            Ok(julia) => {
+                notice(&format!(
+                    "rendering on the GPU: {}",
+                    gpu::adapter_label(&julia.context().info)
+                ));
+                render2d_gpu(&julia, scene, sink)
+            }
+            Err(e) => {
+                notice(&format!("{e}; rendering on the CPU"));
+                render2d_cpu(scene, precision, sink)
+            }
+        },
+    }
+}
+
+fn render2d_cpu(
+    scene: &Scene,
+    precision: Precision,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
+    fn run<F: Real>(
+        p: &Julia2dParams<F>,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+        summary: &mut SummaryBuilder,
+    ) -> Result<f64> {
+        let mut seconds = 0.0;
+        let mut row = 0;
+        while row < p.height {
+            let rows = cpu_band_rows(p.width).min(p.height - row);
+            let start = std::time::Instant::now();
+            let band = cpu::julia2d::render_rows(p, row..row + rows);
+            seconds += start.elapsed().as_secs_f64();
+            summary.add(&band);
+            sink(&band)?;
+            row += rows;
+        }
+        Ok(seconds)
+    }
+    let mut summary = SummaryBuilder::new(scene.image.width);
+    let seconds = match precision {
+        Precision::F32 => run(&Julia2dParams::<f32>::new(scene), sink, &mut summary)?,
+        Precision::F64 => run(&Julia2dParams::<f64>::new(scene), sink, &mut summary)?,
+    };
+    Ok(make_stats(
+        scene,
+        &summary,
+        "cpu",
+        "cpu".into(),
+        precision,
+        seconds,
+        None,
+    ))
+}
+
+fn render2d_gpu(
+    julia: &GpuJulia2d,
+    scene: &Scene,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<RenderStats> {
+    let mut summary = SummaryBuilder::new(scene.image.width);
+    let seconds = julia.render_bands(&Julia2dParams::<f32>::new(scene), &mut |band| {
+        summary.add(&band);
+        sink(&band)
+    })?;
+    let label = gpu::adapter_label(&julia.context().info);
+    Ok(make_stats(
+        scene,
+        &summary,
+        "gpu",
+        label,
+        Precision::F32,
+        seconds,
+        None,
+    ))
+}
+
+/// The 2D Julia view on a given GPU pipeline, in host memory (the explorer's export).
+pub fn render2d_gpu_frame(julia: &GpuJulia2d, scene: &Scene) -> Result<(Frame, RenderStats)> {
+    let mut frame = Frame {
+        width: scene.image.width,
+        height: 0,
+        colour: Vec::new(),
+        depth: Vec::new(),
+        steps: Vec::new(),
+        non_finite: 0,
+    };
+    let stats = render2d_gpu(julia, scene, &mut |band| {
+        frame.append(band);
+        Ok(())
+    })?;
+    Ok((frame, stats))
+}
+
+/// The 2D Julia view in host memory; see [`render2d_streaming`].
+pub fn render2d(
+    scene: &Scene,
+    backend: Backend,
+    precision: Precision,
+    notice: &mut dyn FnMut(&str),
+) -> Result<(Frame, RenderStats)> {
+    let mut frame = Frame {
+        width: scene.image.width,
+        height: 0,
+        colour: Vec::new(),
+        depth: Vec::new(),
+        steps: Vec::new(),
+        non_finite: 0,
+    };
+    let stats = render2d_streaming(scene, backend, precision, notice, &mut |band| {
+        frame.append(band);
+        Ok(())
+    })?;
+    Ok((frame, stats))
+}
+
+/// Hit, step and divergence figures accumulated over bands.
 struct SummaryBuilder {
     pixels: u64,
     hits: u64,
     steps: u64,
     steps_max: u32,
+    tiles: views::TileWork,
 }
 
 impl SummaryBuilder {
+    fn new(width: u32) -> Self {
+        Self {
+            pixels: 0,
+            hits: 0,
+            steps: 0,
+            steps_max: 0,
+            tiles: views::TileWork::new(width, views::TILE),
+        }
+    }
+
     fn add(&mut self, band: &Frame) {
+        self.tiles.add_rows(&band.steps);
         self.pixels += band.pixel_count() as u64;
         self.hits += band.depth.iter().filter(|d| !d.is_nan()).count() as u64;
         self.steps += band.steps.iter().map(|&s| s as u64).sum::<u64>();
@@ -281,6 +430,7 @@ fn make_stats(
     gpu_seconds: Option<f64>,
 ) -> RenderStats {
     let n = summary.pixels.max(1) as f64;
+    let tiles = summary.tiles.clone().finish();
     RenderStats {
         backend: backend.into(),
         adapter,
@@ -292,5 +442,7 @@ fn make_stats(
         hit_fraction: summary.hits as f64 / n,
         steps_mean: summary.steps as f64 / n,
         steps_max: summary.steps_max,
+        tile_efficiency: tiles.efficiency,
+        wasted_steps_mean: tiles.wasted_steps_mean,
     }
 }

@@ -20,10 +20,11 @@ fn main() -> ExitCode {
     };
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
+        Some(cli::Command::Render2d(args)) => cli::render2d(args),
         Some(cli::Command::Info) => cli::info(),
         Some(cli::Command::Report(args)) => cli::report(args),
         Some(cli::Command::Explore(args)) => cli::explore(args),
-        None if qjulia::explore::display_available() => cli::explore(&cli::SceneArgs::default()),
+        None if qjulia::explore::display_available() => cli::explore(&cli::ExploreArgs::default()),
         None => {
             // No display to explore on: help, on stdout, exit 0.
             let _ = cli::Cli::command().print_help();

@@ -36,6 +36,27 @@ pub fn write_outputs(
     outputs.finish(stats)
 }
 
+/// As [`write_outputs`], with the PNG showing the scene's `image.view`: the shaded picture, or
+/// a heat map of the steps with its legend strip below (then the PNG is [`LEGEND_HEIGHT`] rows
+/// taller than the image).
+///
+/// [`LEGEND_HEIGHT`]: crate::views::LEGEND_HEIGHT
+pub fn write_view_outputs(
+    paths: &OutputPaths,
+    frame: &Frame,
+    stats: &RenderStats,
+    scene: &Scene,
+) -> Result<()> {
+    if scene.image.view == crate::scene::View::Shaded || paths.png.is_none() {
+        return write_outputs(paths, frame, stats, scene);
+    }
+    let (width, height, rgb) = crate::views::view_image(frame, scene.image.view);
+    let mut outputs = StreamingOutputs::create_sized(paths, scene, [width, height])?;
+    outputs.write_png_rows(&rgb)?;
+    outputs.write_maps(frame)?;
+    outputs.finish(stats)
+}
+
 /// Writes one output to a temporary file in its target's directory.
 fn stage(
     path: &Path,
@@ -111,11 +132,16 @@ fn npy_header(w: &mut dyn Write, descr: &str, width: u32, height: u32) -> std::i
 impl StreamingOutputs {
     /// Opens temporary files for every requested output and writes their headers.
     pub fn create(paths: &OutputPaths, scene: &Scene) -> Result<Self> {
+        Self::create_sized(paths, scene, [scene.image.width, scene.image.height])
+    }
+
+    /// As [`Self::create`], with a PNG of `png_size` pixels (a view with a legend strip).
+    pub fn create_sized(paths: &OutputPaths, scene: &Scene, png_size: [u32; 2]) -> Result<Self> {
         let (width, height) = (scene.image.width, scene.image.height);
         let png = match &paths.png {
             Some(path) => {
                 let (temp, path, file) = temp_writer(path)?;
-                let mut encoder = png::Encoder::new(file, width, height);
+                let mut encoder = png::Encoder::new(file, png_size[0], png_size[1]);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
                 let to_io = |e: png::EncodingError| io_error(&path, std::io::Error::other(e));
@@ -151,11 +177,22 @@ impl StreamingOutputs {
 
     /// Appends a band of whole rows, top to bottom.
     pub fn write_band(&mut self, band: &Frame) -> Result<()> {
-        if let Some((_, path, stream)) = &mut self.png {
-            stream
-                .write_all(&band.rgb8())
-                .map_err(|e| io_error(path, e))?;
+        if self.png.is_some() {
+            self.write_png_rows(&band.rgb8())?;
         }
+        self.write_maps(band)
+    }
+
+    /// Appends whole rows of RGB8 pixels to the PNG.
+    pub fn write_png_rows(&mut self, rgb: &[u8]) -> Result<()> {
+        if let Some((_, path, stream)) = &mut self.png {
+            stream.write_all(rgb).map_err(|e| io_error(path, e))?;
+        }
+        Ok(())
+    }
+
+    /// Appends a band of whole rows to the depth and steps maps.
+    pub fn write_maps(&mut self, band: &Frame) -> Result<()> {
         if let Some((_, path, file)) = &mut self.depth {
             file.write_all(bytemuck::cast_slice(&band.depth))
                 .map_err(|e| io_error(path, e))?;

@@ -2,7 +2,7 @@
 //! the precision the tracer runs in: the twin of the WGSL `Params` uniform, with the camera
 //! frame and the slice's bounding ball already worked out.
 
-use crate::algebra::{Hyper, Real, Vec3, hyper_from_f64};
+use crate::algebra::{Hyper, Real, Vec2, Vec3, hyper_from_f64};
 use crate::scene::{NormalMethod, Scene, Tracing};
 
 /// The tracer's inputs in precision `F`. Field names are those of `Params` in
@@ -90,6 +90,40 @@ impl<F: Real> TraceParams<F> {
             pixel_angle: F::lit(scene.pixel_angle()),
             tracing: f.tracing,
             algebra_parts: f.algebra.parts(),
+        }
+    }
+}
+
+/// What the 2D Julia kernel needs of a scene (`view2d` and the first two components of
+/// `fractal.c`), precomputed in f64 and rounded to `F`. Field names are those of
+/// `Julia2dParams` in shaders/julia2d.wgsl; [`crate::gpu::GpuJulia2dParams`] is its f32 image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Julia2dParams<F> {
+    /// c = c.x + c.y i.
+    pub c: Vec2<F>,
+    /// The complex number at the image's centre.
+    pub center: Vec2<F>,
+    /// Half the image's width and height in the complex plane: extent / 2 and
+    /// extent / 2 * height / width.
+    pub half_extent: Vec2<F>,
+    pub max_iterations: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl<F: Real> Julia2dParams<F> {
+    /// The parameters of a validated scene, rounded to `F`.
+    pub fn new(scene: &Scene) -> Self {
+        let v = &scene.view2d;
+        let (w, h) = (scene.image.width, scene.image.height);
+        let half = 0.5 * v.extent;
+        Self {
+            c: Vec2::from_f64([scene.fractal.c[0], scene.fractal.c[1]]),
+            center: Vec2::from_f64(v.center),
+            half_extent: Vec2::from_f64([half, half * h as f64 / w as f64]),
+            max_iterations: v.max_iterations,
+            width: w,
+            height: h,
         }
     }
 }

@@ -383,3 +383,201 @@ fn usage_errors_are_one_line_and_exit_2() {
     let help = qjulia(dir.path(), &["render", "--help"]);
     assert!(help.status.success() && String::from_utf8_lossy(&help.stdout).contains("--precision"));
 }
+
+#[test]
+fn render2d_writes_a_grey_png_that_carries_its_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(
+        dir.path(),
+        &[
+            "render2d",
+            "--backend",
+            "cpu",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--set",
+            "fractal.c=[-0.12, 0.75, 0, 0]",
+            "--set",
+            "view2d.extent=3",
+            "--stats",
+            "s.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(files_in(dir.path()), ["qjulia.png", "s.json"]);
+    let img = image::open(dir.path().join("qjulia.png"))
+        .unwrap()
+        .to_rgb8();
+    assert_eq!((img.width(), img.height()), (64, 48));
+    assert!(
+        img.pixels().all(|p| p[0] == p[1] && p[1] == p[2]),
+        "not grey"
+    );
+    assert!(img.pixels().any(|p| p[0] == 255) && img.pixels().any(|p| p[0] < 64));
+    let scene = qjulia::scene::scene_from_png(&dir.path().join("qjulia.png")).unwrap();
+    assert!(
+        scene.contains("[view2d]") && scene.contains("extent = 3.0"),
+        "{scene}"
+    );
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    assert!(stats["hit_fraction"].as_f64().unwrap() > 0.05);
+    assert!(stats["steps_max"].as_u64().unwrap() == 256);
+    // Rendered again from its PNG, with -o: the same picture.
+    let again = qjulia(
+        dir.path(),
+        &["render2d", "--scene", "qjulia.png", "-o", "again.png"],
+    );
+    assert!(again.status.success(), "{}", stderr(&again));
+    let b = image::open(dir.path().join("again.png")).unwrap().to_rgb8();
+    let differ = img
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p[0].abs_diff(q[0]) > 2)
+        .count();
+    assert!(differ <= 30, "{differ} pixels differ between CPU and auto");
+}
+
+#[test]
+fn bad_view2d_values_exit_2_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: &[(&str, &str)] = &[
+        ("view2d.extent=0", "view2d.extent must be > 0"),
+        ("view2d.extent=-1", "view2d.extent must be > 0"),
+        ("view2d.extent=nan", "view2d.extent must be finite"),
+        (
+            "view2d.max_iterations=0",
+            "view2d.max_iterations must be in [1, 100000]",
+        ),
+        (
+            "view2d.max_iterations=100001",
+            "view2d.max_iterations must be in [1, 100000]",
+        ),
+        (
+            "view2d.center=[0]",
+            "view2d.center must be an array of 2 numbers, not 1",
+        ),
+        ("view2d.center=[inf, 0]", "view2d.center must be finite"),
+        ("view2d.zoom=2", "unknown key view2d.zoom"),
+        ("image.view=depth", "image.view must be one of"),
+    ];
+    for (set, expected) in cases {
+        for command in ["render2d", "render"] {
+            let out = qjulia(
+                dir.path(),
+                &[command, "--set", set, "-o", "x.png", "--stats", "s.json"],
+            );
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "{command} {set}: {}",
+                stderr(&out)
+            );
+            let line = error_line(&out);
+            assert!(
+                line.starts_with(&format!("error: --set {set}: ")) && line.contains(expected),
+                "{command} {set}: {line}"
+            );
+            assert!(
+                files_in(dir.path()).is_empty(),
+                "{command} {set} wrote a file"
+            );
+        }
+    }
+    std::fs::write(dir.path().join("v.toml"), "[view2d]\nextent = 0\n").unwrap();
+    let out = qjulia(dir.path(), &["render2d", "--scene", "v.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(error_line(&out).contains("v.toml: view2d.extent = 0: must be > 0"));
+    assert_eq!(files_in(dir.path()), ["v.toml"]);
+}
+
+#[test]
+fn step_views_draw_a_heat_map_with_a_legend_and_keep_the_view_in_the_png() {
+    let dir = tempfile::tempdir().unwrap();
+    for view in ["steps", "divergence"] {
+        let png = format!("{view}.png");
+        let out = qjulia(
+            dir.path(),
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--width",
+                "96",
+                "--height",
+                "40",
+                "--view",
+                view,
+                "-o",
+                &png,
+                "--stats",
+                "s.json",
+                "--steps",
+                "s.npy",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let img = image::open(dir.path().join(&png)).unwrap().to_rgb8();
+        let legend = qjulia::views::LEGEND_HEIGHT;
+        assert_eq!((img.width(), img.height()), (96, 40 + legend));
+        // The corners miss the bounding ball: black in the steps view, and in the divergence
+        // view, whose corner tiles (8 pixels wide, all missing the ball) do no work.
+        assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0], "{view}");
+        // Somewhere the colour map's bright end.
+        let top = qjulia::views::COLOUR_STOPS[8];
+        assert!(
+            (0..40).any(|j| (0..96).any(|i| img.get_pixel(i, j).0 == top)),
+            "{view}: no pixel at the maximum"
+        );
+        let scene = qjulia::scene::scene_from_png(&dir.path().join(&png)).unwrap();
+        assert!(scene.contains(&format!("view = \"{view}\"")), "{scene}");
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap())
+                .unwrap();
+        let efficiency = stats["tile_efficiency"].as_f64().unwrap();
+        assert!(efficiency > 0.0 && efficiency <= 1.0, "{efficiency}");
+        assert!(stats["wasted_steps_mean"].as_f64().unwrap() > 0.0);
+        // From its PNG, the same picture again.
+        let again = qjulia(
+            dir.path(),
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--scene",
+                &png,
+                "-o",
+                "again.png",
+            ],
+        );
+        assert!(again.status.success(), "{}", stderr(&again));
+        let b = image::open(dir.path().join("again.png")).unwrap().to_rgb8();
+        assert!(img == b, "{view}: the re-render differs");
+    }
+    // --set wins over --view.
+    let out = qjulia(
+        dir.path(),
+        &[
+            "render",
+            "--backend",
+            "cpu",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--view",
+            "steps",
+            "--set",
+            "image.view=shaded",
+            "-o",
+            "shaded.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("shaded.png")).unwrap();
+    assert_eq!(img.height(), 16);
+    let out = qjulia(dir.path(), &["render", "--view", "normals"]);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -1,6 +1,7 @@
 //! The explorer driven offscreen (egui_kittest with its wgpu renderer, no display server): the
 //! image it shows is the headless render of the same scene, and scripted interaction (a slider,
-//! a drag) changes the picture.
+//! a drag) changes the picture; the step views show the heat map of the headless render's steps,
+//! and the 2D mode shows what `render2d` draws, panned and zoomed by mouse.
 
 mod common;
 
@@ -9,6 +10,8 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use qjulia::explore::ExplorerApp;
+use qjulia::explore::app::Mode;
+use qjulia::scene::View;
 use qjulia::{Frame, TraceParams};
 
 const WINDOW: [f32; 2] = [760.0, 420.0];
@@ -163,4 +166,149 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
         &after_drag,
         &qjulia::compare::CONTRACT_TOLERANCE,
     );
+}
+
+/// The picture `render2d` draws of the view's scene, on the same kernel (depth zeroed, as the
+/// screen has none).
+fn headless_2d(harness: &Harness<'static, ExplorerApp>) -> Frame {
+    let tracer = common::gpu("headless_2d").expect("GPU");
+    let julia = qjulia::gpu::GpuJulia2d::new(tracer.context().clone()).unwrap();
+    let scene = harness.state().view_scene();
+    let (mut frame, _) = julia
+        .render(&qjulia::Julia2dParams::<f32>::new(&scene))
+        .unwrap();
+    frame.depth.iter_mut().for_each(|d| *d = 0.0);
+    frame
+}
+
+#[test]
+fn the_2d_mode_shows_render2d_and_the_mouse_pans_and_zooms() {
+    let Some(mut harness) = harness("explorer_2d") else {
+        return;
+    };
+    harness.state_mut().scene.fractal.c = vec![-0.12, 0.75, 0.0, 0.0];
+    harness.state_mut().mode = Mode::Julia2d;
+    settle(&mut harness);
+    let shown = shown_view(&mut harness);
+    common::assert_agree(
+        "explorer_2d",
+        &headless_2d(&harness),
+        &shown,
+        &qjulia::compare::JULIA2D_TOLERANCE,
+    );
+    assert!(
+        shown.colour.contains(&0xffff_ffff),
+        "no point of the set shown"
+    );
+
+    // A drag to the right moves the centre left (the picture follows the pointer).
+    let before = harness.state().scene.view2d.clone();
+    let centre = harness.state().view_rect.center();
+    harness.hover_at(centre);
+    harness.drag_at(centre);
+    harness.step();
+    for k in 1..=4 {
+        harness.hover_at(centre + egui::vec2(10.0 * k as f32, -5.0 * k as f32));
+        harness.step();
+    }
+    harness.drop_at(centre + egui::vec2(40.0, -20.0));
+    settle(&mut harness);
+    let moved = harness.state().scene.view2d.clone();
+    assert!(
+        moved.center[0] < before.center[0],
+        "{before:?} -> {moved:?}"
+    );
+    assert!(
+        moved.center[1] < before.center[1],
+        "{before:?} -> {moved:?}"
+    );
+    assert_eq!(moved.extent, before.extent);
+    let after_drag = shown_view(&mut harness);
+    common::assert_agree(
+        "explorer_2d_after_drag",
+        &headless_2d(&harness),
+        &after_drag,
+        &qjulia::compare::JULIA2D_TOLERANCE,
+    );
+
+    // The wheel zooms in about the pointer.
+    harness.hover_at(centre);
+    for _ in 0..5 {
+        harness.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, 60.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        harness.step();
+    }
+    // Smooth scrolling goes on for a few frames: wait until the extent holds still.
+    let mut last = harness.state().scene.view2d.extent;
+    let mut still = 0;
+    while still < 5 {
+        harness.step();
+        let extent = harness.state().scene.view2d.extent;
+        still = if extent == last { still + 1 } else { 0 };
+        last = extent;
+    }
+    // The harness draws the pointer: move it off the view before looking.
+    harness.hover_at(egui::pos2(4.0, WINDOW[1] - 4.0));
+    settle(&mut harness);
+    let zoomed = harness.state().scene.view2d.clone();
+    assert!(
+        zoomed.extent < 0.9 * moved.extent,
+        "{moved:?} -> {zoomed:?}"
+    );
+    let after_zoom = shown_view(&mut harness);
+    assert!(changed_fraction(&after_drag, &after_zoom) > 0.05);
+    common::assert_agree(
+        "explorer_2d_after_zoom",
+        &headless_2d(&harness),
+        &after_zoom,
+        &qjulia::compare::JULIA2D_TOLERANCE,
+    );
+}
+
+#[test]
+fn step_views_show_the_heat_map_of_the_steps() {
+    let Some(mut harness) = harness("explorer_steps") else {
+        return;
+    };
+    for view in [View::Steps, View::Divergence] {
+        harness.state_mut().scene.image.view = view;
+        settle(&mut harness);
+        let shown = shown_view(&mut harness);
+        let tracer = common::gpu("headless_steps").expect("GPU");
+        let scene = harness.state().view_scene();
+        let frame = tracer
+            .render_outputs(&TraceParams::<f32>::new(&scene), false)
+            .unwrap()
+            .frame;
+        let map =
+            qjulia::views::heat_map_of(view, &frame.steps, frame.width, frame.height).unwrap();
+        assert_eq!(harness.state().heat_legend(), Some(&map.legend));
+        // Above the legend strip at the bottom, the screen holds the heat map.
+        let rows = frame.height - qjulia::views::LEGEND_HEIGHT - 4;
+        let crop = |rgb: Vec<u8>| -> Frame {
+            let n = (frame.width * rows) as usize;
+            Frame {
+                width: frame.width,
+                height: rows,
+                colour: rgb[..n * 3]
+                    .chunks(3)
+                    .map(|p| u32::from_le_bytes([p[0], p[1], p[2], 255]))
+                    .collect(),
+                depth: vec![0.0; n],
+                steps: vec![0; n],
+                non_finite: 0,
+            }
+        };
+        common::assert_agree(
+            &format!("explorer_{}", view.name()),
+            &crop(map.rgb),
+            &crop(shown.rgb8()),
+            &qjulia::compare::CONTRACT_TOLERANCE,
+        );
+    }
 }

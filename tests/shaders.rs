@@ -183,3 +183,58 @@ fn every_specialised_variant_validates() {
         .unwrap_or_else(|e| panic!("{variant:?} does not validate: {e:?}"));
     }
 }
+
+#[test]
+fn julia2d_uniform_layout_and_constants_match_the_host() {
+    use qjulia::gpu::GpuJulia2dParams;
+    use qjulia::gpu::shaders::JULIA2D_MODULE;
+    let module = validate_wgsl(&JULIA2D_MODULE.source()).unwrap();
+    let (members, span) = module
+        .types
+        .iter()
+        .find_map(|(_, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span }
+                if ty.name.as_deref() == Some("Julia2dParams") =>
+            {
+                Some((members.clone(), *span))
+            }
+            _ => None,
+        })
+        .expect("struct Julia2dParams in julia2d.wgsl");
+    macro_rules! host_offsets {
+        ($($field:ident),* $(,)?) => { vec![$((stringify!($field).to_string(), offset_of!(GpuJulia2dParams, $field) as u32)),*] };
+    }
+    let host = host_offsets!(
+        c,
+        center,
+        half_extent,
+        max_iterations,
+        width,
+        height,
+        row_offset,
+        row_count,
+        row_stride,
+        out_row,
+        pad,
+    );
+    let shader: Vec<(String, u32)> = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+        .collect();
+    assert_eq!(
+        shader, host,
+        "GpuJulia2dParams and WGSL Julia2dParams disagree: keep them in sync"
+    );
+    assert_eq!(span as usize, size_of::<GpuJulia2dParams>());
+    let (_, bailout) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some("BAILOUT_SQUARED"))
+        .expect("const BAILOUT_SQUARED in julia2d.wgsl");
+    match module.global_expressions[bailout.init] {
+        naga::Expression::Literal(naga::Literal::F32(v)) => {
+            assert_eq!(v as f64, qjulia::cpu::julia2d::BAILOUT_SQUARED)
+        }
+        ref other => panic!("BAILOUT_SQUARED is not an f32 literal: {other:?}"),
+    }
+}

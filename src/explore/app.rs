@@ -1,5 +1,7 @@
 //! The explorer's state and UI: a side panel editing every scene value, the view with mouse and
 //! keyboard camera control, presets, open/save/export, the animation of c, and the status line.
+//! The view shows the 3D slice (shaded, or a heat map of its steps) or, in 2D mode, the 2D
+//! Julia set of c's first two components, panned and zoomed by mouse.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -11,11 +13,13 @@ use egui::{Key, Modifiers};
 use super::camera;
 use super::file_dialog::{FileDialog, Outcome, Purpose};
 use super::view::ViewRenderer;
-use crate::gpu::{GpuContext, GpuTracer};
-use crate::output::{OutputPaths, write_outputs};
+use super::view2d::View2dRenderer;
+use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
+use crate::output::{OutputPaths, write_outputs, write_view_outputs};
 use crate::scene::presets::PRESETS;
 use crate::scene::rotation::{axis_name, plane_name, planes, rotate_basis};
-use crate::scene::{Camera, Scene, SceneLoader, SceneSource};
+use crate::scene::{Camera, Scene, SceneLoader, SceneSource, View, View2d};
+use crate::views::{HeatMap, Legend};
 
 /// Storage keys for what persists between runs (eframe also keeps the window size).
 const STORAGE_SCENE: &str = "qjulia-scene";
@@ -30,9 +34,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Left drag", "orbit the camera about its target"),
     ("Right or middle drag", "pan"),
     ("Wheel", "zoom"),
-    ("Arrow keys", "orbit in steps"),
+    ("Arrow keys", "orbit in steps (in 2D: pan)"),
     ("+ / -", "zoom in / out"),
-    ("R", "reset the camera"),
+    ("R", "reset the camera (in 2D: the 2D view)"),
+    ("M", "switch between the 3D view and the 2D Julia set"),
     ("Space", "play / pause the animation of c"),
     ("Ctrl+O", "open a scene (TOML or a qjulia PNG)"),
     ("Ctrl+S", "save the scene as TOML"),
@@ -76,6 +81,25 @@ impl Animation {
     }
 }
 
+/// What the view shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// The quaternion Julia set's 3D slice, as `qjulia render` draws it (any `image.view`).
+    #[default]
+    Slice3d,
+    /// The 2D Julia set of c = c[0] + c[1] i, as `qjulia render2d` draws it.
+    Julia2d,
+}
+
+/// The heat map of a step view, uploaded for egui.
+struct HeatTexture {
+    handle: egui::TextureHandle,
+    /// The view's steps generation and the view it was made for.
+    generation: u64,
+    view: View,
+    legend: Legend,
+}
+
 /// An export running on its own thread.
 struct Export {
     path: PathBuf,
@@ -91,6 +115,11 @@ pub struct ExplorerApp {
     /// One per plane of `rotation::planes(dim)`.
     pub angles: Vec<f64>,
     pub view: Option<ViewRenderer>,
+    /// The 2D mode's renderer (the render2d kernel).
+    pub view2d: Option<View2dRenderer>,
+    /// 3D view or 2D Julia set.
+    pub mode: Mode,
+    heat: Option<HeatTexture>,
     gpu_error: Option<String>,
     adapter_label: String,
     pub animation: Animation,
@@ -134,6 +163,12 @@ impl ExplorerApp {
             info: rs.adapter.get_info(),
         };
         self.adapter_label = ctx.adapter_label();
+        match GpuJulia2d::new(ctx.clone()) {
+            Ok(julia) => {
+                self.view2d = Some(View2dRenderer::new(Arc::new(julia), rs.renderer.clone()))
+            }
+            Err(e) => self.gpu_error = Some(e.to_string()),
+        }
         match GpuTracer::new(ctx) {
             Ok(tracer) => {
                 self.view = Some(ViewRenderer::new(Arc::new(tracer), rs.renderer.clone()))
@@ -161,6 +196,9 @@ impl ExplorerApp {
             },
             scene,
             view: None,
+            view2d: None,
+            mode: Mode::Slice3d,
+            heat: None,
             gpu_error: None,
             adapter_label: String::new(),
             resolution_scale: 1.0,
@@ -186,17 +224,36 @@ impl ExplorerApp {
         scene
     }
 
-    /// Whether the view shows the full-resolution image of the current scene.
+    /// Whether the view shows the full-resolution image of the current scene (in 2D mode: the
+    /// 2D view of it), with the heat map of a step view made.
     pub fn view_refined(&self) -> bool {
-        self.view
+        if self.mode == Mode::Julia2d {
+            return self
+                .view2d
+                .as_ref()
+                .is_some_and(|v| v.is_refined(&self.view_scene()));
+        }
+        let Some(view) = &self.view else { return false };
+        let refined = view.is_refined(&self.view_scene(), self.view_pixels);
+        let heat_made = self.scene.image.view == View::Shaded
+            || self.heat.as_ref().is_some_and(|h| {
+                h.view == self.scene.image.view && h.generation == view.stats().steps_generation
+            });
+        refined && !view.busy() && heat_made
+    }
+
+    /// The legend of the step view shown, if one is.
+    pub fn heat_legend(&self) -> Option<&Legend> {
+        self.heat
             .as_ref()
-            .is_some_and(|v| v.is_refined(&self.view_scene(), self.view_pixels))
+            .filter(|h| self.mode == Mode::Slice3d && h.view == self.scene.image.view)
+            .map(|h| &h.legend)
     }
 
     /// Replaces the scene (a preset, a file): camera home, rotation and animation follow it.
     pub fn set_scene(&mut self, scene: Scene) {
         let resolution = self.resolution_scale;
-        let view = self.view.take();
+        let (view, view2d, mode) = (self.view.take(), self.view2d.take(), self.mode);
         let (gpu_error, adapter) = (
             self.gpu_error.take(),
             std::mem::take(&mut self.adapter_label),
@@ -204,6 +261,8 @@ impl ExplorerApp {
         let (dir, dialog) = (self.last_dir.clone(), self.dialog.take());
         *self = Self {
             view,
+            view2d,
+            mode,
             gpu_error,
             adapter_label: adapter,
             resolution_scale: resolution,
@@ -239,23 +298,36 @@ impl ExplorerApp {
     }
 
     /// Exports the scene at its image size through the same tracer, on another thread.
+    /// Exports what the view shows, at the scene's image size through the same kernel: the 3D
+    /// view (shaded or a step view, as `render`), or in 2D mode the 2D view (as `render2d`).
     fn start_export(&mut self, path: PathBuf) {
-        let Some(view) = &self.view else { return };
-        let tracer = view.tracer().clone();
         let scene = self.scene.clone();
         let (send, done) = channel();
-        let target = path.clone();
-        std::thread::spawn(move || {
-            let result = crate::render_gpu(&tracer, &scene, true)
-                .and_then(|(frame, stats)| {
-                    let paths = OutputPaths {
-                        png: Some(target),
-                        ..Default::default()
-                    };
+        let paths = OutputPaths {
+            png: Some(path.clone()),
+            ..Default::default()
+        };
+        let job: Box<dyn FnOnce() -> crate::Result<()> + Send> = match self.mode {
+            Mode::Slice3d => {
+                let Some(view) = &self.view else { return };
+                let tracer = view.tracer().clone();
+                Box::new(move || {
+                    let shade = scene.image.view == View::Shaded;
+                    let (frame, stats) = crate::render_gpu(&tracer, &scene, shade)?;
+                    write_view_outputs(&paths, &frame, &stats, &scene)
+                })
+            }
+            Mode::Julia2d => {
+                let Some(view2d) = &self.view2d else { return };
+                let julia = view2d.julia().clone();
+                Box::new(move || {
+                    let (frame, stats) = crate::render2d_gpu_frame(&julia, &scene)?;
                     write_outputs(&paths, &frame, &stats, &scene)
                 })
-                .map_err(|e| e.to_string());
-            send.send(result).ok();
+            }
+        };
+        std::thread::spawn(move || {
+            send.send(job().map_err(|e| e.to_string())).ok();
         });
         self.export = Some(Export { path, done });
     }
@@ -321,6 +393,47 @@ impl ExplorerApp {
             self.open_dialog(Purpose::ExportPng);
         }
         ctx.input(|i| {
+            if i.key_pressed(Key::M) {
+                self.mode = match self.mode {
+                    Mode::Slice3d => Mode::Julia2d,
+                    Mode::Julia2d => Mode::Slice3d,
+                };
+            }
+            if i.key_pressed(Key::F1) {
+                self.show_help = !self.show_help;
+            }
+            if i.key_pressed(Key::Space) {
+                self.animation.playing = !self.animation.playing;
+                if self.animation.playing {
+                    self.animation.center = self.scene.fractal.c.clone();
+                    self.animation.phase = 0.0;
+                }
+            }
+            if self.mode == Mode::Julia2d {
+                let v = &mut self.scene.view2d;
+                let step = 0.1 * v.extent;
+                for (key, dx, dy) in [
+                    (Key::ArrowLeft, -step, 0.0),
+                    (Key::ArrowRight, step, 0.0),
+                    (Key::ArrowUp, 0.0, step),
+                    (Key::ArrowDown, 0.0, -step),
+                ] {
+                    if i.key_pressed(key) {
+                        v.center[0] += dx;
+                        v.center[1] += dy;
+                    }
+                }
+                if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
+                    v.extent = clamp_extent(v.extent * 0.8);
+                }
+                if i.key_pressed(Key::Minus) {
+                    v.extent = clamp_extent(v.extent / 0.8);
+                }
+                if i.key_pressed(Key::R) {
+                    *v = View2d::default();
+                }
+                return;
+            }
             let cam = &mut self.scene.camera;
             let step = 0.1;
             if i.key_pressed(Key::ArrowLeft) {
@@ -344,16 +457,6 @@ impl ExplorerApp {
             if i.key_pressed(Key::R) {
                 *cam = self.home_camera.clone();
             }
-            if i.key_pressed(Key::Space) {
-                self.animation.playing = !self.animation.playing;
-                if self.animation.playing {
-                    self.animation.center = self.scene.fractal.c.clone();
-                    self.animation.phase = 0.0;
-                }
-            }
-            if i.key_pressed(Key::F1) {
-                self.show_help = !self.show_help;
-            }
         });
     }
 
@@ -374,11 +477,19 @@ impl ExplorerApp {
                 for preset in PRESETS {
                     if ui.button(preset.name).on_hover_text(preset.about).clicked() {
                         self.set_scene(preset.scene());
+                        self.mode = if preset.two_d {
+                            Mode::Julia2d
+                        } else {
+                            Mode::Slice3d
+                        };
                         self.message = Some((format!("preset: {}", preset.name), false));
                     }
                 }
             });
             ui.menu_button("View", |ui| {
+                ui.radio_value(&mut self.mode, Mode::Slice3d, "3D slice");
+                ui.radio_value(&mut self.mode, Mode::Julia2d, "2D Julia set  (M)");
+                ui.separator();
                 if ui.button("Reset camera  (R)").clicked() {
                     self.scene.camera = self.home_camera.clone();
                 }
@@ -391,6 +502,27 @@ impl ExplorerApp {
 
     fn controls(&mut self, ui: &mut egui::Ui) {
         egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("Show");
+                ui.selectable_value(&mut self.mode, Mode::Slice3d, "3D slice");
+                ui.selectable_value(&mut self.mode, Mode::Julia2d, "2D Julia set");
+            });
+            match self.mode {
+                Mode::Slice3d => {
+                    egui::ComboBox::from_label("view")
+                        .selected_text(self.scene.image.view.name())
+                        .show_ui(ui, |ui| {
+                            for view in View::ALL {
+                                ui.selectable_value(&mut self.scene.image.view, view, view.name());
+                            }
+                        });
+                }
+                Mode::Julia2d => {
+                    egui::CollapsingHeader::new("2D view")
+                        .default_open(true)
+                        .show(ui, |ui| self.view2d_controls(ui));
+                }
+            }
             egui::CollapsingHeader::new("Fractal")
                 .default_open(true)
                 .show(ui, |ui| self.fractal_controls(ui));
@@ -492,6 +624,35 @@ impl ExplorerApp {
                     ui.selectable_value(&mut f.tracing, tracing, tracing.name());
                 }
             });
+    }
+
+    fn view2d_controls(&mut self, ui: &mut egui::Ui) {
+        let c = &self.scene.fractal.c;
+        ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
+        let v = &mut self.scene.view2d;
+        let speed = 0.002 * v.extent;
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut v.center[0]).speed(speed));
+            ui.label("centre real");
+        });
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
+            ui.label("centre imaginary");
+        });
+        ui.add(
+            egui::Slider::new(&mut v.extent, MIN_EXTENT..=MAX_EXTENT)
+                .logarithmic(true)
+                .text("extent (width)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut v.max_iterations, 1..=5000)
+                .logarithmic(true)
+                .text("2D iterations"),
+        );
+        ui.label("Drag to pan, wheel to zoom about the pointer.");
+        if ui.button("Reset 2D view (R)").clicked() {
+            *v = View2d::default();
+        }
     }
 
     fn slice_controls(&mut self, ui: &mut egui::Ui) {
@@ -630,7 +791,17 @@ impl ExplorerApp {
                 "{:.1} ms/frame ({fps:.0} fps)",
                 self.frame_seconds * 1e3
             ));
-            if let Some(view) = &self.view {
+            if self.mode == Mode::Julia2d {
+                if let Some(view2d) = &self.view2d {
+                    let v = &self.scene.view2d;
+                    ui.separator();
+                    ui.label(format!(
+                        "2D at {:.6} {:+.6} i, extent {:.3e}",
+                        v.center[0], v.center[1], v.extent
+                    ));
+                    ui.label(format!("render {:.0} ms", view2d.render_seconds * 1e3));
+                }
+            } else if let Some(view) = &self.view {
                 let s = view.stats();
                 ui.separator();
                 ui.label(format!(
@@ -664,7 +835,8 @@ impl ExplorerApp {
         });
     }
 
-    /// The view: the tracer's texture, filling the panel, with mouse camera control.
+    /// The view: the tracer's texture (or a step view's heat map, or in 2D mode the 2D Julia
+    /// set), filling the panel, with mouse control of the camera (of the 2D view in 2D mode).
     fn view(&mut self, ui: &mut egui::Ui) {
         // Whole physical pixels, so that each texel lands on one screen pixel.
         let ppp_screen = ui.ctx().pixels_per_point();
@@ -675,6 +847,15 @@ impl ExplorerApp {
         let rect = egui::Rect::from_min_max(snap(available.min), snap(available.max));
         self.view_rect = rect;
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        let ppp = ui.ctx().pixels_per_point() * self.resolution_scale;
+        self.view_pixels = [
+            (rect.width() * ppp).round().max(1.0) as u32,
+            (rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        if self.mode == Mode::Julia2d {
+            self.view_2d(ui, rect, &response);
+            return;
+        }
         let cam = &mut self.scene.camera;
         if response.dragged_by(egui::PointerButton::Primary) {
             let d = response.drag_delta();
@@ -697,35 +878,112 @@ impl ExplorerApp {
                 camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
             }
         }
-        let ppp = ui.ctx().pixels_per_point() * self.resolution_scale;
-        self.view_pixels = [
-            (rect.width() * ppp).round().max(1.0) as u32,
-            (rect.height() * ppp).round().max(1.0) as u32,
-        ];
         let interacting =
             response.dragged() || self.animation.playing || ui.input(|i| i.pointer.any_down());
         let view_scene = self.view_scene();
         let Some(view) = &mut self.view else {
-            let text = format!(
-                "No GPU renderer: {}\n{}",
-                self.gpu_error.as_deref().unwrap_or("unknown error"),
-                crate::error::INSTALL_ADAPTER_HINT
-            );
-            ui.put(rect, egui::Label::new(text));
+            self.no_gpu(ui, rect);
             return;
         };
         view.update(&view_scene, self.view_pixels, interacting);
-        if let Some((texture, _)) = view.texture() {
-            ui.painter().image(
-                texture,
-                rect,
-                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-                egui::Color32::WHITE,
-            );
+        let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+        let shown = self.scene.image.view;
+        if shown == View::Shaded {
+            if let Some((texture, _)) = view.texture() {
+                ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
+            }
+        } else {
+            // Step views: a heat map of the steps read back from the image shown.
+            let stats = view.stats();
+            if let Some((steps, size)) = &stats.steps {
+                let fresh = self
+                    .heat
+                    .as_ref()
+                    .is_some_and(|h| h.generation == stats.steps_generation && h.view == shown);
+                if let (false, Some(map)) = (
+                    fresh,
+                    crate::views::heat_map_of(shown, steps, size[0], size[1]),
+                ) {
+                    let HeatMap { rgb, legend, .. } = map;
+                    let image =
+                        egui::ColorImage::from_rgb([size[0] as usize, size[1] as usize], &rgb);
+                    let options = egui::TextureOptions::NEAREST;
+                    let handle = match self.heat.take() {
+                        Some(mut h) => {
+                            h.handle.set(image, options);
+                            h.handle
+                        }
+                        None => ui.ctx().load_texture("qjulia-heat-map", image, options),
+                    };
+                    self.heat = Some(HeatTexture {
+                        handle,
+                        generation: stats.steps_generation,
+                        view: shown,
+                        legend,
+                    });
+                }
+            }
+            if let Some(heat) = self.heat.as_ref().filter(|h| h.view == shown) {
+                ui.painter()
+                    .image(heat.handle.id(), rect, uv, egui::Color32::WHITE);
+                draw_legend(ui.painter(), rect, &heat.legend);
+            }
         }
         if view.busy() {
             ui.ctx().request_repaint();
         }
+    }
+
+    /// The 2D mode: the 2D Julia set of c, drag to pan, wheel to zoom about the pointer.
+    fn view_2d(&mut self, ui: &mut egui::Ui, rect: egui::Rect, response: &egui::Response) {
+        let v = &mut self.scene.view2d;
+        // Complex units per point: the texture fills the rect, extent across its width.
+        let per_point = v.extent / rect.width().max(1.0) as f64;
+        if response.dragged() {
+            let d = response.drag_delta();
+            v.center[0] -= d.x as f64 * per_point;
+            v.center[1] += d.y as f64 * per_point;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+            if scroll != 0.0 {
+                let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
+                let factor = extent / v.extent;
+                if let Some(p) = response.hover_pos() {
+                    // The point under the pointer stays there.
+                    let under = [
+                        v.center[0] + (p.x - rect.center().x) as f64 * per_point,
+                        v.center[1] - (p.y - rect.center().y) as f64 * per_point,
+                    ];
+                    for (centre, under) in v.center.iter_mut().zip(under) {
+                        *centre = under - (under - *centre) * factor;
+                    }
+                }
+                v.extent = extent;
+            }
+        }
+        let scene = self.view_scene();
+        let Some(view2d) = &mut self.view2d else {
+            self.no_gpu(ui, rect);
+            return;
+        };
+        view2d.update(&scene);
+        if let Some((texture, _)) = view2d.texture() {
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
+        }
+        if view2d.busy() || !view2d.is_refined(&scene) {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn no_gpu(&self, ui: &mut egui::Ui, rect: egui::Rect) {
+        let text = format!(
+            "No GPU renderer: {}\n{}",
+            self.gpu_error.as_deref().unwrap_or("unknown error"),
+            crate::error::INSTALL_ADAPTER_HINT
+        );
+        ui.put(rect, egui::Label::new(text));
     }
 
     fn dialogs(&mut self, ctx: &egui::Context) {
@@ -857,6 +1115,63 @@ pub fn load_persisted(storage: Option<&dyn eframe::Storage>) -> (Option<Scene>, 
         .unwrap_or(1.0)
         .clamp(0.25, 2.0);
     (scene, resolution)
+}
+
+/// The 2D view's extent range in the explorer (f32 on the GPU resolves no finer).
+const MIN_EXTENT: f64 = 1e-6;
+const MAX_EXTENT: f64 = 64.0;
+
+fn clamp_extent(extent: f64) -> f64 {
+    extent.clamp(MIN_EXTENT, MAX_EXTENT)
+}
+
+/// A step view's legend over the bottom of the view: the colour bar from min to max, the values
+/// at its ends and middle and what it counts (as the PNG's legend strip shows them).
+fn draw_legend(painter: &egui::Painter, rect: egui::Rect, legend: &Legend) {
+    let height = crate::views::LEGEND_HEIGHT as f32;
+    let strip = egui::Rect::from_min_max(egui::pos2(rect.min.x, rect.max.y - height), rect.max);
+    let [r, g, b] = crate::views::LEGEND_BACKGROUND;
+    painter.rect_filled(strip, 0.0, egui::Color32::from_rgb(r, g, b));
+    let (left, right) = (strip.min.x + 6.0, strip.max.x - 6.0);
+    let (top, bottom) = (strip.min.y + 5.0, strip.min.y + 15.0);
+    let segments = 96;
+    for k in 0..segments {
+        let x0 = left + (right - left) * k as f32 / segments as f32;
+        let x1 = left + (right - left) * (k + 1) as f32 / segments as f32;
+        let [r, g, b] = crate::views::colour_map(k as f64 / (segments - 1) as f64);
+        painter.rect_filled(
+            egui::Rect::from_min_max(egui::pos2(x0, top), egui::pos2(x1 + 0.5, bottom)),
+            0.0,
+            egui::Color32::from_rgb(r, g, b),
+        );
+    }
+    let font = egui::FontId::proportional(12.0);
+    let colour = egui::Color32::from_gray(235);
+    let middle = strip.center().x;
+    for (x, align, value) in [
+        (left, egui::Align2::LEFT_TOP, legend.min),
+        (middle, egui::Align2::CENTER_TOP, legend.mid),
+        (right, egui::Align2::RIGHT_TOP, legend.max),
+    ] {
+        painter.line_segment(
+            [egui::pos2(x, bottom), egui::pos2(x, bottom + 3.0)],
+            egui::Stroke::new(1.0, colour),
+        );
+        painter.text(
+            egui::pos2(x, bottom + 5.0),
+            align,
+            value.to_string(),
+            font.clone(),
+            colour,
+        );
+    }
+    painter.text(
+        egui::pos2(middle, bottom + 21.0),
+        egui::Align2::CENTER_TOP,
+        legend.title,
+        font,
+        colour,
+    );
 }
 
 /// A colour picker for an `[f64; 3]` in [0, 1].

@@ -5,6 +5,7 @@ pub mod app;
 pub mod camera;
 pub mod file_dialog;
 pub mod view;
+pub mod view2d;
 
 use std::sync::Arc;
 

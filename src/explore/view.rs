@@ -48,6 +48,11 @@ pub struct ViewStats {
     pub render_seconds: f64,
     pub steps_mean: Option<f64>,
     pub steps_max: Option<u32>,
+    /// The shown image's steps per pixel, row by row, and its size (for the step views), once
+    /// read back.
+    pub steps: Option<(Arc<Vec<u32>>, [u32; 2])>,
+    /// Counts the images whose steps were read back: a new value means new steps.
+    pub steps_generation: u64,
     /// Whether the full-resolution image is shown.
     pub refined: bool,
     /// Seconds from the last change of scene or size to this image.
@@ -243,7 +248,9 @@ impl ViewRenderer {
         scene.image.height = size[1];
         self.ensure_target(quality, size);
         let params = TraceParams::<f32>::new(&scene);
-        let variant = self.tracer.variant_for(&params, true);
+        // The step views show the steps alone: no shading needed.
+        let shade = scene.image.view == crate::scene::View::Shaded;
+        let variant = self.tracer.variant_for(&params, shade);
         let Ok(pipeline) = self.tracer.pipeline(variant) else {
             return;
         };
@@ -353,6 +360,8 @@ impl ViewRenderer {
             render_seconds: seconds,
             steps_mean: None,
             steps_max: None,
+            steps: None,
+            steps_generation: self.stats.steps_generation,
             refined: job.quality == Quality::Full,
             since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
         };
@@ -402,10 +411,17 @@ impl ViewRenderer {
                 rb.size[1] as usize,
                 rb.row_stride as usize,
             );
-            let rows = (0..h).flat_map(|j| &all[j * stride..j * stride + w]);
-            let (sum, max) = rows.fold((0u64, 0u32), |(s, m), &v| (s + v as u64, m.max(v)));
+            let steps: Vec<u32> = (0..h)
+                .flat_map(|j| &all[j * stride..j * stride + w])
+                .copied()
+                .collect();
+            let (sum, max) = steps
+                .iter()
+                .fold((0u64, 0u32), |(s, m), &v| (s + v as u64, m.max(v)));
             self.stats.steps_mean = Some(sum as f64 / (w * h).max(1) as f64);
             self.stats.steps_max = Some(max);
+            self.stats.steps = Some((Arc::new(steps), rb.size));
+            self.stats.steps_generation += 1;
         }
         self.readback = None;
     }

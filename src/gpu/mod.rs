@@ -1,10 +1,12 @@
 //! The GPU path: adapter and device choice, the compute pipeline, dispatch and readback.
 
+mod julia2d;
 mod params;
 pub mod shaders;
 mod tracer;
 pub mod variant;
 
+pub use julia2d::{GpuJulia2d, GpuJulia2dParams};
 pub use params::GpuParams;
 pub use tracer::{GpuRender, GpuTracer, OUTPUTS, WORKGROUP};
 pub use variant::Variant;

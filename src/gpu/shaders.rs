@@ -4,6 +4,8 @@
 pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
 /// The tracer kernel (twin: src/cpu/trace.rs); needs [`ALGEBRA_WGSL`] in front of it.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+/// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); stands alone.
+pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 
 /// One WGSL module the GPU runs: a name and its source files in order.
 pub struct ShaderModuleSource {
@@ -24,8 +26,14 @@ pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[ALGEBRA_WGSL, TRACE_WGSL],
 };
 
+/// The 2D Julia view.
+pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "julia2d",
+    parts: &[JULIA2D_WGSL],
+};
+
 /// Every module the GPU path builds; the tests validate each with naga.
-pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE];
+pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE, JULIA2D_MODULE];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would.
 pub fn validate_wgsl(source: &str) -> Result<naga::Module, String> {

@@ -542,14 +542,7 @@ pub fn markdown(
 /// Colour RMSE against seconds, log-log, one series per method, one panel per scene.
 pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
     use plotters::prelude::*;
-    static FONT: std::sync::Once = std::sync::Once::new();
-    FONT.call_once(|| {
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        );
-    });
+    crate::views::register_plot_font();
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
     scenes.dedup();
     let (w, panel_h) = (1100u32, 620u32);

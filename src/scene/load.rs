@@ -109,6 +109,10 @@ pub const KEYS: &[&str] = &[
     "shading.background",
     "image.width",
     "image.height",
+    "image.view",
+    "view2d.center",
+    "view2d.extent",
+    "view2d.max_iterations",
 ];
 
 /// Collects scene layers, later ones overriding earlier ones key by key, then builds and
@@ -257,6 +261,11 @@ impl SceneLoader {
         r.vector("shading.background", &mut s.shading.background)?;
         r.integer("image.width", &mut s.image.width)?;
         r.integer("image.height", &mut s.image.height)?;
+        let views = super::View::ALL;
+        r.choice("image.view", &mut s.image.view, &views, super::View::name)?;
+        r.vector("view2d.center", &mut s.view2d.center)?;
+        r.float("view2d.extent", &mut s.view2d.extent)?;
+        r.integer("view2d.max_iterations", &mut s.view2d.max_iterations)?;
         r.reject_unknown()?;
         validate(&mut s, &r)?;
         Ok(s)
@@ -490,7 +499,7 @@ fn number(v: &Value) -> Option<f64> {
 fn integer_range(key: &str) -> (u32, u32) {
     match key {
         "image.width" | "image.height" => (1, 65536),
-        "fractal.max_iterations" => (1, 100_000),
+        "fractal.max_iterations" | "view2d.max_iterations" => (1, 100_000),
         "fractal.max_steps" => (1, 1_000_000),
         _ => unreachable!("no range for {key}"),
     }
@@ -515,6 +524,7 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
             "fractal.bounding_radius_squared",
             s.fractal.bounding_radius_squared,
         ),
+        ("view2d.extent", s.view2d.extent),
     ] {
         if value <= 0.0 {
             return Err(fail(key, "must be > 0"));
@@ -678,6 +688,50 @@ mod tests {
         assert_eq!(e.key.as_deref(), Some("camera.up"));
         let e = build(&["image.height=0"]).unwrap_err();
         assert!(e.to_string().contains("must be in [1, 65536]"), "{e}");
+    }
+
+    #[test]
+    fn view2d_and_image_view_are_read_and_checked() {
+        let s = build(&[
+            "view2d.center=[-0.5, 0.25]",
+            "view2d.extent=0.5",
+            "view2d.max_iterations=1000",
+            "image.view=divergence",
+        ])
+        .unwrap();
+        assert_eq!(s.view2d.center, [-0.5, 0.25]);
+        assert_eq!(s.view2d.extent, 0.5);
+        assert_eq!(s.view2d.max_iterations, 1000);
+        assert_eq!(s.image.view, super::super::View::Divergence);
+        for (set, message) in [
+            (
+                "view2d.extent=0",
+                "--set view2d.extent=0: view2d.extent must be > 0",
+            ),
+            ("view2d.extent=-2", "view2d.extent must be > 0"),
+            ("view2d.extent=inf", "view2d.extent must be finite"),
+            (
+                "view2d.max_iterations=0",
+                "view2d.max_iterations must be in [1, 100000]",
+            ),
+            (
+                "view2d.max_iterations=100001",
+                "view2d.max_iterations must be in [1, 100000]",
+            ),
+            (
+                "view2d.center=[1]",
+                "view2d.center must be an array of 2 numbers, not 1",
+            ),
+            ("view2d.center=[0, nan]", "view2d.center must be finite"),
+            (
+                "image.view=normals",
+                "image.view must be one of \"shaded\", \"steps\", \"divergence\"",
+            ),
+        ] {
+            let e = build(&[set]).unwrap_err();
+            assert!(e.to_string().contains(message), "{set}: {e}");
+            assert_eq!(e.key.as_deref(), set.split('=').next(), "{set}");
+        }
     }
 
     #[test]

@@ -18,6 +18,8 @@ pub struct Scene {
     pub light: Light,
     pub shading: Shading,
     pub image: Image,
+    /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode.
+    pub view2d: View2d,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -194,6 +196,46 @@ impl NormalMethod {
 pub struct Image {
     pub width: u32,
     pub height: u32,
+    /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
+    pub view: View,
+}
+
+/// What `render`'s PNG shows (`image.view`); see src/views.rs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum View {
+    /// The shaded picture (the contract's shading).
+    #[default]
+    Shaded,
+    /// Sphere-tracing steps per primary ray as a heat map, with a legend.
+    Steps,
+    /// Wasted steps per pixel in 8x8 tiles (the tile's most steps minus the pixel's), as a
+    /// heat map with a legend.
+    Divergence,
+}
+
+impl View {
+    pub const ALL: [View; 3] = [View::Shaded, View::Steps, View::Divergence];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Shaded => "shaded",
+            View::Steps => "steps",
+            View::Divergence => "divergence",
+        }
+    }
+}
+
+/// The 2D Julia view: the filled Julia set of the complex c = c[0] + c[1] i (the first two
+/// components of `fractal.c`), imaginary axis up.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct View2d {
+    /// The complex number at the image's centre, `[real, imaginary]`.
+    pub center: [f64; 2],
+    /// The width of the image in the complex plane (the height follows the image's aspect).
+    pub extent: f64,
+    /// Iterations of z <- z^2 + c before a point counts as in the set.
+    pub max_iterations: u32,
 }
 
 impl Default for Fractal {
@@ -296,6 +338,17 @@ impl Default for Image {
         Self {
             width: 512,
             height: 512,
+            view: View::Shaded,
+        }
+    }
+}
+
+impl Default for View2d {
+    fn default() -> Self {
+        Self {
+            center: [0.0, 0.0],
+            extent: 4.0,
+            max_iterations: 256,
         }
     }
 }

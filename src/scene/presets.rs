@@ -8,6 +8,8 @@ pub struct Preset {
     pub about: &'static str,
     /// TOML layered over the defaults.
     pub toml: &'static str,
+    /// Shown in the explorer's 2D mode (the 2D Julia set of c's first two components).
+    pub two_d: bool,
 }
 
 pub const PRESETS: &[Preset] = &[
@@ -15,41 +17,48 @@ pub const PRESETS: &[Preset] = &[
         name: "Seed's look",
         about: "Crane's constants: c = (-0.2, 0.6, 0.2, 0.2), shadows on",
         toml: "",
+        two_d: false,
     },
     Preset {
         name: "Unit ball",
         about: "c = 0: the set is exactly the unit ball",
         toml: "[fractal]\nc = [0.0, 0.0, 0.0, 0.0]\n",
+        two_d: false,
     },
     Preset {
         name: "Basilica revolved",
         about: "c = -1, real: the 2D basilica turned about the real axis",
         toml: "[fractal]\nc = [-1.0, 0.0, 0.0, 0.0]\nmax_iterations = 16\n\
                [camera]\neye = [0.4, 2.2, 2.2]\n[light]\nposition = [1.0, 3.0, 2.0]\n",
+        two_d: false,
     },
     Preset {
         name: "Rabbit",
         about: "the seed's 'rabbit ears' c = -0.12 + 0.75i, in 3D",
         toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\nmax_iterations = 14\n\
                [camera]\neye = [0.0, 0.8, 2.8]\n",
+        two_d: false,
     },
     Preset {
         name: "Dendrite",
         about: "c = i: no interior, a tree of thin branches",
         toml: "[fractal]\nc = [0.0, 1.0, 0.0, 0.0]\nmax_iterations = 20\nepsilon = 0.002\n\
                [camera]\neye = [1.2, 0.6, 2.6]\n",
+        two_d: false,
     },
     Preset {
         name: "Siegel disk",
         about: "c = -0.390541 - 0.586788i, with a Siegel disk around a fixed point",
         toml: "[fractal]\nc = [-0.390541, -0.586788, 0.0, 0.0]\nmax_iterations = 30\n\
                [camera]\neye = [0.0, -1.0, 2.8]\n",
+        two_d: false,
     },
     Preset {
         name: "Tentacles",
         about: "c = (-0.125, -0.256, 0.847, 0.0895), all four components at work",
         toml: "[fractal]\nc = [-0.125, -0.256, 0.847, 0.0895]\nmax_iterations = 12\n\
                [camera]\neye = [1.5, 1.5, 2.0]\n",
+        two_d: false,
     },
     Preset {
         name: "Turned slice",
@@ -57,6 +66,14 @@ pub const PRESETS: &[Preset] = &[
         toml: "[slice]\nx = [0.838386643594204, 0.0, 0.093833584680988, 0.536938631715731]\n\
                y = [0.0, 1.0, 0.0, 0.0]\nz = [-0.259343380052231, 0.0, 0.935095941414137, 0.241529690874419]\n\
                offset = [0.0, 0.0, 0.0, 0.1]\n",
+        two_d: false,
+    },
+    Preset {
+        name: "Rabbit ears (2D)",
+        about: "the seed's Figure 3: the filled Julia set of c = -0.12 + 0.75i in the plane",
+        toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\n\
+               [view2d]\ncenter = [0.0, 0.0]\nextent = 3.2\nmax_iterations = 256\n",
+        two_d: true,
     },
 ];
 

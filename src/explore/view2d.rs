@@ -1,0 +1,218 @@
+//! The explorer's 2D mode: the 2D Julia set of the current c, drawn by the same GPU kernel as
+//! `qjulia render2d` (shaders/julia2d.wgsl) straight into a texture egui shows. One render in
+//! flight at a time, whole image in one dispatch: when the view changes during a render, the
+//! next one starts as soon as it is done, with the latest values.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use crate::gpu::{GpuJulia2d, GpuJulia2dParams, OUTPUTS};
+use crate::params::Julia2dParams;
+use crate::scene::Scene;
+
+/// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
+const ROW_ALIGN: u32 = 64;
+
+/// The output buffers and the texture egui samples.
+struct Target {
+    width: u32,
+    height: u32,
+    row_stride: u32,
+    /// Kept alive for the bind group.
+    _outputs: [wgpu::Buffer; OUTPUTS],
+    colour: wgpu::Buffer,
+    texture: wgpu::Texture,
+    texture_id: egui::TextureId,
+    bind_group: wgpu::BindGroup,
+}
+
+pub struct View2dRenderer {
+    julia: Arc<GpuJulia2d>,
+    renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    uniform: wgpu::Buffer,
+    target: Option<Target>,
+    /// The parameters of the render in flight, or of the last one done.
+    submitted: Option<Julia2dParams<f32>>,
+    in_flight: Arc<AtomicBool>,
+    started: Instant,
+    /// Seconds the last finished render took (submission to completion).
+    pub render_seconds: f64,
+    done_at: Arc<egui::mutex::Mutex<Option<Instant>>>,
+}
+
+impl View2dRenderer {
+    pub fn new(
+        julia: Arc<GpuJulia2d>,
+        renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    ) -> Self {
+        let uniform = julia
+            .context()
+            .device
+            .create_buffer(&wgpu::BufferDescriptor {
+                label: Some("view2d params"),
+                size: size_of::<GpuJulia2dParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        Self {
+            julia,
+            renderer,
+            uniform,
+            target: None,
+            submitted: None,
+            in_flight: Arc::new(AtomicBool::new(false)),
+            started: Instant::now(),
+            render_seconds: 0.0,
+            done_at: Arc::new(egui::mutex::Mutex::new(None)),
+        }
+    }
+
+    pub fn julia(&self) -> &Arc<GpuJulia2d> {
+        &self.julia
+    }
+
+    /// The texture to draw and its size in pixels, once there is one.
+    pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
+        let t = self.target.as_ref()?;
+        self.submitted
+            .as_ref()
+            .map(|_| (t.texture_id, [t.width, t.height]))
+    }
+
+    /// Whether a render is still running (the caller should keep repainting).
+    pub fn busy(&self) -> bool {
+        self.in_flight.load(Ordering::Acquire)
+    }
+
+    /// Whether the texture holds exactly this scene's 2D view (its `image` size).
+    pub fn is_refined(&self, scene: &Scene) -> bool {
+        !self.busy() && self.submitted.as_ref() == Some(&Julia2dParams::new(scene))
+    }
+
+    /// Asks for the 2D view of `scene` at its image size; call once per UI frame.
+    pub fn update(&mut self, scene: &Scene) {
+        self.julia.context().device.poll(wgpu::PollType::Poll).ok();
+        if let Some(done) = self.done_at.lock().take() {
+            self.render_seconds = done.duration_since(self.started).as_secs_f64();
+        }
+        let params = Julia2dParams::<f32>::new(scene);
+        if self.busy() || self.submitted.as_ref() == Some(&params) {
+            return;
+        }
+        let size = [params.width.clamp(1, 8192), params.height.clamp(1, 8192)];
+        if [params.width, params.height] != size {
+            return;
+        }
+        self.ensure_target(size);
+        let Some(t) = &self.target else { return };
+        let device = &self.julia.context().device;
+        let band = GpuJulia2dParams::new(&params, 0, t.height).with_output(t.row_stride, 0);
+        let queue = &self.julia.context().queue;
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.julia
+            .encode_band(&mut encoder, &t.bind_group, (t.width, t.height));
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &t.colour,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(t.row_stride * 4),
+                    rows_per_image: Some(t.height),
+                },
+            },
+            wgpu::TexelCopyTextureInfo {
+                texture: &t.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::Extent3d {
+                width: t.width,
+                height: t.height,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.in_flight.store(true, Ordering::Release);
+        self.started = Instant::now();
+        queue.submit([encoder.finish()]);
+        let (in_flight, done_at) = (self.in_flight.clone(), self.done_at.clone());
+        queue.on_submitted_work_done(move || {
+            *done_at.lock() = Some(Instant::now());
+            in_flight.store(false, Ordering::Release);
+        });
+        self.submitted = Some(params);
+    }
+
+    /// Makes sure the target has this size, re-creating it if not.
+    fn ensure_target(&mut self, size: [u32; 2]) {
+        if self
+            .target
+            .as_ref()
+            .is_some_and(|t| [t.width, t.height] == size)
+        {
+            return;
+        }
+        let old = self.target.take();
+        let device = &self.julia.context().device;
+        let row_stride = size[0].next_multiple_of(ROW_ALIGN);
+        let bytes = row_stride as u64 * size[1] as u64 * 4;
+        let make = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let outputs = [
+            make("view2d colour"),
+            make("view2d inside"),
+            make("view2d steps"),
+        ];
+        // A plain (non-sRGB) RGBA8 texture puts the PNG's very bytes on screen (see view.rs).
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("view2d"),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let mut renderer = self.renderer.write();
+        let texture_id = match old {
+            Some(old) => {
+                renderer.update_egui_texture_from_wgpu_texture(
+                    device,
+                    &view,
+                    wgpu::FilterMode::Nearest,
+                    old.texture_id,
+                );
+                old.texture_id
+            }
+            None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
+        };
+        drop(renderer);
+        let bind_group = self
+            .julia
+            .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);
+        self.target = Some(Target {
+            width: size[0],
+            height: size[1],
+            row_stride,
+            colour: outputs[0].clone(),
+            _outputs: outputs,
+            texture,
+            texture_id,
+            bind_group,
+        });
+    }
+}

@@ -1,0 +1,510 @@
+//! The work views of `image.view` (README's "Views"): what the tracer's steps array shows, drawn
+//! on the host from [`Frame::steps`], so both backends give them without a shader of their own.
+//! `steps` is the sphere-tracing steps per primary ray; `divergence` is, for fixed 8x8 screen
+//! tiles aligned to pixel (0, 0), the tile's most steps minus the pixel's own (the work its SIMD
+//! lane idles through, Crane's Figure 9). Both are heat maps in one perceptual colour map on a
+//! logarithmic scale, with a legend strip added below the image in the PNG.
+
+use crate::frame::Frame;
+use crate::scene::View;
+
+/// Pixels a side of the divergence view's tiles (a workgroup of the tracer, `WORKGROUP`).
+pub const TILE: u32 = 8;
+/// Rows of the legend strip added below a heat map's PNG.
+pub const LEGEND_HEIGHT: u32 = 52;
+/// The legend strip's background (dark grey, apart from the black of pixels with no work).
+pub const LEGEND_BACKGROUND: [u8; 3] = [32, 32, 32];
+
+/// The colour map: viridis (dark blue-violet through teal and green to yellow), perceptually
+/// even and readable in grey, as nine stops from 0 to 1, linearly interpolated.
+pub const COLOUR_STOPS: [[u8; 3]; 9] = [
+    [68, 1, 84],
+    [71, 45, 123],
+    [59, 82, 139],
+    [44, 114, 142],
+    [33, 145, 140],
+    [40, 174, 128],
+    [94, 201, 98],
+    [173, 220, 48],
+    [253, 231, 37],
+];
+
+/// The colour map at `t` in [0, 1] (clamped; NaN counts as 0).
+pub fn colour_map(t: f64) -> [u8; 3] {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    let x = t * (COLOUR_STOPS.len() - 1) as f64;
+    let k = (x.floor() as usize).min(COLOUR_STOPS.len() - 2);
+    let f = x - k as f64;
+    let (a, b) = (COLOUR_STOPS[k], COLOUR_STOPS[k + 1]);
+    [0, 1, 2].map(|c| (a[c] as f64 + (b[c] as f64 - a[c] as f64) * f).round() as u8)
+}
+
+/// What the legend says: the values at the ends and the middle of the colour bar, and what
+/// they count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Legend {
+    pub min: u32,
+    /// The value at the bar's middle (the scale is logarithmic), rounded.
+    pub mid: u32,
+    pub max: u32,
+    pub title: &'static str,
+}
+
+/// Where a value lies on the colour bar from `min` to `max`: the logarithmic scale
+/// ln(1 + v - min) / ln(1 + max - min), so that the many pixels with few steps are told apart
+/// as well as the few with many; 0 when min = max.
+pub fn scale(v: u32, min: u32, max: u32) -> f64 {
+    if max <= min {
+        return 0.0;
+    }
+    (v.saturating_sub(min) as f64).ln_1p() / ((max - min) as f64).ln_1p()
+}
+
+impl Legend {
+    fn new(min: u32, max: u32, title: &'static str) -> Self {
+        // scale(mid) = 1/2: 1 + mid - min = sqrt(1 + max - min).
+        let mid = min + ((1.0 + (max - min) as f64).sqrt() - 1.0).round() as u32;
+        Self {
+            min,
+            mid,
+            max,
+            title,
+        }
+    }
+}
+
+/// A heat map: RGB8 pixels row by row, row 0 at the top, and its legend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeatMap {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+    pub legend: Legend,
+}
+
+/// Per pixel, the wasted steps of its tile: the most steps of any pixel in its `TILE` x `TILE`
+/// tile (tiles aligned to pixel (0, 0); those at the right and bottom edges may be partial) minus
+/// its own.
+pub fn divergence(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
+    let tile_max = tile_maxima(steps, width, height);
+    let columns = width.div_ceil(TILE) as usize;
+    (0..height as usize)
+        .flat_map(|j| (0..width as usize).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let max = tile_max[(j / TILE as usize) * columns + i / TILE as usize];
+            max - steps[j * width as usize + i]
+        })
+        .collect()
+}
+
+/// The most steps in each tile, tiles row by row.
+fn tile_maxima(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
+    let columns = width.div_ceil(TILE) as usize;
+    let mut max = vec![0u32; columns * height.div_ceil(TILE) as usize];
+    for (k, &s) in steps.iter().enumerate() {
+        let (i, j) = (k % width as usize, k / width as usize);
+        let t = &mut max[(j / TILE as usize) * columns + i / TILE as usize];
+        *t = (*t).max(s);
+    }
+    max
+}
+
+/// The `steps` view: steps per primary ray, from the fewest to the most taken in this image
+/// (min and max in the legend), black where the ray misses the bounding ball (0 steps).
+pub fn steps_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
+    heat_map(steps, width, height, "steps per ray (log scale)", |k| {
+        steps[k] > 0
+    })
+}
+
+/// The `divergence` view: wasted steps per pixel (see [`divergence`]), black where its whole
+/// tile misses the bounding ball (no work at all). A pixel that misses in a tile that works
+/// idles the whole tile's work and is coloured by it.
+pub fn divergence_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
+    let wasted = divergence(steps, width, height);
+    let tile_max = tile_maxima(steps, width, height);
+    let columns = width.div_ceil(TILE) as usize;
+    let works = |k: usize| {
+        let (i, j) = (k % width as usize, k / width as usize);
+        tile_max[(j / TILE as usize) * columns + i / TILE as usize] > 0
+    };
+    heat_map(
+        &wasted,
+        width,
+        height,
+        "wasted steps per pixel, 8x8 tiles (log scale)",
+        works,
+    )
+}
+
+/// Values mapped from their smallest to their largest (over the pixels `shown`) onto the colour
+/// map by [`scale`]; black where not shown.
+fn heat_map(
+    values: &[u32],
+    width: u32,
+    height: u32,
+    title: &'static str,
+    shown: impl Fn(usize) -> bool,
+) -> HeatMap {
+    let (mut min, mut max) = (u32::MAX, 0u32);
+    for (k, &v) in values.iter().enumerate() {
+        if shown(k) {
+            min = min.min(v);
+            max = max.max(v);
+        }
+    }
+    if min > max {
+        (min, max) = (0, 0);
+    }
+    let rgb = values
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &v)| {
+            if shown(k) {
+                colour_map(scale(v, min, max))
+            } else {
+                [0, 0, 0]
+            }
+        })
+        .collect();
+    HeatMap {
+        width,
+        height,
+        rgb,
+        legend: Legend::new(min, max, title),
+    }
+}
+
+/// The heat map of a step view (None for the shaded view).
+pub fn heat_map_of(view: View, steps: &[u32], width: u32, height: u32) -> Option<HeatMap> {
+    match view {
+        View::Shaded => None,
+        View::Steps => Some(steps_view(steps, width, height)),
+        View::Divergence => Some(divergence_view(steps, width, height)),
+    }
+}
+
+/// The picture a view shows of a frame, without legend: the shaded colour, or a heat map.
+pub fn view_rgb(frame: &Frame, view: View) -> (Vec<u8>, Option<Legend>) {
+    match heat_map_of(view, &frame.steps, frame.width, frame.height) {
+        None => (frame.rgb8(), None),
+        Some(map) => (map.rgb, Some(map.legend)),
+    }
+}
+
+/// The PNG's pixels for a view of a frame: the shaded picture as it is, or a heat map with a
+/// legend strip of [`LEGEND_HEIGHT`] rows added below it. Returns (width, height, RGB8).
+pub fn view_image(frame: &Frame, view: View) -> (u32, u32, Vec<u8>) {
+    let (mut rgb, legend) = view_rgb(frame, view);
+    match legend {
+        None => (frame.width, frame.height, rgb),
+        Some(legend) => {
+            rgb.extend(legend_strip(&legend, frame.width));
+            (frame.width, frame.height + LEGEND_HEIGHT, rgb)
+        }
+    }
+}
+
+/// The legend strip, `width` by [`LEGEND_HEIGHT`] pixels: the colour bar from min (left) to max
+/// (right) with ticks at its ends and middle, their values under them, and the title below
+/// (where it fits).
+pub fn legend_strip(legend: &Legend, width: u32) -> Vec<u8> {
+    use plotters::prelude::*;
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let h = LEGEND_HEIGHT;
+    let mut buffer: Vec<u8> = std::iter::repeat_n(LEGEND_BACKGROUND, (width * h) as usize)
+        .flatten()
+        .collect();
+    let margin = 6u32;
+    let (bar_top, bar_bottom) = (5u32, 15u32);
+    let white = [235u8; 3];
+    let mut put = |x: u32, y: u32, colour: [u8; 3]| {
+        let k = ((y * width + x) * 3) as usize;
+        buffer[k..k + 3].copy_from_slice(&colour);
+    };
+    if width > 2 * margin + 1 {
+        let (left, right) = (margin, width - margin - 1);
+        let span = (right - left) as f64;
+        for x in left..=right {
+            for y in bar_top..bar_bottom {
+                put(x, y, colour_map((x - left) as f64 / span));
+            }
+        }
+        for x in [left, (left + right) / 2, right] {
+            for y in bar_bottom..bar_bottom + 3 {
+                put(x, y, white);
+            }
+        }
+    }
+    register_plot_font();
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, (width, h)).into_drawing_area();
+        let font = ("sans-serif", 13)
+            .into_font()
+            .color(&RGBColor(235, 235, 235));
+        let at = |h| font.pos(Pos::new(h, VPos::Top));
+        let y = (bar_bottom + 5) as i32;
+        let labels = [
+            (legend.min, HPos::Left, margin as i32),
+            (legend.mid, HPos::Center, width as i32 / 2),
+            (legend.max, HPos::Right, (width - margin) as i32),
+        ];
+        // Drawing errors only mean text that does not fit: the bar is what matters.
+        for (value, anchor, x) in labels {
+            let _ = root.draw_text(&value.to_string(), &at(anchor), (x, y));
+        }
+        let fits = root
+            .estimate_text_size(legend.title, &font)
+            .is_ok_and(|(w, _)| w + 2 * margin < width);
+        if fits {
+            let _ = root.draw_text(legend.title, &at(HPos::Center), (width as i32 / 2, y + 16));
+        }
+        let _ = root.present();
+    }
+    buffer
+}
+
+/// Registers the embedded font (egui's Ubuntu Light) as plotters' "sans-serif", once: plots and
+/// legends look the same everywhere and need no system fonts.
+pub(crate) fn register_plot_font() {
+    static FONT: std::sync::Once = std::sync::Once::new();
+    FONT.call_once(|| {
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            plotters::style::FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        );
+    });
+}
+
+/// Divergence over a whole image, accumulated band by band (bands of whole rows, top to
+/// bottom, any number of rows each), so that a streamed render of any size can report it.
+#[derive(Clone, Debug)]
+pub struct TileWork {
+    width: u32,
+    tile: u32,
+    /// Rows added so far.
+    rows: u32,
+    /// Per tile of the current tile row: pixels, sum of steps, most steps.
+    open: Vec<(u64, u64, u32)>,
+    /// Over closed tiles: steps taken, and steps paid (pixels times the tile's most).
+    useful: u64,
+    paid: u64,
+}
+
+/// What the lanes of square tiles do: the share of the paid work that is useful, and the
+/// wasted steps per pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TileSummary {
+    /// Sum of steps over the sum of (tile pixels times the tile's most steps); 1 where no tile
+    /// works at all.
+    pub efficiency: f64,
+    /// Mean over pixels of the tile's most steps minus the pixel's own.
+    pub wasted_steps_mean: f64,
+}
+
+impl TileWork {
+    pub fn new(width: u32, tile: u32) -> Self {
+        Self {
+            width,
+            tile,
+            rows: 0,
+            open: vec![(0, 0, 0); width.div_ceil(tile) as usize],
+            useful: 0,
+            paid: 0,
+        }
+    }
+
+    /// Adds whole rows of steps (a multiple of the width).
+    pub fn add_rows(&mut self, steps: &[u32]) {
+        for row in steps.chunks(self.width as usize) {
+            for (i, &s) in row.iter().enumerate() {
+                let t = &mut self.open[i / self.tile as usize];
+                t.0 += 1;
+                t.1 += s as u64;
+                t.2 = t.2.max(s);
+            }
+            self.rows += 1;
+            if self.rows.is_multiple_of(self.tile) {
+                self.close();
+            }
+        }
+    }
+
+    fn close(&mut self) {
+        for t in &mut self.open {
+            self.useful += t.1;
+            self.paid += t.0 * t.2 as u64;
+            *t = (0, 0, 0);
+        }
+    }
+
+    /// The summary over every row added.
+    pub fn finish(mut self) -> TileSummary {
+        self.close();
+        let pixels = self.rows as u64 * self.width as u64;
+        TileSummary {
+            efficiency: if self.paid == 0 {
+                1.0
+            } else {
+                self.useful as f64 / self.paid as f64
+            },
+            wasted_steps_mean: (self.paid - self.useful) as f64 / pixels.max(1) as f64,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn divergence_is_the_tile_maximum_minus_the_pixel() {
+        // 10x9: tiles of 8x8, 2x8, 8x1 and 2x1 pixels.
+        let (w, h) = (10u32, 9u32);
+        let mut steps = vec![1u32; (w * h) as usize];
+        steps[3 * 10 + 4] = 7; // in the top-left 8x8 tile
+        steps[2 * 10 + 9] = 5; // in the top-right 2x8 tile
+        steps[8 * 10] = 0; // the bottom-left 8x1 tile: max 1
+        steps[8 * 10 + 9] = 4; // the bottom-right 2x1 tile
+        let d = divergence(&steps, w, h);
+        let at = |i: usize, j: usize| d[j * 10 + i];
+        assert_eq!(at(4, 3), 0);
+        assert_eq!(at(0, 0), 6);
+        assert_eq!(at(7, 7), 6);
+        assert_eq!(at(8, 0), 4);
+        assert_eq!(at(9, 2), 0);
+        assert_eq!(at(8, 7), 4);
+        assert_eq!(at(0, 8), 1);
+        assert_eq!(at(1, 8), 0);
+        assert_eq!(at(8, 8), 3);
+        assert_eq!(at(9, 8), 0);
+    }
+
+    #[test]
+    fn tile_work_agrees_with_the_frame_and_with_itself_in_bands() {
+        let (w, h) = (13u32, 11u32);
+        let steps: Vec<u32> = (0..w * h).map(|k| (k * 7919) % 23).collect();
+        let frame = Frame {
+            width: w,
+            height: h,
+            colour: vec![0; (w * h) as usize],
+            depth: vec![0.0; (w * h) as usize],
+            steps: steps.clone(),
+            non_finite: 0,
+        };
+        let mut whole = TileWork::new(w, TILE);
+        whole.add_rows(&steps);
+        let whole = whole.finish();
+        assert!((whole.efficiency - frame.tile_efficiency(TILE)).abs() < 1e-15);
+        let wasted: u64 = divergence(&steps, w, h).iter().map(|&v| v as u64).sum();
+        assert!((whole.wasted_steps_mean - wasted as f64 / (w * h) as f64).abs() < 1e-12);
+        // Bands of 3 rows (not a multiple of the tile) give the same.
+        let mut banded = TileWork::new(w, TILE);
+        for band in steps.chunks(3 * w as usize) {
+            banded.add_rows(band);
+        }
+        assert_eq!(banded.finish(), whole);
+        // No work at all: efficiency 1, nothing wasted.
+        let mut idle = TileWork::new(4, TILE);
+        idle.add_rows(&[0; 8]);
+        assert_eq!(
+            idle.finish(),
+            TileSummary {
+                efficiency: 1.0,
+                wasted_steps_mean: 0.0
+            }
+        );
+    }
+
+    #[test]
+    fn steps_view_is_black_on_misses_and_spans_the_colour_map() {
+        let steps = [0, 3, 5, 11];
+        let map = steps_view(&steps, 2, 2);
+        assert_eq!(
+            map.legend,
+            Legend {
+                min: 3,
+                mid: 5,
+                max: 11,
+                title: "steps per ray (log scale)"
+            }
+        );
+        assert_eq!(&map.rgb[0..3], &[0, 0, 0]);
+        assert_eq!(&map.rgb[3..6], &COLOUR_STOPS[0]);
+        // 5 is 2 above the minimum of 3, on a scale of 8: ln 3 / ln 9 = 1/2.
+        assert_eq!(&map.rgb[6..9], &COLOUR_STOPS[4]);
+        assert_eq!(&map.rgb[9..12], &COLOUR_STOPS[8]);
+        // Nothing hit: all black, legend 0 to 0.
+        let none = steps_view(&[0, 0], 2, 1);
+        assert!(none.rgb.iter().all(|&c| c == 0));
+        assert_eq!((none.legend.min, none.legend.max), (0, 0));
+    }
+
+    #[test]
+    fn divergence_view_is_black_only_where_a_whole_tile_is_idle() {
+        // 16x8: the left tile works (one pixel 4 steps), the right one does nothing.
+        let mut steps = vec![0u32; 128];
+        steps[0] = 4;
+        let map = divergence_view(&steps, 16, 8);
+        assert_eq!((map.legend.min, map.legend.mid, map.legend.max), (0, 1, 4));
+        let px = |i: usize, j: usize| &map.rgb[(j * 16 + i) * 3..(j * 16 + i) * 3 + 3];
+        assert_eq!(px(0, 0), &COLOUR_STOPS[0]);
+        assert_eq!(px(1, 0), &COLOUR_STOPS[8]);
+        assert_eq!(px(12, 3), &[0, 0, 0]);
+    }
+
+    #[test]
+    fn the_scale_is_logarithmic_from_min_to_max() {
+        assert_eq!(scale(3, 3, 11), 0.0);
+        assert_eq!(scale(11, 3, 11), 1.0);
+        assert!((scale(5, 3, 11) - 0.5).abs() < 1e-15);
+        assert_eq!(scale(7, 7, 7), 0.0);
+        assert_eq!(Legend::new(4, 171, "").mid, 4 + 12);
+    }
+
+    #[test]
+    fn colour_map_ends_and_middle() {
+        assert_eq!(colour_map(0.0), COLOUR_STOPS[0]);
+        assert_eq!(colour_map(1.0), COLOUR_STOPS[8]);
+        assert_eq!(colour_map(0.5), COLOUR_STOPS[4]);
+        assert_eq!(colour_map(-3.0), COLOUR_STOPS[0]);
+        assert_eq!(colour_map(f64::NAN), COLOUR_STOPS[0]);
+        // Perceptual: brightness rises along the map.
+        let luma = |c: [u8; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
+        for k in 1..COLOUR_STOPS.len() {
+            assert!(luma(COLOUR_STOPS[k]) > luma(COLOUR_STOPS[k - 1]));
+        }
+    }
+
+    #[test]
+    fn the_png_of_a_heat_map_has_the_legend_below() {
+        let frame = Frame {
+            width: 200,
+            height: 20,
+            colour: vec![0xff00_0000; 4000],
+            depth: vec![f32::NAN; 4000],
+            steps: (0..4000).map(|k| k % 50).collect(),
+            non_finite: 0,
+        };
+        let (w, h, rgb) = view_image(&frame, View::Steps);
+        assert_eq!((w, h), (200, 20 + LEGEND_HEIGHT));
+        assert_eq!(rgb.len(), (w * h * 3) as usize);
+        // The bar's ends are the map's ends; the strip has light text on it.
+        let px = |i: u32, j: u32| {
+            let k = ((j * w + i) * 3) as usize;
+            [rgb[k], rgb[k + 1], rgb[k + 2]]
+        };
+        assert_eq!(px(6, 20 + 8), COLOUR_STOPS[0]);
+        assert_eq!(px(193, 20 + 8), COLOUR_STOPS[8]);
+        assert_eq!(px(99, 20 + 8), colour_map((99 - 6) as f64 / 187.0));
+        let text = (20 + 20..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .filter(|&(i, j)| px(i, j)[0] > 150)
+            .count();
+        assert!(text > 20, "no legend text drawn");
+        // The shaded view is the frame's colour, as it is.
+        let (w, h, rgb) = view_image(&frame, View::Shaded);
+        assert_eq!((w, h, rgb), (200, 20, frame.rgb8()));
+    }
+}
