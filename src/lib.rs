@@ -171,6 +171,28 @@ fn cpu_band_rows(width: u32) -> u32 {
     (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32
 }
 
+/// Renders an image of `width` x `height` on the CPU band by band with `render_rows`, handing
+/// each band to `sink`; returns the seconds spent rendering (the sink's time left out).
+fn cpu_bands(
+    (width, height): (u32, u32),
+    render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    summary: &mut SummaryBuilder,
+) -> Result<f64> {
+    let mut seconds = 0.0;
+    let mut row = 0;
+    while row < height {
+        let rows = cpu_band_rows(width).min(height - row);
+        let start = std::time::Instant::now();
+        let band = render_rows(row..row + rows);
+        seconds += start.elapsed().as_secs_f64();
+        summary.add(&band);
+        sink(&band)?;
+        row += rows;
+    }
+    Ok(seconds)
+}
+
 fn render_cpu_streaming(
     scene: &Scene,
     precision: Precision,
@@ -181,18 +203,12 @@ fn render_cpu_streaming(
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
         summary: &mut SummaryBuilder,
     ) -> Result<f64> {
-        let mut seconds = 0.0;
-        let mut row = 0;
-        while row < p.height {
-            let rows = cpu_band_rows(p.width).min(p.height - row);
-            let start = std::time::Instant::now();
-            let band = cpu::render_rows(p, row..row + rows);
-            seconds += start.elapsed().as_secs_f64();
-            summary.add(&band);
-            sink(&band)?;
-            row += rows;
-        }
-        Ok(seconds)
+        cpu_bands(
+            (p.width, p.height),
+            &|rows| cpu::render_rows(p, rows),
+            sink,
+            summary,
+        )
     }
     let mut summary = SummaryBuilder::new(scene.image.width);
     let seconds = match precision {
@@ -299,18 +315,8 @@ fn render2d_cpu(
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
         summary: &mut SummaryBuilder,
     ) -> Result<f64> {
-        let mut seconds = 0.0;
-        let mut row = 0;
-        while row < p.height {
-            let rows = cpu_band_rows(p.width).min(p.height - row);
-            let start = std::time::Instant::now();
-            let band = cpu::julia2d::render_rows(p, row..row + rows);
-            seconds += start.elapsed().as_secs_f64();
-            summary.add(&band);
-            sink(&band)?;
-            row += rows;
-        }
-        Ok(seconds)
+        let rows = |rows| cpu::julia2d::render_rows(p, rows);
+        cpu_bands((p.width, p.height), &rows, sink, summary)
     }
     let mut summary = SummaryBuilder::new(scene.image.width);
     let seconds = match precision {

@@ -138,24 +138,12 @@ impl GpuJulia2d {
         uniform: &wgpu::Buffer,
         outputs: [&wgpu::Buffer; OUTPUTS],
     ) -> wgpu::BindGroup {
-        fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            }
-        }
-        self.ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("julia2d"),
-                layout: &self.layout,
-                entries: &[
-                    entry(0, uniform),
-                    entry(1, outputs[0]),
-                    entry(2, outputs[1]),
-                    entry(3, outputs[2]),
-                ],
-            })
+        super::output_bind_group(
+            &self.ctx.device,
+            ("julia2d", &self.layout),
+            uniform,
+            outputs,
+        )
     }
 
     /// Records one compute pass over `rows` rows of `width` pixels with the bound parameters.

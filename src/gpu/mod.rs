@@ -134,3 +134,29 @@ fn adapter_rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
     };
     (kind, backend)
 }
+
+/// A bind group of a uniform buffer (binding 0) and the colour, depth and steps arrays
+/// (bindings 1 to 3): the layout of every kernel here.
+pub(crate) fn output_bind_group(
+    device: &wgpu::Device,
+    (label, layout): (&str, &wgpu::BindGroupLayout),
+    uniform: &wgpu::Buffer,
+    outputs: [&wgpu::Buffer; OUTPUTS],
+) -> wgpu::BindGroup {
+    fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+        wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        }
+    }
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &[
+            entry(0, uniform),
+            entry(1, outputs[0]),
+            entry(2, outputs[1]),
+            entry(3, outputs[2]),
+        ],
+    })
+}

@@ -179,18 +179,7 @@ impl GpuTracer {
         uniform: &wgpu::Buffer,
         outputs: [&wgpu::Buffer; OUTPUTS],
     ) -> wgpu::BindGroup {
-        self.ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trace"),
-                layout: &self.layout,
-                entries: &[
-                    bind_entry(0, uniform),
-                    bind_entry(1, outputs[0]),
-                    bind_entry(2, outputs[1]),
-                    bind_entry(3, outputs[2]),
-                ],
-            })
+        super::output_bind_group(&self.ctx.device, ("trace", &self.layout), uniform, outputs)
     }
 
     /// Records one compute pass tracing `rows` rows of `width` pixels with the bound parameters.
@@ -456,13 +445,6 @@ impl GpuTracer {
                 .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
         }
         Ok(())
-    }
-}
-
-fn bind_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
     }
 }
 
