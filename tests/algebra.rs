@@ -1,11 +1,12 @@
 //! Octonion and sedenion Julia sets (`fractal.algebra`): with c and the slice inside the
-//! quaternion subalgebra their renders equal the quaternion render exactly, on every tracer; with
+//! quaternion subalgebra their renders equal the quaternion render (octonions bit for bit, since
+//! both take |z'| by the norm; sedenions, which carry z' whole, to rounding), on every tracer; with
 //! c reaching into the higher dimensions the GPU agrees with its CPU twin; the scene file checks
 //! vector lengths against the algebra after all overrides.
 
 mod common;
 
-use qjulia::compare::CONTRACT_TOLERANCE;
+use qjulia::compare::{Agreement, CONTRACT_TOLERANCE, Tolerance};
 use qjulia::scene::{Algebra, SceneLoader};
 use qjulia::{Frame, Scene, TraceParams, cpu};
 
@@ -22,6 +23,27 @@ fn embedded(scene: &Scene, algebra: Algebra) -> Scene {
     s.set_algebra(algebra);
     assert_eq!(s.fractal.c.len(), algebra.dim());
     s
+}
+
+/// Sedenions against quaternions: the same picture but for rounding (z' carried whole rather
+/// than |z'| by the norm): the same hit mask, depth within 1e-5 and colour within 1/255 on all
+/// but a few pixels.
+const ROUNDING: Tolerance = Tolerance {
+    mask_agreement: 0.999,
+    depth_abs: 1e-5,
+    depth_agreement: 0.999,
+    colour_abs: 1,
+    colour_agreement: 0.999,
+};
+
+fn assert_same_algebra(name: &str, algebra: Algebra, expected: &Frame, actual: &Frame) {
+    if algebra == Algebra::Sedenion {
+        common::assert_agree(name, expected, actual, &ROUNDING);
+        let a = Agreement::measure(expected, actual, &ROUNDING);
+        assert!(a.colour_max_error <= 2, "{name}: {a}");
+    } else {
+        assert_identical(name, expected, actual);
+    }
 }
 
 fn assert_identical(name: &str, expected: &Frame, actual: &Frame) {
@@ -61,9 +83,19 @@ fn embedded_quaternion_scenes_render_identically_on_the_cpu() {
         for algebra in [Algebra::Octonion, Algebra::Sedenion] {
             let s = embedded(&scene, algebra);
             let (f32_frame, _) = cpu::render(&TraceParams::<f32>::new(&s));
-            assert_identical(&format!("{name} {algebra:?} f32"), &q32, &f32_frame);
+            assert_same_algebra(
+                &format!("{name} {algebra:?} f32"),
+                algebra,
+                &q32,
+                &f32_frame,
+            );
             let (f64_frame, _) = cpu::render(&TraceParams::<f64>::new(&s));
-            assert_identical(&format!("{name} {algebra:?} f64"), &q64, &f64_frame);
+            assert_same_algebra(
+                &format!("{name} {algebra:?} f64"),
+                algebra,
+                &q64,
+                &f64_frame,
+            );
         }
     }
 }
@@ -78,7 +110,7 @@ fn embedded_quaternion_scenes_render_identically_on_the_gpu() {
         let q = render(&scene);
         for algebra in [Algebra::Octonion, Algebra::Sedenion] {
             let s = embedded(&scene, algebra);
-            assert_identical(&format!("{name} {algebra:?} gpu"), &q, &render(&s));
+            assert_same_algebra(&format!("{name} {algebra:?} gpu"), algebra, &q, &render(&s));
         }
     }
 }
