@@ -220,6 +220,7 @@ impl_vector_ops!(Vec4 { x, y, z, w });
 // ----- twins of shaders/algebra.wgsl -----
 
 /// The quaternion product `a b` (not commutative).
+#[inline(always)]
 pub fn quat_mul<F: Real>(a: Vec4<F>, b: Vec4<F>) -> Vec4<F> {
     Vec4::from_parts(
         a.x * b.x - a.yzw().dot(b.yzw()),
@@ -228,6 +229,7 @@ pub fn quat_mul<F: Real>(a: Vec4<F>, b: Vec4<F>) -> Vec4<F> {
 }
 
 /// The quaternion square `q q`, a cheaper special case of `quat_mul(q, q)`.
+#[inline(always)]
 pub fn quat_sq<F: Real>(q: Vec4<F>) -> Vec4<F> {
     Vec4::from_parts(
         q.x * q.x - q.yzw().dot(q.yzw()),
@@ -235,6 +237,7 @@ pub fn quat_sq<F: Real>(q: Vec4<F>) -> Vec4<F> {
     )
 }
 
+#[inline(always)]
 pub fn quat_conj<F: Real>(q: Vec4<F>) -> Vec4<F> {
     Vec4::from_parts(q.x, -q.yzw())
 }
@@ -251,6 +254,7 @@ pub struct Octonion<F> {
 }
 
 /// The Cayley-Dickson product (a, b)(c, d) = (a c - conj(d) b, d a + b conj(c)).
+#[inline(always)]
 pub fn oct_mul<F: Real>(x: Octonion<F>, y: Octonion<F>) -> Octonion<F> {
     Octonion {
         a: quat_mul(x.a, y.a) - quat_mul(quat_conj(y.b), x.b),
@@ -258,6 +262,7 @@ pub fn oct_mul<F: Real>(x: Octonion<F>, y: Octonion<F>) -> Octonion<F> {
     }
 }
 
+#[inline(always)]
 pub fn oct_conj<F: Real>(x: Octonion<F>) -> Octonion<F> {
     Octonion {
         a: quat_conj(x.a),
@@ -267,6 +272,7 @@ pub fn oct_conj<F: Real>(x: Octonion<F>) -> Octonion<F> {
 
 /// The octonion square (a, b)^2 = (a^2 - |b|^2, 2 Re(a) b): conj(b) b = |b|^2 and
 /// b a + b conj(a) = 2 Re(a) b, so no product is needed.
+#[inline(always)]
 pub fn oct_sq<F: Real>(x: Octonion<F>) -> Octonion<F> {
     Octonion {
         a: quat_sq(x.a) - Vec4::real(x.b.dot(x.b)),
@@ -275,6 +281,7 @@ pub fn oct_sq<F: Real>(x: Octonion<F>) -> Octonion<F> {
 }
 
 /// The product x y of two numbers with `parts` quaternion parts (1, 2 or 4).
+#[inline(always)]
 pub fn hyper_mul<F: Real>(x: Hyper<F>, y: Hyper<F>, parts: u32) -> Hyper<F> {
     let zero = Vec4::zero();
     if parts == 1 {
@@ -297,6 +304,7 @@ pub fn hyper_mul<F: Real>(x: Hyper<F>, y: Hyper<F>, parts: u32) -> Hyper<F> {
 }
 
 /// The square x x, by (A, B)^2 = (A^2 - |B|^2, 2 Re(A) B) at each level of the construction.
+#[inline(always)]
 pub fn hyper_sq<F: Real>(x: Hyper<F>, parts: u32) -> Hyper<F> {
     let zero = Vec4::zero();
     if parts == 1 {
@@ -312,6 +320,7 @@ pub fn hyper_sq<F: Real>(x: Hyper<F>, parts: u32) -> Hyper<F> {
 }
 
 /// The Euclidean inner product of the first `parts` parts.
+#[inline(always)]
 pub fn hyper_dot<F: Real>(x: Hyper<F>, y: Hyper<F>, parts: u32) -> F {
     let mut sum = x[0].dot(y[0]);
     for k in 1..parts as usize {
@@ -320,14 +329,17 @@ pub fn hyper_dot<F: Real>(x: Hyper<F>, y: Hyper<F>, parts: u32) -> F {
     sum
 }
 
+#[inline(always)]
 pub fn hyper_add<F: Real>(x: Hyper<F>, y: Hyper<F>) -> Hyper<F> {
     [x[0] + y[0], x[1] + y[1], x[2] + y[2], x[3] + y[3]]
 }
 
+#[inline(always)]
 pub fn hyper_scale<F: Real>(s: F, x: Hyper<F>) -> Hyper<F> {
     [x[0] * s, x[1] * s, x[2] * s, x[3] * s]
 }
 
+#[inline(always)]
 pub fn hyper_sub<F: Real>(x: Hyper<F>, y: Hyper<F>) -> Hyper<F> {
     [x[0] - y[0], x[1] - y[1], x[2] - y[2], x[3] - y[3]]
 }
@@ -336,6 +348,7 @@ pub fn hyper_sub<F: Real>(x: Hyper<F>, y: Hyper<F>) -> Hyper<F> {
 /// same in every Cayley-Dickson algebra (the linear part of (z + j)^2 = 2 Re(z + j)(z + j) -
 /// |z + j|^2), written so that for quaternions it is 2 (z.x j.x - z.yzw . j.yzw,
 /// z.x j.yzw + j.x z.yzw).
+#[inline(always)]
 pub fn square_derivative<F: Real>(z: Hyper<F>, j: Hyper<F>, parts: u32) -> Hyper<F> {
     let mut inner = z[0].yzw().dot(j[0].yzw());
     for k in 1..parts as usize {

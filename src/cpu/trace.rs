@@ -61,7 +61,18 @@ impl<F: Real> TraceParams<F> {
     /// |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the product (half the arithmetic of
     /// an iteration). Sedenions are not: there z' is carried whole.
     pub fn iterate_intersect(&self, z: &mut Hyper<F>) -> F {
-        let parts = self.algebra_parts;
+        // The loop compiled once per algebra, so that its arithmetic skips the unused parts.
+        match self.algebra_parts {
+            1 => self.iterate_parts::<1>(z),
+            2 => self.iterate_parts::<2>(z),
+            _ => self.iterate_parts::<4>(z),
+        }
+    }
+
+    /// [`Self::iterate_intersect`] for a number of parts known at compile time.
+    #[inline(always)]
+    fn iterate_parts<const PARTS: u32>(&self, z: &mut Hyper<F>) -> F {
+        let parts = PARTS;
         let mut zz = hyper_dot(*z, *z, parts);
         let mut zpzp = F::one();
         let mut zp = [
