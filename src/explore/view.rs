@@ -451,37 +451,13 @@ impl ViewRenderer {
             })
         };
         let outputs = [make("view colour"), make("view depth"), make("view steps")];
-        // egui samples textures as gamma-encoded values and writes them to a gamma framebuffer
-        // unchanged: a plain (non-sRGB) RGBA8 texture puts the PNG's very bytes on screen.
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("view"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        let mut renderer = self.renderer.write();
-        let texture_id = match old {
-            Some(old) => {
-                renderer.update_egui_texture_from_wgpu_texture(
-                    device,
-                    &view,
-                    wgpu::FilterMode::Nearest,
-                    old.texture_id,
-                );
-                old.texture_id
-            }
-            None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
-        };
-        drop(renderer);
+        let (texture, texture_id) = native_texture(
+            device,
+            &self.renderer,
+            "view",
+            size,
+            old.map(|t| t.texture_id),
+        );
         let bind_group = self
             .tracer
             .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);
@@ -495,6 +471,48 @@ impl ViewRenderer {
             bind_group,
         });
     }
+}
+
+/// A texture of `size` pixels that egui draws, registered with the renderer (or replacing the
+/// texture behind `old`, keeping its id). egui samples textures as gamma-encoded values and
+/// writes them to a gamma framebuffer unchanged: a plain (non-sRGB) RGBA8 texture puts the PNG's
+/// very bytes on screen.
+pub(crate) fn native_texture(
+    device: &wgpu::Device,
+    renderer: &egui::mutex::RwLock<egui_wgpu::Renderer>,
+    label: &str,
+    size: [u32; 2],
+    old: Option<egui::TextureId>,
+) -> (wgpu::Texture, egui::TextureId) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let mut renderer = renderer.write();
+    let id = match old {
+        Some(id) => {
+            renderer.update_egui_texture_from_wgpu_texture(
+                device,
+                &view,
+                wgpu::FilterMode::Nearest,
+                id,
+            );
+            id
+        }
+        None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
+    };
+    (texture, id)
 }
 
 /// Renders a scene through the same tracer for export (blocking; run it off the UI thread).

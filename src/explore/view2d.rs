@@ -171,36 +171,13 @@ impl View2dRenderer {
             make("view2d inside"),
             make("view2d steps"),
         ];
-        // A plain (non-sRGB) RGBA8 texture puts the PNG's very bytes on screen (see view.rs).
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("view2d"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        let mut renderer = self.renderer.write();
-        let texture_id = match old {
-            Some(old) => {
-                renderer.update_egui_texture_from_wgpu_texture(
-                    device,
-                    &view,
-                    wgpu::FilterMode::Nearest,
-                    old.texture_id,
-                );
-                old.texture_id
-            }
-            None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
-        };
-        drop(renderer);
+        let (texture, texture_id) = super::view::native_texture(
+            device,
+            &self.renderer,
+            "view2d",
+            size,
+            old.map(|t| t.texture_id),
+        );
         let bind_group = self
             .julia
             .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);

@@ -160,3 +160,28 @@ pub(crate) fn output_bind_group(
         ],
     })
 }
+
+/// The colour, depth and steps arrays of `bytes` each on the device, and their readback copies.
+pub(crate) fn output_buffers(
+    device: &wgpu::Device,
+    bytes: u64,
+) -> ([wgpu::Buffer; OUTPUTS], [wgpu::Buffer; OUTPUTS]) {
+    let make = |label, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let out = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+    let read = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+    (
+        [make("colour", out), make("depth", out), make("steps", out)],
+        [
+            make("colour readback", read),
+            make("depth readback", read),
+            make("steps readback", read),
+        ],
+    )
+}

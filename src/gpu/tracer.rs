@@ -209,22 +209,7 @@ impl GpuTracer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let make = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let out = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-        let read = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-        let storage = [make("colour", out), make("depth", out), make("steps", out)];
-        let readback = [
-            make("colour readback", read),
-            make("depth readback", read),
-            make("steps readback", read),
-        ];
+        let (storage, readback) = super::output_buffers(device, size);
         let bind_group = self.create_bind_group(&uniform, [&storage[0], &storage[1], &storage[2]]);
         let timestamps = self.ctx.has_timestamps().then(|| Timestamps {
             queries: device.create_query_set(&wgpu::QuerySetDescriptor {
