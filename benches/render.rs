@@ -5,13 +5,14 @@
 //! specialisation (the generic pipeline against the scene's own). GPU time is taken by timestamp
 //! queries where the adapter has them; every pipeline is compiled and warmed up before timing.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
 
 use qjulia::gpu::{GpuContext, GpuTracer};
 use qjulia::scene::SceneLoader;
-use qjulia::{Scene, TraceParams, cpu};
+use qjulia::{Picture, Precision, Renderer, Scene, TraceParams, cpu};
 
 fn scene(sets: &[&str]) -> Scene {
     let mut loader = SceneLoader::new();
@@ -52,8 +53,9 @@ fn scenes() -> Vec<(&'static str, Scene)> {
 
 /// The tracers compared.
 struct Gpus {
-    specialised: GpuTracer,
-    generic: GpuTracer,
+    specialised: Renderer,
+    generic: Renderer,
+    adapter: String,
 }
 
 fn gpus() -> Option<Gpus> {
@@ -62,8 +64,9 @@ fn gpus() -> Option<Gpus> {
         (Ok(specialised), Ok(mut generic)) => {
             generic.set_specialise(false);
             Some(Gpus {
-                specialised,
-                generic,
+                adapter: specialised.context().adapter_label(),
+                specialised: Renderer::on_tracer(Arc::new(specialised)),
+                generic: Renderer::on_tracer(Arc::new(generic)),
             })
         }
         (Err(e), _) | (_, Err(e)) => {
@@ -82,21 +85,20 @@ fn criterion_benches(c: &mut Criterion, gpus: Option<&Gpus>) {
         group.throughput(Throughput::Elements(
             scene.image.width as u64 * scene.image.height as u64,
         ));
-        let p32 = TraceParams::<f32>::new(&scene);
+        let render = |r: &Renderer| r.render_frame(&scene, Picture::SHADED).expect("render");
         if let Some(g) = gpus {
-            for (label, tracer) in [
+            for (label, renderer) in [
                 ("gpu specialised", &g.specialised),
                 ("gpu generic", &g.generic),
             ] {
-                tracer.render(&p32).expect("GPU warm-up");
-                group.bench_function(label, |b| {
-                    b.iter(|| tracer.render(&p32).expect("GPU render"))
-                });
+                render(renderer);
+                group.bench_function(label, |b| b.iter(|| render(renderer)));
             }
         }
-        group.bench_function("cpu f32", |b| b.iter(|| cpu::render(&p32)));
-        let p64 = TraceParams::<f64>::new(&scene);
-        group.bench_function("cpu f64", |b| b.iter(|| cpu::render(&p64)));
+        for (label, precision) in [("cpu f32", Precision::F32), ("cpu f64", Precision::F64)] {
+            let cpu = Renderer::cpu(precision);
+            group.bench_function(label, |b| b.iter(|| render(&cpu)));
+        }
         group.finish();
     }
 }
@@ -107,27 +109,33 @@ fn median(mut times: Vec<f64>) -> f64 {
     times[times.len() / 2]
 }
 
-fn gpu_seconds(tracer: &GpuTracer, p: &TraceParams<f32>) -> f64 {
-    tracer.render(p).expect("GPU warm-up");
-    median(
-        (0..7)
-            .map(|_| {
-                let r = tracer.render(p).expect("GPU render");
-                r.gpu_seconds.unwrap_or(r.render_seconds)
-            })
-            .collect(),
-    )
+/// GPU seconds (timestamps, else render seconds) of a render, median of 7 after a warm-up.
+fn gpu_seconds(renderer: &Renderer, scene: &Scene) -> f64 {
+    let seconds = || {
+        let (_, s) = renderer
+            .render_frame(scene, Picture::SHADED)
+            .expect("GPU render");
+        s.gpu_seconds.unwrap_or(s.render_seconds)
+    };
+    seconds();
+    median((0..7).map(|_| seconds()).collect())
 }
 
-fn cpu_seconds(run: impl Fn() -> f64) -> f64 {
-    median((0..3).map(|_| run()).collect())
+/// Render seconds on the CPU, median of 3.
+fn cpu_seconds(scene: &Scene, precision: Precision) -> f64 {
+    let renderer = Renderer::cpu(precision);
+    let seconds = || {
+        let (_, s) = renderer
+            .render_frame(scene, Picture::SHADED)
+            .expect("CPU render");
+        s.render_seconds
+    };
+    median((0..3).map(|_| seconds()).collect())
 }
 
 /// The summary table, printed and written to target/criterion/qjulia-summary.md.
 fn summary(gpus: Option<&Gpus>) {
-    let adapter = gpus.map_or("none".to_string(), |g| {
-        g.specialised.context().adapter_label()
-    });
+    let adapter = gpus.map_or("none".to_string(), |g| g.adapter.clone());
     let mut out = format!(
         "# qjulia bench summary\n\nGPU adapter: {adapter}. GPU seconds by timestamp queries (median of 7 after a \
          warm-up); CPU seconds wall-clock (median of 3), {} threads.\n\n\
@@ -139,15 +147,13 @@ fn summary(gpus: Option<&Gpus>) {
         "\n| scene | generic pipeline s | specialised s | specialisation gain |\n|---|---|---|---|\n",
     );
     for (name, scene) in scenes() {
-        let p32 = TraceParams::<f32>::new(&scene);
-        let p64 = TraceParams::<f64>::new(&scene);
-        let work = cpu::count_work(&p32);
-        let cpu32 = cpu_seconds(|| cpu::render(&p32).1);
-        let cpu64 = cpu_seconds(|| cpu::render(&p64).1);
+        let work = cpu::count_work(&TraceParams::<f32>::new(&scene));
+        let cpu32 = cpu_seconds(&scene, Precision::F32);
+        let cpu64 = cpu_seconds(&scene, Precision::F64);
         let mut rows = vec![("cpu f32", cpu32), ("cpu f64", cpu64)];
         if let Some(g) = gpus {
-            let spec = gpu_seconds(&g.specialised, &p32);
-            let generic = gpu_seconds(&g.generic, &p32);
+            let spec = gpu_seconds(&g.specialised, &scene);
+            let generic = gpu_seconds(&g.generic, &scene);
             rows.insert(0, ("gpu specialised", spec));
             rows.insert(1, ("gpu generic", generic));
             gains += &format!(
@@ -164,13 +170,15 @@ fn summary(gpus: Option<&Gpus>) {
                 cpu32 / s
             );
         }
-        let frame = cpu::render(&p32).0;
+        let (_, stats) = Renderer::cpu(Precision::F32)
+            .render_frame(&scene, Picture::SHADED)
+            .expect("CPU render");
         out += &format!(
             "| {name} | work | {} px | | {} estimates | {} iterations | primary steps useful in 8x8 tiles: {:.0}% |\n",
             work.pixels,
             work.estimates,
             work.iterations,
-            100.0 * frame.tile_efficiency(8)
+            100.0 * stats.summary.tile_efficiency
         );
     }
     out += &gains;

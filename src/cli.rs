@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
 use qjulia::scene::{SceneLoader, View};
-use qjulia::{Backend, Precision, Scene};
+use qjulia::{Backend, Picture, Precision, Renderer, Scene};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -240,15 +240,20 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for warning in qjulia::precision_warnings(&scene, precision) {
         eprintln!("qjulia: warning: {warning}");
     }
-    if scene.image.view != View::Shaded && paths.png.is_some() {
+    let heat_map = scene.image.view != View::Shaded && paths.png.is_some();
+    // A heat map needs depth and steps only; without a PNG, so do the .npy outputs.
+    let picture = Picture::Slice {
+        shade: paths.png.is_some() && !heat_map,
+    };
+    if heat_map {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
-        let (frame, stats) = qjulia::render(&scene, backend, precision, false, notice)?;
+        let renderer = Renderer::choose(backend, precision, picture, notice)?;
+        let (frame, stats) = renderer.render_frame(&scene, picture)?;
         write_view_outputs(&paths, &frame, &stats, &scene)?;
         report_render(&stats);
         return Ok(());
     }
-    let shade = paths.png.is_some();
     // Outputs are written band by band as the render goes: any size in bounded memory.
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
     let rows = scene.image.height as u64;
@@ -266,17 +271,12 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let stats = qjulia::render_streaming(
-        &scene,
-        backend,
-        precision,
-        shade,
-        &mut |n| bar.suspend(|| eprintln!("qjulia: {n}")),
-        &mut |band| {
-            bar.inc(band.height as u64);
-            outputs.write_band(band)
-        },
-    )?;
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    let renderer = Renderer::choose(backend, precision, picture, notice)?;
+    let stats = renderer.render(&scene, picture, &mut |band| {
+        bar.inc(band.height as u64);
+        outputs.write_band(band)
+    })?;
     bar.finish_and_clear();
     outputs.finish(&stats)?;
     report_render(&stats);
@@ -292,9 +292,9 @@ fn report_render(stats: &qjulia::RenderStats) {
         stats.adapter,
         stats.precision,
         stats.render_seconds,
-        stats.hit_fraction * 100.0,
-        stats.steps_mean,
-        stats.tile_efficiency * 100.0
+        stats.summary.hit_fraction * 100.0,
+        stats.summary.steps_mean,
+        stats.summary.tile_efficiency * 100.0
     );
 }
 
@@ -306,13 +306,15 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
-    let stats = qjulia::render2d_streaming(
-        &scene,
+    let renderer = Renderer::choose(
         args.backend.backend(),
         args.precision.precision(),
+        Picture::Julia2d,
         &mut |n| eprintln!("qjulia: {n}"),
-        &mut |band| outputs.write_band(band),
     )?;
+    let stats = renderer.render(&scene, Picture::Julia2d, &mut |band| {
+        outputs.write_band(band)
+    })?;
     outputs.finish(&stats)?;
     eprintln!(
         "qjulia: 2D Julia set of c = {} + {} i, {}x{} on {} ({}) in {:.3} s, {:.1}% in the set, {:.1} iterations/pixel",
@@ -323,8 +325,8 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
         stats.adapter,
         stats.precision,
         stats.render_seconds,
-        stats.hit_fraction * 100.0,
-        stats.steps_mean
+        stats.summary.hit_fraction * 100.0,
+        stats.summary.steps_mean
     );
     Ok(())
 }
@@ -354,7 +356,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         }
     };
     if args.dimensions {
-        return dimensions(args, gpu.as_deref());
+        return dimensions(args, gpu.as_ref());
     }
     if !args.stability {
         return work_precision(args, gpu);
@@ -386,7 +388,10 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn dimensions(args: &ReportArgs, gpu: Option<&qjulia::gpu::GpuTracer>) -> anyhow::Result<()> {
+fn dimensions(
+    args: &ReportArgs,
+    gpu: Option<&std::sync::Arc<qjulia::gpu::GpuTracer>>,
+) -> anyhow::Result<()> {
     use qjulia::report::dimensions;
     let size = args.size.unwrap_or(128);
     let rows = dimensions::run(size, gpu)?;
@@ -397,7 +402,7 @@ fn dimensions(args: &ReportArgs, gpu: Option<&qjulia::gpu::GpuTracer>) -> anyhow
          {}. The seed's look (eye, light, shadows) with c in each algebra; the slice is the first three \
          axes. Steps and hits from the f64 CPU reference; agreement of f32 with it as shares of pixels \
          within CONTRACT_TOLERANCE.\n\n{table}",
-        machine(gpu)
+        machine(gpu.map(|g| &**g))
     );
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     println!("{table}");

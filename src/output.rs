@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 use tempfile::NamedTempFile;
 
 use crate::error::{Error, Result};
-use crate::frame::{Frame, RenderStats};
+use crate::frame::Frame;
 use crate::scene::Scene;
+use crate::stats::RenderStats;
 
 /// The keyword of the PNG iTXt chunk that holds the scene as TOML.
 pub const SCENE_PNG_KEYWORD: &str = "qjulia-scene";

@@ -1,15 +1,13 @@
 //! The work views of `image.view` (README's "Views"): what the tracer's steps array shows, drawn
 //! on the host from [`Frame::steps`], so both backends give them without a shader of their own.
 //! `steps` is the sphere-tracing steps per primary ray; `divergence` is, for fixed 8x8 screen
-//! tiles aligned to pixel (0, 0), the tile's most steps minus the pixel's own (the work its SIMD
+//! blocks aligned to pixel (0, 0), the block's most steps minus the pixel's own (the work its SIMD
 //! lane idles through, Crane's Figure 9). Both are heat maps in one perceptual colour map on a
 //! logarithmic scale, with a legend strip added below the image in the PNG.
 
 use crate::frame::Frame;
 use crate::scene::View;
-
-/// Pixels a side of the divergence view's tiles (a workgroup of the tracer, `WORKGROUP`).
-pub const TILE: u32 = 8;
+use crate::stats::{block_maxima, block_of, divergence};
 /// Rows of the legend strip added below a heat map's PNG.
 pub const LEGEND_HEIGHT: u32 = 52;
 /// The legend strip's background (dark grey, apart from the black of pixels with no work).
@@ -82,33 +80,6 @@ pub struct HeatMap {
     pub legend: Legend,
 }
 
-/// Per pixel, the wasted steps of its tile: the most steps of any pixel in its `TILE` x `TILE`
-/// tile (tiles aligned to pixel (0, 0); those at the right and bottom edges may be partial) minus
-/// its own.
-pub fn divergence(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
-    let tile_max = tile_maxima(steps, width, height);
-    let columns = width.div_ceil(TILE) as usize;
-    (0..height as usize)
-        .flat_map(|j| (0..width as usize).map(move |i| (i, j)))
-        .map(|(i, j)| {
-            let max = tile_max[(j / TILE as usize) * columns + i / TILE as usize];
-            max - steps[j * width as usize + i]
-        })
-        .collect()
-}
-
-/// The most steps in each tile, tiles row by row.
-fn tile_maxima(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
-    let columns = width.div_ceil(TILE) as usize;
-    let mut max = vec![0u32; columns * height.div_ceil(TILE) as usize];
-    for (k, &s) in steps.iter().enumerate() {
-        let (i, j) = (k % width as usize, k / width as usize);
-        let t = &mut max[(j / TILE as usize) * columns + i / TILE as usize];
-        *t = (*t).max(s);
-    }
-    max
-}
-
 /// The `steps` view: steps per primary ray, from the fewest to the most taken in this image
 /// (min and max in the legend), black where the ray misses the bounding ball (0 steps).
 pub fn steps_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
@@ -118,16 +89,12 @@ pub fn steps_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
 }
 
 /// The `divergence` view: wasted steps per pixel (see [`divergence`]), black where its whole
-/// tile misses the bounding ball (no work at all). A pixel that misses in a tile that works
-/// idles the whole tile's work and is coloured by it.
+/// block misses the bounding ball (no work at all). A pixel that misses in a block that works
+/// idles the whole block's work and is coloured by it.
 pub fn divergence_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
     let wasted = divergence(steps, width, height);
-    let tile_max = tile_maxima(steps, width, height);
-    let columns = width.div_ceil(TILE) as usize;
-    let works = |k: usize| {
-        let (i, j) = (k % width as usize, k / width as usize);
-        tile_max[(j / TILE as usize) * columns + i / TILE as usize] > 0
-    };
+    let block_max = block_maxima(steps, width, height);
+    let works = |k: usize| block_max[block_of(k, width)] > 0;
     heat_map(
         &wasted,
         width,
@@ -277,145 +244,9 @@ pub(crate) fn register_plot_font() {
     });
 }
 
-/// Divergence over a whole image, accumulated band by band (bands of whole rows, top to
-/// bottom, any number of rows each), so that a streamed render of any size can report it.
-#[derive(Clone, Debug)]
-pub struct TileWork {
-    width: u32,
-    tile: u32,
-    /// Rows added so far.
-    rows: u32,
-    /// Per tile of the current tile row: pixels, sum of steps, most steps.
-    open: Vec<(u64, u64, u32)>,
-    /// Over closed tiles: steps taken, and steps paid (pixels times the tile's most).
-    useful: u64,
-    paid: u64,
-}
-
-/// What the lanes of square tiles do: the share of the paid work that is useful, and the
-/// wasted steps per pixel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TileSummary {
-    /// Sum of steps over the sum of (tile pixels times the tile's most steps); 1 where no tile
-    /// works at all.
-    pub efficiency: f64,
-    /// Mean over pixels of the tile's most steps minus the pixel's own.
-    pub wasted_steps_mean: f64,
-}
-
-impl TileWork {
-    pub fn new(width: u32, tile: u32) -> Self {
-        Self {
-            width,
-            tile,
-            rows: 0,
-            open: vec![(0, 0, 0); width.div_ceil(tile) as usize],
-            useful: 0,
-            paid: 0,
-        }
-    }
-
-    /// Adds whole rows of steps (a multiple of the width).
-    pub fn add_rows(&mut self, steps: &[u32]) {
-        for row in steps.chunks(self.width as usize) {
-            for (i, &s) in row.iter().enumerate() {
-                let t = &mut self.open[i / self.tile as usize];
-                t.0 += 1;
-                t.1 += s as u64;
-                t.2 = t.2.max(s);
-            }
-            self.rows += 1;
-            if self.rows.is_multiple_of(self.tile) {
-                self.close();
-            }
-        }
-    }
-
-    fn close(&mut self) {
-        for t in &mut self.open {
-            self.useful += t.1;
-            self.paid += t.0 * t.2 as u64;
-            *t = (0, 0, 0);
-        }
-    }
-
-    /// The summary over every row added.
-    pub fn finish(mut self) -> TileSummary {
-        self.close();
-        let pixels = self.rows as u64 * self.width as u64;
-        TileSummary {
-            efficiency: if self.paid == 0 {
-                1.0
-            } else {
-                self.useful as f64 / self.paid as f64
-            },
-            wasted_steps_mean: (self.paid - self.useful) as f64 / pixels.max(1) as f64,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn divergence_is_the_tile_maximum_minus_the_pixel() {
-        // 10x9: tiles of 8x8, 2x8, 8x1 and 2x1 pixels.
-        let (w, h) = (10u32, 9u32);
-        let mut steps = vec![1u32; (w * h) as usize];
-        steps[3 * 10 + 4] = 7; // in the top-left 8x8 tile
-        steps[2 * 10 + 9] = 5; // in the top-right 2x8 tile
-        steps[8 * 10] = 0; // the bottom-left 8x1 tile: max 1
-        steps[8 * 10 + 9] = 4; // the bottom-right 2x1 tile
-        let d = divergence(&steps, w, h);
-        let at = |i: usize, j: usize| d[j * 10 + i];
-        assert_eq!(at(4, 3), 0);
-        assert_eq!(at(0, 0), 6);
-        assert_eq!(at(7, 7), 6);
-        assert_eq!(at(8, 0), 4);
-        assert_eq!(at(9, 2), 0);
-        assert_eq!(at(8, 7), 4);
-        assert_eq!(at(0, 8), 1);
-        assert_eq!(at(1, 8), 0);
-        assert_eq!(at(8, 8), 3);
-        assert_eq!(at(9, 8), 0);
-    }
-
-    #[test]
-    fn tile_work_agrees_with_the_frame_and_with_itself_in_bands() {
-        let (w, h) = (13u32, 11u32);
-        let steps: Vec<u32> = (0..w * h).map(|k| (k * 7919) % 23).collect();
-        let frame = Frame {
-            width: w,
-            height: h,
-            colour: vec![0; (w * h) as usize],
-            depth: vec![0.0; (w * h) as usize],
-            steps: steps.clone(),
-            non_finite: 0,
-        };
-        let mut whole = TileWork::new(w, TILE);
-        whole.add_rows(&steps);
-        let whole = whole.finish();
-        assert!((whole.efficiency - frame.tile_efficiency(TILE)).abs() < 1e-15);
-        let wasted: u64 = divergence(&steps, w, h).iter().map(|&v| v as u64).sum();
-        assert!((whole.wasted_steps_mean - wasted as f64 / (w * h) as f64).abs() < 1e-12);
-        // Bands of 3 rows (not a multiple of the tile) give the same.
-        let mut banded = TileWork::new(w, TILE);
-        for band in steps.chunks(3 * w as usize) {
-            banded.add_rows(band);
-        }
-        assert_eq!(banded.finish(), whole);
-        // No work at all: efficiency 1, nothing wasted.
-        let mut idle = TileWork::new(4, TILE);
-        idle.add_rows(&[0; 8]);
-        assert_eq!(
-            idle.finish(),
-            TileSummary {
-                efficiency: 1.0,
-                wasted_steps_mean: 0.0
-            }
-        );
-    }
 
     #[test]
     fn steps_view_is_black_on_misses_and_spans_the_colour_map() {
@@ -442,7 +273,7 @@ mod tests {
     }
 
     #[test]
-    fn divergence_view_is_black_only_where_a_whole_tile_is_idle() {
+    fn divergence_view_is_black_only_where_a_whole_block_is_idle() {
         // 16x8: the left tile works (one pixel 4 steps), the right one does nothing.
         let mut steps = vec![0u32; 128];
         steps[0] = 4;

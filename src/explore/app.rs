@@ -16,6 +16,7 @@ use super::view::ViewRenderer;
 use super::view2d::View2dRenderer;
 use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
 use crate::output::{OutputPaths, write_outputs, write_view_outputs};
+use crate::render::GpuKernels;
 use crate::scene::presets::PRESETS;
 use crate::scene::rotation::{axis_name, plane_name, planes, rotate_basis};
 use crate::scene::{Camera, Scene, SceneLoader, SceneSource, View, View2d};
@@ -310,18 +311,20 @@ impl ExplorerApp {
         let job: Box<dyn FnOnce() -> crate::Result<()> + Send> = match self.mode {
             Mode::Slice3d => {
                 let Some(view) = &self.view else { return };
-                let tracer = view.tracer().clone();
+                let renderer = crate::Renderer::on_tracer(view.tracer().clone());
                 Box::new(move || {
                     let shade = scene.image.view == View::Shaded;
-                    let (frame, stats) = crate::render_gpu(&tracer, &scene, shade)?;
+                    let picture = crate::Picture::Slice { shade };
+                    let (frame, stats) = renderer.render_frame(&scene, picture)?;
                     write_view_outputs(&paths, &frame, &stats, &scene)
                 })
             }
             Mode::Julia2d => {
                 let Some(view2d) = &self.view2d else { return };
-                let julia = view2d.julia().clone();
+                let kernels = GpuKernels::with(None, Some(view2d.julia().clone()));
+                let renderer = crate::Renderer::gpu(Arc::new(kernels));
                 Box::new(move || {
-                    let (frame, stats) = crate::render2d_gpu_frame(&julia, &scene)?;
+                    let (frame, stats) = renderer.render_frame(&scene, crate::Picture::Julia2d)?;
                     write_outputs(&paths, &frame, &stats, &scene)
                 })
             }
@@ -812,8 +815,11 @@ impl ExplorerApp {
                     if s.refined { "" } else { " (preview)" }
                 ));
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
-                match (s.steps_mean, s.steps_max) {
-                    (Some(mean), Some(max)) => ui.label(format!("steps mean {mean:.1} max {max}")),
+                match s.summary {
+                    Some(sum) => ui.label(format!(
+                        "steps mean {:.1} max {}",
+                        sum.steps_mean, sum.steps_max
+                    )),
                     _ => ui.label("steps …"),
                 };
             }

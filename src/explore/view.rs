@@ -8,10 +8,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use crate::frame::Frame;
-use crate::gpu::{GpuParams, GpuTracer, OUTPUTS, WORKGROUP};
+use crate::gpu::{GpuParams, GpuTracer, WORKGROUP_SIZE};
 use crate::params::TraceParams;
 use crate::scene::Scene;
+use crate::stats::{Summary, SummaryBuilder};
 
 /// Frames per second to hold while the view changes.
 pub const INTERACTIVE_FPS: f64 = 15.0;
@@ -46,8 +46,8 @@ pub struct ViewStats {
     pub scale: f64,
     /// Seconds from the first tile's submission to the last tile's completion.
     pub render_seconds: f64,
-    pub steps_mean: Option<f64>,
-    pub steps_max: Option<u32>,
+    /// The shown image's figures, once its depth and steps are read back.
+    pub summary: Option<Summary>,
     /// The shown image's steps per pixel, row by row, and its size (for the step views), once
     /// read back.
     pub steps: Option<(Arc<Vec<u32>>, [u32; 2])>,
@@ -64,7 +64,7 @@ struct Target {
     width: u32,
     height: u32,
     row_stride: u32,
-    outputs: [wgpu::Buffer; OUTPUTS],
+    outputs: Vec<wgpu::Buffer>,
     texture: wgpu::Texture,
     texture_id: egui::TextureId,
     bind_group: wgpu::BindGroup,
@@ -82,8 +82,9 @@ struct Job {
     last_done: Arc<Mutex<Option<Instant>>>,
 }
 
-/// An asynchronous readback of a finished render's steps, for the statistics.
+/// An asynchronous readback of a finished render's depth and steps, for the statistics.
 struct StepsReadback {
+    /// Depth rows, then steps rows, each `row_stride` pixels apart.
     buffer: wgpu::Buffer,
     size: [u32; 2],
     row_stride: u32,
@@ -115,15 +116,7 @@ impl ViewRenderer {
         tracer: Arc<GpuTracer>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
-        let uniform = tracer
-            .context()
-            .device
-            .create_buffer(&wgpu::BufferDescriptor {
-                label: Some("view params"),
-                size: size_of::<GpuParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+        let uniform = tracer.kernel().uniform_buffer("view params");
         Self {
             tracer,
             renderer,
@@ -274,8 +267,8 @@ impl ViewRenderer {
         let (device, queue) = (&self.tracer.context().device, &self.tracer.context().queue);
         let width = target.width;
         let tile_rows = ((TILE_SECONDS / (self.seconds_per_pixel * width as f64)) as u32)
-            .next_multiple_of(WORKGROUP.1)
-            .max(WORKGROUP.1);
+            .next_multiple_of(WORKGROUP_SIZE.1)
+            .max(WORKGROUP_SIZE.1);
         let mut budget = budget;
         while job.next_row < target.height
             && budget > 0.0
@@ -286,7 +279,7 @@ impl ViewRenderer {
                 .with_output(target.row_stride, job.next_row);
             queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.tracer.encode_band(
+            self.tracer.kernel().encode(
                 &mut encoder,
                 &job.pipeline,
                 &target.bind_group,
@@ -358,8 +351,7 @@ impl ViewRenderer {
             size: [target.width, target.height],
             scale: target.width as f64 / full[0].max(1) as f64,
             render_seconds: seconds,
-            steps_mean: None,
-            steps_max: None,
+            summary: None,
             steps: None,
             steps_generation: self.stats.steps_generation,
             refined: job.quality == Quality::Full,
@@ -376,13 +368,14 @@ impl ViewRenderer {
         let device = &self.tracer.context().device;
         let bytes = target.row_stride as u64 * target.height as u64 * 4;
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("steps readback"),
-            size: bytes,
+            label: Some("depth and steps readback"),
+            size: 2 * bytes,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, 0, bytes);
+        encoder.copy_buffer_to_buffer(&target.outputs[1], 0, &buffer, 0, bytes);
+        encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, bytes, bytes);
         self.tracer.context().queue.submit([encoder.finish()]);
         let mapped = Arc::new(Mutex::new(None));
         let slot = mapped.clone();
@@ -405,21 +398,30 @@ impl ViewRenderer {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let all: &[u32] = bytemuck::cast_slice(&view);
             let (w, h, stride) = (
                 rb.size[0] as usize,
                 rb.size[1] as usize,
                 rb.row_stride as usize,
             );
-            let steps: Vec<u32> = (0..h)
-                .flat_map(|j| &all[j * stride..j * stride + w])
-                .copied()
+            let (depth, steps) = view.split_at(view.len() / 2);
+            let rows = |all: &[u32]| -> Vec<u32> {
+                (0..h)
+                    .flat_map(|j| &all[j * stride..j * stride + w])
+                    .copied()
+                    .collect()
+            };
+            let steps = rows(bytemuck::cast_slice(steps));
+            // The kernel marks a miss by a negative depth; the summary counts hits by non-NaN.
+            let depth: Vec<f32> = rows(bytemuck::cast_slice(depth))
+                .into_iter()
+                .map(|d| match f32::from_bits(d) {
+                    d if d < 0.0 => f32::NAN,
+                    d => d,
+                })
                 .collect();
-            let (sum, max) = steps
-                .iter()
-                .fold((0u64, 0u32), |(s, m), &v| (s + v as u64, m.max(v)));
-            self.stats.steps_mean = Some(sum as f64 / (w * h).max(1) as f64);
-            self.stats.steps_max = Some(max);
+            let mut summary = SummaryBuilder::new(rb.size[0]);
+            summary.add_arrays(&depth, &steps);
+            self.stats.summary = Some(summary.finish());
             self.stats.steps = Some((Arc::new(steps), rb.size));
             self.stats.steps_generation += 1;
         }
@@ -441,16 +443,10 @@ impl ViewRenderer {
         let old = self.targets[slot].take();
         let device = &self.tracer.context().device;
         let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        let bytes = row_stride as u64 * size[1] as u64 * 4;
-        let make = |label| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let outputs = [make("view colour"), make("view depth"), make("view steps")];
+        let outputs = self
+            .tracer
+            .kernel()
+            .output_buffers(row_stride as u64 * size[1] as u64, "view");
         let (texture, texture_id) = native_texture(
             device,
             &self.renderer,
@@ -458,9 +454,7 @@ impl ViewRenderer {
             size,
             old.map(|t| t.texture_id),
         );
-        let bind_group = self
-            .tracer
-            .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);
+        let bind_group = self.tracer.kernel().bind_group(&self.uniform, &outputs);
         self.targets[slot] = Some(Target {
             width: size[0],
             height: size[1],
@@ -513,9 +507,4 @@ pub(crate) fn native_texture(
         None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
     };
     (texture, id)
-}
-
-/// Renders a scene through the same tracer for export (blocking; run it off the UI thread).
-pub fn render_frame(tracer: &GpuTracer, scene: &Scene) -> crate::Result<Frame> {
-    Ok(tracer.render(&TraceParams::<f32>::new(scene))?.frame)
 }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use crate::gpu::{GpuJulia2d, GpuJulia2dParams, OUTPUTS};
+use crate::gpu::{GpuJulia2d, GpuJulia2dParams};
 use crate::params::Julia2dParams;
 use crate::scene::Scene;
 
@@ -19,9 +19,8 @@ struct Target {
     width: u32,
     height: u32,
     row_stride: u32,
-    /// Kept alive for the bind group.
-    _outputs: [wgpu::Buffer; OUTPUTS],
-    colour: wgpu::Buffer,
+    /// Colour, in-set marker and iterations (the colour is copied into the texture).
+    outputs: Vec<wgpu::Buffer>,
     texture: wgpu::Texture,
     texture_id: egui::TextureId,
     bind_group: wgpu::BindGroup,
@@ -46,15 +45,7 @@ impl View2dRenderer {
         julia: Arc<GpuJulia2d>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
-        let uniform = julia
-            .context()
-            .device
-            .create_buffer(&wgpu::BufferDescriptor {
-                label: Some("view2d params"),
-                size: size_of::<GpuJulia2dParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+        let uniform = julia.kernel().uniform_buffer("view2d params");
         Self {
             julia,
             renderer,
@@ -110,12 +101,20 @@ impl View2dRenderer {
         let band = GpuJulia2dParams::new(&params, 0, t.height).with_output(t.row_stride, 0);
         let queue = &self.julia.context().queue;
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
+        let Ok(pipeline) = self.julia.pipeline() else {
+            return;
+        };
         let mut encoder = device.create_command_encoder(&Default::default());
-        self.julia
-            .encode_band(&mut encoder, &t.bind_group, (t.width, t.height));
+        self.julia.kernel().encode(
+            &mut encoder,
+            &pipeline,
+            &t.bind_group,
+            (t.width, t.height),
+            None,
+        );
         encoder.copy_buffer_to_texture(
             wgpu::TexelCopyBufferInfo {
-                buffer: &t.colour,
+                buffer: &t.outputs[0],
                 layout: wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(t.row_stride * 4),
@@ -157,20 +156,10 @@ impl View2dRenderer {
         let old = self.target.take();
         let device = &self.julia.context().device;
         let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        let bytes = row_stride as u64 * size[1] as u64 * 4;
-        let make = |label| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let outputs = [
-            make("view2d colour"),
-            make("view2d inside"),
-            make("view2d steps"),
-        ];
+        let outputs = self
+            .julia
+            .kernel()
+            .output_buffers(row_stride as u64 * size[1] as u64, "view2d");
         let (texture, texture_id) = super::view::native_texture(
             device,
             &self.renderer,
@@ -178,15 +167,12 @@ impl View2dRenderer {
             size,
             old.map(|t| t.texture_id),
         );
-        let bind_group = self
-            .julia
-            .create_bind_group(&self.uniform, [&outputs[0], &outputs[1], &outputs[2]]);
+        let bind_group = self.julia.kernel().bind_group(&self.uniform, &outputs);
         self.target = Some(Target {
             width: size[0],
             height: size[1],
             row_stride,
-            colour: outputs[0].clone(),
-            _outputs: outputs,
+            outputs,
             texture,
             texture_id,
             bind_group,

@@ -1,17 +1,21 @@
-//! The GPU path: adapter and device choice, the compute pipeline, dispatch and readback.
+//! The GPU path: adapter and device choice, and the kernels on the one runner ([`kernel`]).
 
 mod julia2d;
+pub mod kernel;
 mod params;
 pub mod shaders;
 mod tracer;
 pub mod variant;
 
-pub use julia2d::{GpuJulia2d, GpuJulia2dParams};
-pub use params::GpuParams;
-pub use tracer::{GpuRender, GpuTracer, OUTPUTS, WORKGROUP};
+pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL};
+pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
+pub use params::{GpuJulia2dParams, GpuParams};
+pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL};
 pub use variant::Variant;
 
 use crate::error::{Error, Result};
+use crate::frame::Frame;
+use kernel::BandOutput;
 
 /// An adapter, its device and queue, and what they can do.
 #[derive(Clone, Debug)]
@@ -135,53 +139,39 @@ fn adapter_rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
     (kind, backend)
 }
 
-/// A bind group of a uniform buffer (binding 0) and the colour, depth and steps arrays
-/// (bindings 1 to 3): the layout of every kernel here.
-pub(crate) fn output_bind_group(
-    device: &wgpu::Device,
-    (label, layout): (&str, &wgpu::BindGroupLayout),
-    uniform: &wgpu::Buffer,
-    outputs: [&wgpu::Buffer; OUTPUTS],
-) -> wgpu::BindGroup {
-    fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-        wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        }
-    }
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &[
-            entry(0, uniform),
-            entry(1, outputs[0]),
-            entry(2, outputs[1]),
-            entry(3, outputs[2]),
-        ],
-    })
-}
+/// The outputs of the image kernels (the tracer and the 2D view), 4 bytes a pixel each:
+/// colour (packed RGBA8), depth (negative: no hit) and steps.
+pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
+    OutputSpec {
+        name: "colour",
+        bytes_per_item: 4,
+    },
+    OutputSpec {
+        name: "depth",
+        bytes_per_item: 4,
+    },
+    OutputSpec {
+        name: "steps",
+        bytes_per_item: 4,
+    },
+];
 
-/// The colour, depth and steps arrays of `bytes` each on the device, and their readback copies.
-pub(crate) fn output_buffers(
-    device: &wgpu::Device,
-    bytes: u64,
-) -> ([wgpu::Buffer; OUTPUTS], [wgpu::Buffer; OUTPUTS]) {
-    let make = |label, usage| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes,
-            usage,
-            mapped_at_creation: false,
-        })
+/// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
+/// and depths that came out NaN or infinite are counted.
+pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
+    let [Some(colour), Some(depth), Some(steps)] = band.outputs else {
+        panic!("an image band reads back colour, depth and steps");
     };
-    let out = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-    let read = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-    (
-        [make("colour", out), make("depth", out), make("steps", out)],
-        [
-            make("colour readback", read),
-            make("depth readback", read),
-            make("steps readback", read),
-        ],
-    )
+    let depths = bytemuck::cast_slice::<u8, f32>(depth);
+    Frame {
+        width,
+        height: band.rows,
+        colour: bytemuck::cast_slice(colour).to_vec(),
+        depth: depths
+            .iter()
+            .map(|&d| if d < 0.0 { f32::NAN } else { d })
+            .collect(),
+        steps: bytemuck::cast_slice(steps).to_vec(),
+        non_finite: depths.iter().filter(|d| !d.is_finite()).count() as u64,
+    }
 }

@@ -1,8 +1,8 @@
-//! The uniform block the shader reads, as a `#[repr(C)]` bytemuck struct.
+//! The uniform blocks the kernels read, as `#[repr(C)]` bytemuck structs.
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::params::TraceParams;
+use crate::params::{Julia2dParams, TraceParams};
 
 /// Keep in sync with `struct Params` in shaders/trace.wgsl: same fields, same order; every
 /// `vec3<f32>` is followed by a scalar filling its 16-byte slot. The tests compare this layout
@@ -102,6 +102,58 @@ impl GpuParams {
             tracing: p.tracing.code(),
             algebra_parts: p.algebra_parts,
             _pad: [0; 3],
+        }
+    }
+
+    /// The same band written into a larger output: rows `row_stride` pixels apart, the band's
+    /// first row at output row `out_row`.
+    pub fn with_output(self, row_stride: u32, out_row: u32) -> Self {
+        Self {
+            row_stride,
+            out_row,
+            ..self
+        }
+    }
+}
+
+/// Keep in sync with `struct Julia2dParams` in shaders/julia2d.wgsl: same fields, same order.
+/// The tests compare this layout with the one naga computes for the shader.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuJulia2dParams {
+    pub c: [f32; 2],
+    pub center: [f32; 2],
+    pub half_extent: [f32; 2],
+    pub max_iterations: u32,
+    pub width: u32,
+    pub height: u32,
+    /// The band of rows this dispatch computes: [row_offset, row_offset + row_count).
+    pub row_offset: u32,
+    pub row_count: u32,
+    /// Pixels per row of the output arrays (>= width; a multiple of 64 where the rows are
+    /// copied into a texture).
+    pub row_stride: u32,
+    /// The output row that the band's first row lands in.
+    pub out_row: u32,
+    /// Fills the struct to WGSL's size (a multiple of its 8-byte alignment).
+    pub pad: u32,
+}
+
+impl GpuJulia2dParams {
+    /// The f32 parameters for a band of rows, written at the start of a band-sized output.
+    pub fn new(p: &Julia2dParams<f32>, row_offset: u32, row_count: u32) -> Self {
+        Self {
+            c: [p.c.x, p.c.y],
+            center: [p.center.x, p.center.y],
+            half_extent: [p.half_extent.x, p.half_extent.y],
+            max_iterations: p.max_iterations,
+            width: p.width,
+            height: p.height,
+            row_offset,
+            row_count,
+            row_stride: p.width,
+            out_row: 0,
+            pad: 0,
         }
     }
 

@@ -8,6 +8,7 @@ pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 
 /// One WGSL module the GPU runs: a name and its source files in order.
+#[derive(Clone, Copy, Debug)]
 pub struct ShaderModuleSource {
     pub name: &'static str,
     pub parts: &'static [&'static str],

@@ -5,6 +5,8 @@
 //! the time, and the error of f32 (CPU and GPU) against the f64 reference.
 
 use crate::compare::{Agreement, CONTRACT_TOLERANCE};
+use std::sync::Arc;
+
 use crate::gpu::GpuTracer;
 use crate::params::TraceParams;
 use crate::report::stability::Runner;
@@ -122,7 +124,7 @@ pub struct Row {
 }
 
 /// Runs every case at `size` x `size`.
-pub fn run(size: u32, gpu: Option<&GpuTracer>) -> crate::Result<Vec<Row>> {
+pub fn run(size: u32, gpu: Option<&Arc<GpuTracer>>) -> crate::Result<Vec<Row>> {
     let mut rows = Vec::new();
     for case in cases() {
         let scene = case.scene(size);

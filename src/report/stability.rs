@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use crate::compare::{Agreement, CONTRACT_TOLERANCE};
 use crate::gpu::GpuTracer;
 use crate::scene::{Scene, SceneLoader};
-use crate::{Frame, Precision, TraceParams, cpu, precision_warnings};
+use crate::{Frame, Picture, Precision, Renderer, Summary, precision_warnings};
 
 /// One stiff or extreme setting: overrides of the default scene.
 #[derive(Clone, Debug)]
@@ -191,18 +191,25 @@ impl Runner {
         }
     }
 
-    /// Renders the scene on this tracer: the frame and its render seconds.
-    pub fn render(self, scene: &Scene, gpu: Option<&GpuTracer>) -> crate::Result<(Frame, f64)> {
+    /// The renderer of this tracer (the GPU one on `gpu`).
+    pub fn renderer(self, gpu: Option<&Arc<GpuTracer>>) -> crate::Result<Renderer> {
         Ok(match self {
-            Runner::GpuF32 => {
-                let tracer =
-                    gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?;
-                let out = tracer.render(&TraceParams::<f32>::new(scene))?;
-                (out.frame, out.render_seconds)
-            }
-            Runner::CpuF32 => cpu::render(&TraceParams::<f32>::new(scene)),
-            Runner::CpuF64 => cpu::render(&TraceParams::<f64>::new(scene)),
+            Runner::GpuF32 => Renderer::on_tracer(
+                gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?
+                    .clone(),
+            ),
+            Runner::CpuF32 | Runner::CpuF64 => Renderer::cpu(self.precision()),
         })
+    }
+
+    /// Renders the scene (shaded) on this tracer: the frame and its render seconds.
+    pub fn render(
+        self,
+        scene: &Scene,
+        gpu: Option<&Arc<GpuTracer>>,
+    ) -> crate::Result<(Frame, f64)> {
+        let (frame, stats) = self.renderer(gpu)?.render_frame(scene, Picture::SHADED)?;
+        Ok((frame, stats.render_seconds))
     }
 }
 
@@ -283,9 +290,9 @@ pub fn run_case(
     };
     let run = with_time_limit(limit, move || {
         let start = Instant::now();
-        let (first, _) = runner.render(&scene, gpu.as_deref())?;
+        let (first, _) = runner.render(&scene, gpu.as_ref())?;
         let seconds = start.elapsed().as_secs_f64();
-        let (second, _) = runner.render(&scene, gpu.as_deref())?;
+        let (second, _) = runner.render(&scene, gpu.as_ref())?;
         Ok::<_, crate::Error>((first, second, seconds))
     });
     match run {
@@ -301,7 +308,7 @@ pub fn run_case(
                     .filter(|d| !d.is_nan() && (!d.is_finite() || **d < 0.0))
                     .count() as u64;
             outcome.deterministic = same(&first, &second);
-            outcome.hit_fraction = first.summary().hit_fraction;
+            outcome.hit_fraction = Summary::of(&first).hit_fraction;
             outcome.versus_f64 =
                 reference.map(|r| Agreement::measure(r, &first, &CONTRACT_TOLERANCE));
         }
@@ -320,8 +327,10 @@ pub fn run_all(
     for case in CASES {
         let reference_scene = case.scene(size);
         let reference = with_time_limit(limit, move || {
-            cpu::render(&TraceParams::<f64>::new(&reference_scene)).0
-        });
+            Runner::CpuF64.render(&reference_scene, None).ok()
+        })
+        .flatten()
+        .map(|(frame, _)| frame);
         let mut runners = vec![Runner::CpuF64, Runner::CpuF32];
         if gpu.is_some() {
             runners.push(Runner::GpuF32);

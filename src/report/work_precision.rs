@@ -304,7 +304,7 @@ pub fn run(
             let mut best: Option<(Frame, f64)> = None;
             for _ in 0..repeats.max(1) {
                 let start = Instant::now();
-                let (frame, seconds) = setting.runner.render(&setting.scene, gpu.as_deref())?;
+                let (frame, seconds) = setting.runner.render(&setting.scene, gpu.as_ref())?;
                 let seconds = seconds.min(start.elapsed().as_secs_f64());
                 if best.as_ref().is_none_or(|(_, s)| seconds < *s) {
                     best = Some((frame, seconds));
@@ -315,7 +315,7 @@ pub fn run(
             rows.push(Row {
                 setting: setting.clone(),
                 seconds,
-                steps_mean: frame.summary().steps_mean,
+                steps_mean: crate::Summary::of(&frame).steps_mean,
                 metrics,
             });
         }

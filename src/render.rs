@@ -1,0 +1,359 @@
+//! One render path. [`Renderer::choose`] makes the backend x precision decision, the one place
+//! it is made; [`Renderer::render`] then renders any [`Picture`] of a scene on that tracer, in
+//! bands of whole rows handed to a sink, and returns its [`RenderStats`]. `render`, `render2d`,
+//! the reports, the stability suite, the bench and the explorer's export all go through it.
+
+use std::sync::{Arc, Mutex};
+
+use crate::algebra::Real;
+use crate::cpu;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
+use crate::params::{Julia2dParams, TraceParams};
+use crate::scene::Scene;
+use crate::stats::{RenderStats, SummaryBuilder};
+
+/// Which tracer renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU when wgpu finds an adapter that can do what is asked, else the CPU.
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// The float type the tracer runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    F32,
+    F64,
+}
+
+impl Precision {
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+/// What is rendered of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Picture {
+    /// The 3D slice (`qjulia render`). `shade` false asks for depth and steps only: the GPU then
+    /// runs a pipeline without the shading code, and the colour is the background.
+    Slice { shade: bool },
+    /// The 2D Julia set of c[0] + c[1] i (`qjulia render2d`): colour the grey, depth 0 in the
+    /// set and NaN outside it, steps the iterations made. Its stats count points in the set as
+    /// hits and iterations as steps.
+    Julia2d,
+}
+
+impl Picture {
+    /// The shaded 3D slice.
+    pub const SHADED: Picture = Picture::Slice { shade: true };
+}
+
+/// Why f64 is refused on the GPU (CONTRACT.md: only where results are right).
+pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU: WGSL's f64 \
+    has no trustworthy log/sqrt on common drivers (lavapipe returns wrong values without an error); \
+    use --backend cpu";
+
+/// The GPU kernels of one device, each built on first use.
+pub struct GpuKernels {
+    ctx: GpuContext,
+    tracer: Mutex<Option<Arc<GpuTracer>>>,
+    julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
+}
+
+impl GpuKernels {
+    /// No kernel built yet.
+    pub fn new(ctx: GpuContext) -> Self {
+        Self {
+            ctx,
+            tracer: Mutex::new(None),
+            julia2d: Mutex::new(None),
+        }
+    }
+
+    /// Kernels already built (the explorer's, the report's); the others are built on use.
+    pub fn with(tracer: Option<Arc<GpuTracer>>, julia2d: Option<Arc<GpuJulia2d>>) -> Self {
+        let ctx = match (&tracer, &julia2d) {
+            (Some(t), _) => t.context().clone(),
+            (None, Some(j)) => j.context().clone(),
+            (None, None) => panic!("GpuKernels::with needs a kernel"),
+        };
+        Self {
+            ctx,
+            tracer: Mutex::new(tracer),
+            julia2d: Mutex::new(julia2d),
+        }
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    pub fn tracer(&self) -> Result<Arc<GpuTracer>> {
+        built(&self.tracer, || GpuTracer::new(self.ctx.clone()))
+    }
+
+    pub fn julia2d(&self) -> Result<Arc<GpuJulia2d>> {
+        built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
+    }
+
+    /// Builds the kernel a picture needs (so that a shader the device rejects shows up now).
+    fn prepare(&self, picture: Picture) -> Result<()> {
+        match picture {
+            Picture::Slice { .. } => self.tracer().map(drop),
+            Picture::Julia2d => self.julia2d().map(drop),
+        }
+    }
+}
+
+fn built<T>(slot: &Mutex<Option<Arc<T>>>, make: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
+    let mut slot = slot.lock().expect("kernel slot");
+    if let Some(k) = slot.as_ref() {
+        return Ok(k.clone());
+    }
+    let k = Arc::new(make()?);
+    *slot = Some(k.clone());
+    Ok(k)
+}
+
+/// Where renders run: the GPU (f32) or the CPU in a precision.
+#[derive(Clone)]
+pub struct Renderer {
+    gpu: Option<Arc<GpuKernels>>,
+    precision: Precision,
+}
+
+impl Renderer {
+    /// The one backend x precision decision. `picture` says which kernel to build (a shader the
+    /// device rejects sends `Auto` to the CPU); `notice` hears what the user should know: which
+    /// backend was chosen and why.
+    pub fn choose(
+        backend: Backend,
+        precision: Precision,
+        picture: Picture,
+        notice: &mut dyn FnMut(&str),
+    ) -> Result<Self> {
+        let on_gpu = || -> Result<Self> {
+            let kernels = GpuKernels::new(GpuContext::new()?);
+            kernels.prepare(picture)?;
+            Ok(Self::gpu(Arc::new(kernels)))
+        };
+        match (backend, precision) {
+            (Backend::Cpu, _) => Ok(Self::cpu(precision)),
+            (Backend::Gpu, Precision::F64) => Err(Error::Unsupported(GPU_F64_UNSUPPORTED.into())),
+            (Backend::Gpu, Precision::F32) => on_gpu(),
+            (Backend::Auto, Precision::F64) => {
+                notice("f64 is not available on the GPU; rendering on the CPU");
+                Ok(Self::cpu(precision))
+            }
+            (Backend::Auto, Precision::F32) => match on_gpu() {
+                Ok(renderer) => {
+                    notice(&format!("rendering on the GPU: {}", renderer.adapter()));
+                    Ok(renderer)
+                }
+                Err(e) => {
+                    notice(&format!("{e}; rendering on the CPU"));
+                    Ok(Self::cpu(precision))
+                }
+            },
+        }
+    }
+
+    /// The CPU tracer in `precision`.
+    pub fn cpu(precision: Precision) -> Self {
+        Self {
+            gpu: None,
+            precision,
+        }
+    }
+
+    /// The GPU kernels of a device (f32).
+    pub fn gpu(kernels: Arc<GpuKernels>) -> Self {
+        Self {
+            gpu: Some(kernels),
+            precision: Precision::F32,
+        }
+    }
+
+    /// A GPU tracer already built (f32).
+    pub fn on_tracer(tracer: Arc<GpuTracer>) -> Self {
+        Self::gpu(Arc::new(GpuKernels::with(Some(tracer), None)))
+    }
+
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// "gpu" or "cpu".
+    pub fn backend_name(&self) -> &'static str {
+        if self.gpu.is_some() { "gpu" } else { "cpu" }
+    }
+
+    /// The adapter, "name / Backend", or "cpu".
+    pub fn adapter(&self) -> String {
+        match &self.gpu {
+            Some(k) => k.context().adapter_label(),
+            None => "cpu".into(),
+        }
+    }
+
+    /// Renders a validated scene, handing the image to `sink` in bands of whole rows, top to
+    /// bottom, as they are done: any image size renders in bounded memory.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    ) -> Result<RenderStats> {
+        let mut summary = SummaryBuilder::new(scene.image.width);
+        let mut counted = |band: &Frame| {
+            summary.add(band);
+            sink(band)
+        };
+        let (render_seconds, gpu_seconds) = match &self.gpu {
+            Some(kernels) => {
+                let mut owned = |band: Frame| counted(&band);
+                let times = match picture {
+                    Picture::Slice { shade } => kernels.tracer()?.render_bands(
+                        &TraceParams::<f32>::new(scene),
+                        shade,
+                        &mut owned,
+                    )?,
+                    Picture::Julia2d => kernels
+                        .julia2d()?
+                        .render_bands(&Julia2dParams::<f32>::new(scene), &mut owned)?,
+                };
+                (times.seconds, times.gpu_seconds)
+            }
+            None => {
+                let seconds = match self.precision {
+                    Precision::F32 => render_cpu::<f32>(scene, picture, &mut counted)?,
+                    Precision::F64 => render_cpu::<f64>(scene, picture, &mut counted)?,
+                };
+                (seconds, None)
+            }
+        };
+        Ok(RenderStats {
+            backend: self.backend_name().into(),
+            adapter: self.adapter(),
+            precision: self.precision.name().into(),
+            width: scene.image.width,
+            height: scene.image.height,
+            render_seconds,
+            gpu_seconds,
+            summary: summary.finish(),
+        })
+    }
+
+    /// As [`Self::render`], the whole image in host memory.
+    pub fn render_frame(&self, scene: &Scene, picture: Picture) -> Result<(Frame, RenderStats)> {
+        let mut frame = Frame::empty(scene.image.width);
+        let stats = self.render(scene, picture, &mut |band| {
+            frame.append(band);
+            Ok(())
+        })?;
+        Ok((frame, stats))
+    }
+}
+
+/// A picture on the CPU in `F`, band by band; returns the seconds spent rendering (the sink's
+/// time left out).
+fn render_cpu<F: Real>(
+    scene: &Scene,
+    picture: Picture,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<f64> {
+    match picture {
+        Picture::Slice { .. } => {
+            let p = TraceParams::<F>::new(scene);
+            cpu_bands(
+                (p.width, p.height),
+                &|rows| cpu::render_rows(&p, rows),
+                sink,
+            )
+        }
+        Picture::Julia2d => {
+            let p = Julia2dParams::<F>::new(scene);
+            let rows = |rows| cpu::julia2d::render_rows(&p, rows);
+            cpu_bands((p.width, p.height), &rows, sink)
+        }
+    }
+}
+
+/// Pixels per band of a streamed render: 4 Mpixel (16 MiB per output array), or
+/// `QJULIA_BAND_PIXELS` (at least 64) to trade memory for dispatch count.
+pub fn band_pixels() -> u64 {
+    std::env::var("QJULIA_BAND_PIXELS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+        .map_or(1 << 22, |n| n.max(64))
+}
+
+/// Renders an image of `width` x `height` on the CPU band by band with `render_rows`, handing
+/// each band to `sink`; returns the seconds spent rendering (the sink's time left out).
+fn cpu_bands(
+    (width, height): (u32, u32),
+    render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
+    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+) -> Result<f64> {
+    let band_rows = (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32;
+    let mut seconds = 0.0;
+    let mut row = 0;
+    while row < height {
+        let rows = band_rows.min(height - row);
+        let start = std::time::Instant::now();
+        let band = render_rows(row..row + rows);
+        seconds += start.elapsed().as_secs_f64();
+        sink(&band)?;
+        row += rows;
+    }
+    Ok(seconds)
+}
+
+/// What the user should know before a render in this precision: settings the floats cannot
+/// resolve (and what is done about it), each with the remedy.
+pub fn precision_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
+    let (relative, escape_limit, name) = match precision {
+        Precision::F32 => (f32::RELATIVE_EPSILON, f32::ESCAPE_LIMIT, "f32"),
+        Precision::F64 => (f64::RELATIVE_EPSILON, f64::ESCAPE_LIMIT, "f64"),
+    };
+    let remedy = match precision {
+        Precision::F32 => "use --precision f64 (on the CPU)",
+        Precision::F64 => "this is beyond f64 too",
+    };
+    let f = &scene.fractal;
+    let eye = glam::DVec3::from_array(scene.camera.eye);
+    let target = glam::DVec3::from_array(scene.camera.target);
+    // The largest coordinate the rays work with, and the float spacing there.
+    let reach = eye.length().max(f.bounding_radius_squared.sqrt()).max(1.0);
+    let spacing = reach * relative;
+    let mut warnings = Vec::new();
+    if f.epsilon < spacing {
+        warnings.push(format!(
+            "fractal.epsilon = {:e} is below the spacing of {name} values at distance {reach:.3} ({spacing:.1e}): hits are taken there instead; {remedy}",
+            f.epsilon
+        ));
+    }
+    let footprint =
+        2.0 * (target - eye).length() * (scene.camera.fov_y_degrees.to_radians() * 0.5).tan()
+            / scene.image.height as f64;
+    if footprint < spacing {
+        warnings.push(format!(
+            "a pixel spans {footprint:.1e} at the target, below the spacing of {name} values ({spacing:.1e}): neighbouring pixels trace the same points; {remedy}"
+        ));
+    }
+    if f.escape_radius_squared > escape_limit {
+        warnings.push(format!(
+            "fractal.escape_radius_squared = {:e} would overflow {name} iterations: {escape_limit:e} is used; {remedy}",
+            f.escape_radius_squared
+        ));
+    }
+    warnings
+}

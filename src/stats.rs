@@ -1,0 +1,299 @@
+//! What a rendered frame holds, in numbers: hit fraction, steps, and the divergence of the work
+//! in 8x8 blocks (Crane's Figure 9). One [`Summary`] type, built over a whole frame or band by
+//! band; [`RenderStats`] adds how the frame was made. Below the presentation: `views` draws
+//! heat maps from these figures, never the other way round.
+
+use serde::Serialize;
+
+use crate::frame::Frame;
+
+/// Pixels a side of the divergence blocks: the tracer's workgroup (`gpu::WORKGROUP_SIZE`, a
+/// test checks they agree), the lanes that wait for each other's steps.
+pub const DIVERGENCE_BLOCK: u32 = 8;
+
+/// The figures of a frame (CONTRACT.md's `--stats`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    pub hit_fraction: f64,
+    pub steps_mean: f64,
+    pub steps_max: u32,
+    /// Divergence in 8x8 blocks (README's "Views"): sum of steps over the sum of block pixels
+    /// times the block's most steps; 1 where no block works at all.
+    pub tile_efficiency: f64,
+    /// Mean over pixels of the 8x8 block's most steps minus the pixel's own.
+    pub wasted_steps_mean: f64,
+}
+
+impl Summary {
+    /// The figures of a whole frame.
+    pub fn of(frame: &Frame) -> Self {
+        let mut builder = SummaryBuilder::new(frame.width);
+        builder.add(frame);
+        builder.finish()
+    }
+}
+
+/// What `--stats` writes (CONTRACT.md): how a frame was made and what it holds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RenderStats {
+    /// "gpu" or "cpu".
+    pub backend: String,
+    /// Adapter name and wgpu backend, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) / Vulkan"; "cpu".
+    pub adapter: String,
+    /// "f32" or "f64".
+    pub precision: String,
+    pub width: u32,
+    pub height: u32,
+    /// From the first dispatch to the image in host memory, after an untimed warm-up.
+    pub render_seconds: f64,
+    /// GPU time from timestamp queries; None where unsupported (and on the CPU).
+    pub gpu_seconds: Option<f64>,
+    #[serde(flatten)]
+    pub summary: Summary,
+}
+
+/// A [`Summary`] accumulated over bands of whole rows, top to bottom, so that a streamed render
+/// of any size can report it.
+#[derive(Clone, Debug)]
+pub struct SummaryBuilder {
+    pixels: u64,
+    hits: u64,
+    steps: u64,
+    steps_max: u32,
+    blocks: BlockWork,
+}
+
+impl SummaryBuilder {
+    pub fn new(width: u32) -> Self {
+        Self {
+            pixels: 0,
+            hits: 0,
+            steps: 0,
+            steps_max: 0,
+            blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
+        }
+    }
+
+    /// Adds the rows of a band (of the frame's width).
+    pub fn add(&mut self, band: &Frame) {
+        self.add_arrays(&band.depth, &band.steps);
+    }
+
+    /// Adds whole rows given as their depth (NaN: no hit) and steps.
+    pub fn add_arrays(&mut self, depth: &[f32], steps: &[u32]) {
+        self.blocks.add_rows(steps);
+        self.pixels += steps.len() as u64;
+        self.hits += depth.iter().filter(|d| !d.is_nan()).count() as u64;
+        self.steps += steps.iter().map(|&s| s as u64).sum::<u64>();
+        self.steps_max = self.steps_max.max(steps.iter().copied().max().unwrap_or(0));
+    }
+
+    pub fn finish(self) -> Summary {
+        let n = self.pixels.max(1) as f64;
+        let blocks = self.blocks.finish();
+        Summary {
+            hit_fraction: self.hits as f64 / n,
+            steps_mean: self.steps as f64 / n,
+            steps_max: self.steps_max,
+            tile_efficiency: blocks.efficiency,
+            wasted_steps_mean: blocks.wasted_steps_mean,
+        }
+    }
+}
+
+/// Divergence over square blocks of `block` pixels a side, aligned to pixel (0, 0), accumulated
+/// band by band (bands of whole rows, any number of rows each).
+#[derive(Clone, Debug)]
+pub struct BlockWork {
+    width: u32,
+    block: u32,
+    /// Rows added so far.
+    rows: u32,
+    /// Per block of the current block row: pixels, sum of steps, most steps.
+    open: Vec<(u64, u64, u32)>,
+    /// Over closed blocks: steps taken, and steps paid (pixels times the block's most).
+    useful: u64,
+    paid: u64,
+}
+
+/// What the lanes of the blocks do: the share of the paid work that is useful, and the wasted
+/// steps per pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlockSummary {
+    /// Sum of steps over the sum of (block pixels times the block's most steps); 1 where no
+    /// block works at all.
+    pub efficiency: f64,
+    /// Mean over pixels of the block's most steps minus the pixel's own.
+    pub wasted_steps_mean: f64,
+}
+
+impl BlockWork {
+    pub fn new(width: u32, block: u32) -> Self {
+        Self {
+            width,
+            block,
+            rows: 0,
+            open: vec![(0, 0, 0); width.div_ceil(block) as usize],
+            useful: 0,
+            paid: 0,
+        }
+    }
+
+    /// Adds whole rows of steps (a multiple of the width).
+    pub fn add_rows(&mut self, steps: &[u32]) {
+        for row in steps.chunks(self.width as usize) {
+            for (i, &s) in row.iter().enumerate() {
+                let b = &mut self.open[i / self.block as usize];
+                b.0 += 1;
+                b.1 += s as u64;
+                b.2 = b.2.max(s);
+            }
+            self.rows += 1;
+            if self.rows.is_multiple_of(self.block) {
+                self.close();
+            }
+        }
+    }
+
+    fn close(&mut self) {
+        for b in &mut self.open {
+            self.useful += b.1;
+            self.paid += b.0 * b.2 as u64;
+            *b = (0, 0, 0);
+        }
+    }
+
+    /// The summary over every row added.
+    pub fn finish(mut self) -> BlockSummary {
+        self.close();
+        let pixels = self.rows as u64 * self.width as u64;
+        BlockSummary {
+            efficiency: if self.paid == 0 {
+                1.0
+            } else {
+                self.useful as f64 / self.paid as f64
+            },
+            wasted_steps_mean: (self.paid - self.useful) as f64 / pixels.max(1) as f64,
+        }
+    }
+}
+
+/// The most steps in each [`DIVERGENCE_BLOCK`] block, blocks row by row.
+pub fn block_maxima(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
+    let columns = width.div_ceil(DIVERGENCE_BLOCK) as usize;
+    let mut max = vec![0u32; columns * height.div_ceil(DIVERGENCE_BLOCK) as usize];
+    for (k, &s) in steps.iter().enumerate() {
+        let b = &mut max[block_of(k, width)];
+        *b = (*b).max(s);
+    }
+    max
+}
+
+/// The index, in [`block_maxima`], of the block holding pixel `k` of an image `width` wide.
+pub fn block_of(k: usize, width: u32) -> usize {
+    let columns = width.div_ceil(DIVERGENCE_BLOCK) as usize;
+    let (i, j) = (k % width as usize, k / width as usize);
+    (j / DIVERGENCE_BLOCK as usize) * columns + i / DIVERGENCE_BLOCK as usize
+}
+
+/// Per pixel, the wasted steps of its block: the most steps of any pixel in its block (those
+/// at the right and bottom edges may be partial) minus its own.
+pub fn divergence(steps: &[u32], width: u32, height: u32) -> Vec<u32> {
+    let block_max = block_maxima(steps, width, height);
+    steps
+        .iter()
+        .enumerate()
+        .map(|(k, &s)| block_max[block_of(k, width)] - s)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(width: u32, height: u32, steps: Vec<u32>) -> Frame {
+        let n = (width * height) as usize;
+        Frame {
+            width,
+            height,
+            colour: vec![0; n],
+            depth: vec![0.0; n],
+            steps,
+            non_finite: 0,
+        }
+    }
+
+    #[test]
+    fn block_efficiency_counts_idle_lanes() {
+        let efficiency = |steps: Vec<u32>, block| {
+            let mut work = BlockWork::new(2, block);
+            work.add_rows(&steps);
+            work.finish().efficiency
+        };
+        assert_eq!(efficiency(vec![5, 5, 5, 5], 2), 1.0);
+        assert_eq!(efficiency(vec![4, 0, 0, 0], 2), 0.25);
+        assert_eq!(efficiency(vec![4, 0, 0, 0], 1), 1.0);
+    }
+
+    #[test]
+    fn divergence_is_the_block_maximum_minus_the_pixel() {
+        // 10x9: blocks of 8x8, 2x8, 8x1 and 2x1 pixels.
+        let (w, h) = (10u32, 9u32);
+        let mut steps = vec![1u32; (w * h) as usize];
+        steps[3 * 10 + 4] = 7; // in the top-left 8x8 block
+        steps[2 * 10 + 9] = 5; // in the top-right 2x8 block
+        steps[8 * 10] = 0; // the bottom-left 8x1 block: max 1
+        steps[8 * 10 + 9] = 4; // the bottom-right 2x1 block
+        let d = divergence(&steps, w, h);
+        let at = |i: usize, j: usize| d[j * 10 + i];
+        assert_eq!(at(4, 3), 0);
+        assert_eq!(at(0, 0), 6);
+        assert_eq!(at(7, 7), 6);
+        assert_eq!(at(8, 0), 4);
+        assert_eq!(at(9, 2), 0);
+        assert_eq!(at(8, 7), 4);
+        assert_eq!(at(0, 8), 1);
+        assert_eq!(at(1, 8), 0);
+        assert_eq!(at(8, 8), 3);
+        assert_eq!(at(9, 8), 0);
+    }
+
+    #[test]
+    fn block_work_agrees_with_the_divergence_and_with_itself_in_bands() {
+        let (w, h) = (13u32, 11u32);
+        let steps: Vec<u32> = (0..w * h).map(|k| (k * 7919) % 23).collect();
+        let whole = Summary::of(&frame(w, h, steps.clone()));
+        let wasted: u64 = divergence(&steps, w, h).iter().map(|&v| v as u64).sum();
+        assert!((whole.wasted_steps_mean - wasted as f64 / (w * h) as f64).abs() < 1e-12);
+        let maxima = block_maxima(&steps, w, h);
+        let paid: u64 = (0..steps.len())
+            .map(|k| maxima[block_of(k, w)] as u64)
+            .sum();
+        let useful: u64 = steps.iter().map(|&s| s as u64).sum();
+        assert!((whole.tile_efficiency - useful as f64 / paid as f64).abs() < 1e-15);
+        // Bands of 3 rows (not a multiple of the block) give the same.
+        let mut banded = SummaryBuilder::new(w);
+        for band in steps.chunks(3 * w as usize) {
+            banded.add(&frame(w, band.len() as u32 / w, band.to_vec()));
+        }
+        assert_eq!(banded.finish(), whole);
+        // No work at all: efficiency 1, nothing wasted.
+        let mut idle = BlockWork::new(4, DIVERGENCE_BLOCK);
+        idle.add_rows(&[0; 8]);
+        assert_eq!(
+            idle.finish(),
+            BlockSummary {
+                efficiency: 1.0,
+                wasted_steps_mean: 0.0
+            }
+        );
+    }
+
+    #[test]
+    fn the_divergence_block_is_the_workgroup() {
+        assert_eq!(
+            (DIVERGENCE_BLOCK, DIVERGENCE_BLOCK),
+            crate::gpu::WORKGROUP_SIZE
+        );
+    }
+}
