@@ -374,12 +374,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     });
     let table = stability::markdown(&outcomes);
     let path = args.out.join("stability.md");
-    let text = format!(
-        "# Stability: stiff and extreme cases\n\n`qjulia report --stability --size {}` on this machine. Each case \
-         runs twice per tracer under a {} s limit; errors are against the f64 CPU render of the same \
-         scene (masks and colour: share of pixels within CONTRACT_TOLERANCE).\n\n{table}",
-        size, args.limit
-    );
+    let text = stability::page(size, args.limit, &table);
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     println!("{table}");
     if outcomes.iter().any(|o| !o.passed()) {
@@ -397,31 +392,10 @@ fn dimensions(
     let rows = dimensions::run(size, gpu)?;
     let table = dimensions::markdown(&rows);
     let path = args.out.join("dimensions.md");
-    let text = format!(
-        "# The distance estimate as the dimension grows\n\n`qjulia report --dimensions --size {size}` on \
-         {}. The seed's look (eye, light, shadows) with c in each algebra; the slice is the first three \
-         axes. Steps and hits from the f64 CPU reference; agreement of f32 with it as shares of pixels \
-         within CONTRACT_TOLERANCE.\n\n{table}",
-        machine(gpu.map(|g| &**g))
-    );
+    let text = dimensions::page(size, &qjulia::report::machine(gpu.map(|g| &**g)), &table);
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     println!("{table}");
     Ok(())
-}
-
-/// The machine, for the report's header: CPU model and cores, and the adapter.
-fn machine(gpu: Option<&qjulia::gpu::GpuTracer>) -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| "an unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let adapter = gpu.map_or("no GPU adapter".into(), |g| g.context().adapter_label());
-    format!("{cpu} ({cores} cores), GPU adapter {adapter}")
 }
 
 fn work_precision(
@@ -463,7 +437,12 @@ fn work_precision(
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let png_path = args.out.join("work_precision.png");
     wp::plot(&png_path, &rows).map_err(|e| anyhow::anyhow!("{}: {e}", png_path.display()))?;
-    let md = wp::markdown(&rows, &truth_seconds, &machine(gpu.as_deref()), &command);
+    let md = wp::markdown(
+        &rows,
+        &truth_seconds,
+        &qjulia::report::machine(gpu.as_deref()),
+        &command,
+    );
     let md_path = args.out.join("report.md");
     std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
     println!("{md}");

@@ -593,3 +593,32 @@ fn buffer(
         mapped_at_creation: false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::shaders::ALL_MODULES;
+
+    /// Every kernel's `@workgroup_size` is [`WORKGROUP_SIZE`]: the runner dispatches by it, the
+    /// cone tracer shares one march per workgroup block, and the divergence statistics count
+    /// the lanes of one workgroup (`stats::DIVERGENCE_BLOCK`).
+    #[test]
+    fn every_kernel_has_the_workgroup_size_the_runner_dispatches() {
+        for m in ALL_MODULES {
+            let module = crate::gpu::shaders::validate_wgsl(&m.source()).expect(m.name);
+            let main = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == "main")
+                .expect("an entry point main");
+            assert_eq!(
+                main.workgroup_size,
+                [WORKGROUP_SIZE.0, WORKGROUP_SIZE.1, 1],
+                "{}",
+                m.name
+            );
+        }
+        let cone = crate::cpu::trace::CONE_BLOCK;
+        assert_eq!((cone, cone), WORKGROUP_SIZE, "a cone block is a workgroup");
+    }
+}

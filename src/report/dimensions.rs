@@ -235,3 +235,13 @@ pub fn markdown(rows: &[Row]) -> String {
     }
     out
 }
+
+/// The report page (docs/dimensions/dimensions.md) around the rows' table.
+pub fn page(size: u32, machine: &str, table: &str) -> String {
+    format!(
+        "# The distance estimate as the dimension grows\n\n`qjulia report --dimensions --size {size}` on \
+         {machine}. The seed's look (eye, light, shadows) with c in each algebra; the slice is the first \
+         three axes. Steps and hits from the f64 CPU reference; agreement of f32 with it as shares of \
+         pixels within CONTRACT_TOLERANCE.\n\n{table}"
+    )
+}

@@ -349,6 +349,15 @@ pub fn run_all(
     outcomes
 }
 
+/// The report page (docs/stability.md) around the outcomes' table.
+pub fn page(size: u32, limit_seconds: u64, table: &str) -> String {
+    format!(
+        "# Stability: stiff and extreme cases\n\n`qjulia report --stability --size {size}` on this machine. \
+         Each case runs twice per tracer under a {limit_seconds} s limit; errors are against the f64 CPU \
+         render of the same scene (masks and colour: share of pixels within CONTRACT_TOLERANCE).\n\n{table}"
+    )
+}
+
 /// The outcomes as a Markdown table, with a totals line.
 pub fn markdown(outcomes: &[Outcome]) -> String {
     let mut out = String::from(
