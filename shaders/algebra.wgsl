@@ -3,9 +3,10 @@
 // come from quaternions by the Cayley-Dickson construction: an octonion is a pair (a, b) of
 // quaternions, a sedenion a pair of octonions, with the product
 // (a, b)(c, d) = (a c - conj(d) b, d a + b conj(c)) and conj((a, b)) = (conj(a), -b).
-// Twin: src/algebra.rs, same names, same order of terms.
+// Twin: src/algebra.rs, same names, same order of terms, same order of functions (checked by
+// tests/twins.rs).
 
-// The quaternion product a b (not commutative: a b != b a in general).
+// The quaternion product a b (not commutative: a b != b a in general). (The seed's quatMult.)
 fn quat_mul(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(
         a.x * b.x - dot(a.yzw, b.yzw),
@@ -14,6 +15,7 @@ fn quat_mul(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
 }
 
 // The quaternion square q q: the cross product of the imaginary part with itself vanishes.
+// (The seed's quatSq.)
 fn quat_sq(q: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(q.x * q.x - dot(q.yzw, q.yzw), 2.0 * q.x * q.yzw);
 }

@@ -1,8 +1,9 @@
 // The 2D Julia view (`qjulia render2d`, the explorer's 2D mode): the filled Julia set of the
 // complex c, grey by smooth iteration count as in Crane's Figure 3. One invocation per pixel.
 //
-// Twin: src/cpu/julia2d.rs, function by function, with the same names in the same order; a change
-// to one is a change to both. Stands alone (no quaternion.wgsl).
+// Twin: src/cpu/julia2d.rs, function by function, with the same names in the same order (checked
+// by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
+// both. Stands alone (no algebra.wgsl).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 

@@ -2,8 +2,9 @@
 // one invocation per pixel, through the distance estimate, sphere tracing, the normal, Phong
 // shading and the shadow ray.
 //
-// Twin: src/cpu/trace.rs, function by function, with the same names in the same order; a change
-// to one is a change to both. Needs shaders/algebra.wgsl in front of it (src/gpu/shaders.rs).
+// Twin: src/cpu/trace.rs, function by function, with the same names in the same order (checked
+// by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
+// both. Needs shaders/algebra.wgsl in front of it (src/gpu/shaders.rs).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
@@ -161,29 +162,30 @@ fn slice_point(p: vec3<f32>) -> Hyper {
     return q;
 }
 
-// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations (or
-// |z'|^2 > DERIVATIVE_LIMIT); returns |z'|^2. Quaternions and octonions are composition
-// algebras, |a b| = |a| |b|, so |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the
-// product (half the arithmetic of an iteration). Sedenions are not: there z' is carried whole.
-fn iterate_intersect(z: ptr<function, Hyper>) -> f32 {
+// The orbit of z: z <- z^2 + c with z' <- 2 z z' (z'_0 = 1), until |z|^2 > escape_radius_squared
+// or max_iterations (or |z'|^2 > DERIVATIVE_LIMIT); leaves the last z in z and returns |z'|^2.
+// (The seed's iterateIntersect.) Quaternions and octonions are composition algebras,
+// |a b| = |a| |b|, so |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the product (half the
+// arithmetic of an iteration). Sedenions are not: there z' is carried whole.
+fn iterate_orbit(z: ptr<function, Hyper>) -> f32 {
     let parts = algebra_parts();
-    var zz = hyper_dot(*z, *z, parts);
-    var zpzp = 1.0;
-    var zp = Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    var z_norm2 = hyper_dot(*z, *z, parts);
+    var dz_norm2 = 1.0;
+    var dz = Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var i = 0u; i < params.max_iterations; i++) {
         if parts == 4u {
-            zp = hyper_scale(2.0, hyper_mul(*z, zp, parts));
-            zpzp = hyper_dot(zp, zp, parts);
+            dz = hyper_scale(2.0, hyper_mul(*z, dz, parts));
+            dz_norm2 = hyper_dot(dz, dz, parts);
         } else {
-            zpzp *= 4.0 * zz;
+            dz_norm2 *= 4.0 * z_norm2;
         }
         *z = hyper_add(hyper_sq(*z, parts), params.c);
-        zz = hyper_dot(*z, *z, parts);
-        if zz > params.escape_radius_squared || zpzp > DERIVATIVE_LIMIT {
+        z_norm2 = hyper_dot(*z, *z, parts);
+        if z_norm2 > params.escape_radius_squared || dz_norm2 > DERIVATIVE_LIMIT {
             break;
         }
     }
-    return zpzp;
+    return dz_norm2;
 }
 
 // The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
@@ -192,12 +194,12 @@ fn iterate_intersect(z: ptr<function, Hyper>) -> f32 {
 // normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
 fn estimate_distance(p: vec3<f32>) -> f32 {
     var z = slice_point(p);
-    let zpzp = iterate_intersect(&z);
-    let zz = hyper_dot(z, z, algebra_parts());
-    if zz < MIN_NORMAL || zpzp > DERIVATIVE_LIMIT || zpzp <= zz * TINY {
+    let dz_norm2 = iterate_orbit(&z);
+    let z_norm2 = hyper_dot(z, z, algebra_parts());
+    if z_norm2 < MIN_NORMAL || dz_norm2 > DERIVATIVE_LIMIT || dz_norm2 <= z_norm2 * TINY {
         return 0.0;
     }
-    return 0.25 * sqrt(zz / zpzp) * log(zz);
+    return 0.25 * sqrt(z_norm2 / dz_norm2) * log(z_norm2);
 }
 
 // Where a ray meets the bounding ball.
@@ -209,6 +211,7 @@ struct Interval {
 
 // The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the slice.
 // Starts at the origin when it is inside; a ray that misses, or a ball behind, gives no hit.
+// (The seed's intersectSphere.)
 fn intersect_bounds(origin: vec3<f32>, dir: vec3<f32>) -> Interval {
     let oc = origin - params.bounds_center;
     let b = dot(oc, dir);
@@ -235,14 +238,15 @@ struct Trace {
     hit: bool,
 }
 
-// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when d is
-// below the threshold: epsilon, or eps_slope t (epsilon proportional to the pixel footprint; 0
-// for shadow rays), or the float spacing at t where steps stall. A miss when t passes t_end or
-// after max_steps estimates. The hit is the point reached by the plain step, as in the seed.
+// Sphere tracing (the seed's intersectQJulia) from t_start: estimate d, advance by max(d, 0),
+// stop with a hit when d is below the threshold: epsilon, or eps_slope t (epsilon proportional to
+// the pixel footprint; 0 for shadow rays), or the float spacing at t where steps stall. A miss
+// when t passes t_end or after max_steps estimates. The hit is the point reached by the plain
+// step, as in the seed.
 // With step_scale > 1 steps are over-relaxed (omega d); when the unbounding spheres of two
 // successive points stop overlapping the ray may have jumped the surface, so it goes back to the
 // plain step from the last point and carries on without over-relaxation.
-fn intersect_qjulia(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps_slope: f32) -> Trace {
+fn sphere_trace(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps_slope: f32) -> Trace {
     var t = t_start;
     var omega = params.step_scale;
     if SPECIALISED && !OVER_RELAXED {
@@ -291,40 +295,43 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     return w / sqrt(dot(w, w));
 }
 
-// The seed's normal: central differences of |z_N| along the slice axes with normal_delta,
-// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
-// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
+// The seed's normal (its normEstimate): central differences of |z_N| along the slice axes with
+// normal_delta, max_iterations iterations of z <- z^2 + c. All six orbits stop together once
+// any |z|^2 passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
 // grad |z_n| and the direction is already known, and nothing overflows.
 fn normal_central(q: Hyper) -> vec3<f32> {
     let parts = algebra_parts();
     let dx = hyper_scale(params.normal_delta, slice_axis_x());
     let dy = hyper_scale(params.normal_delta, slice_axis_y());
     let dz = hyper_scale(params.normal_delta, slice_axis_z());
-    var gx1 = hyper_sub(q, dx);
-    var gx2 = hyper_add(q, dx);
-    var gy1 = hyper_sub(q, dy);
-    var gy2 = hyper_add(q, dy);
-    var gz1 = hyper_sub(q, dz);
-    var gz2 = hyper_add(q, dz);
+    var x_minus = hyper_sub(q, dx);
+    var x_plus = hyper_add(q, dx);
+    var y_minus = hyper_sub(q, dy);
+    var y_plus = hyper_add(q, dy);
+    var z_minus = hyper_sub(q, dz);
+    var z_plus = hyper_add(q, dz);
     for (var i = 0u; i < params.max_iterations; i++) {
         let largest = max(
-            max(max(hyper_dot(gx1, gx1, parts), hyper_dot(gx2, gx2, parts)), max(hyper_dot(gy1, gy1, parts), hyper_dot(gy2, gy2, parts))),
-            max(hyper_dot(gz1, gz1, parts), hyper_dot(gz2, gz2, parts)),
+            max(
+                max(hyper_dot(x_minus, x_minus, parts), hyper_dot(x_plus, x_plus, parts)),
+                max(hyper_dot(y_minus, y_minus, parts), hyper_dot(y_plus, y_plus, parts)),
+            ),
+            max(hyper_dot(z_minus, z_minus, parts), hyper_dot(z_plus, z_plus, parts)),
         );
         if largest > NORMAL_LIMIT {
             break;
         }
-        gx1 = hyper_add(hyper_sq(gx1, parts), params.c);
-        gx2 = hyper_add(hyper_sq(gx2, parts), params.c);
-        gy1 = hyper_add(hyper_sq(gy1, parts), params.c);
-        gy2 = hyper_add(hyper_sq(gy2, parts), params.c);
-        gz1 = hyper_add(hyper_sq(gz1, parts), params.c);
-        gz2 = hyper_add(hyper_sq(gz2, parts), params.c);
+        x_minus = hyper_add(hyper_sq(x_minus, parts), params.c);
+        x_plus = hyper_add(hyper_sq(x_plus, parts), params.c);
+        y_minus = hyper_add(hyper_sq(y_minus, parts), params.c);
+        y_plus = hyper_add(hyper_sq(y_plus, parts), params.c);
+        z_minus = hyper_add(hyper_sq(z_minus, parts), params.c);
+        z_plus = hyper_add(hyper_sq(z_plus, parts), params.c);
     }
     return vec3<f32>(
-        sqrt(hyper_dot(gx2, gx2, parts)) - sqrt(hyper_dot(gx1, gx1, parts)),
-        sqrt(hyper_dot(gy2, gy2, parts)) - sqrt(hyper_dot(gy1, gy1, parts)),
-        sqrt(hyper_dot(gz2, gz2, parts)) - sqrt(hyper_dot(gz1, gz1, parts)),
+        sqrt(hyper_dot(x_plus, x_plus, parts)) - sqrt(hyper_dot(x_minus, x_minus, parts)),
+        sqrt(hyper_dot(y_plus, y_plus, parts)) - sqrt(hyper_dot(y_minus, y_minus, parts)),
+        sqrt(hyper_dot(z_plus, z_plus, parts)) - sqrt(hyper_dot(z_minus, z_minus, parts)),
     );
 }
 
@@ -440,7 +447,7 @@ fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
     if !bounds.hit || bounds.t_enter >= t_end {
         return false;
     }
-    return intersect_qjulia(origin, dir, bounds.t_enter, t_end, 0.0).hit;
+    return sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
 }
 
 // The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left corner.
@@ -503,7 +510,7 @@ fn trace_pixel(i: u32, j: u32, t_min: f32) -> Pixel {
         return Pixel(params.background, -1.0, 0u, false);
     }
     let t_start = max(bounds.t_enter, t_min);
-    let trace = intersect_qjulia(params.eye, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
+    let trace = sphere_trace(params.eye, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false);
     }

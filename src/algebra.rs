@@ -1,9 +1,11 @@
-//! Small vector and quaternion arithmetic, generic over the float type (f32 or f64).
+//! Small vector and hypercomplex arithmetic, generic over the float type (f32 or f64).
 //!
 //! The CPU tracer is written against these types so that it reads like the WGSL shader:
 //! `Vec3` and `Vec4` play the parts of `vec3<f32>` and `vec4<f32>`, and a quaternion is a
 //! `Vec4` with `x` the real part and `(y, z, w)` the i, j, k parts, exactly as in
-//! `shaders/algebra.wgsl`, whose twin this file is for `quat_mul` and `quat_sq`.
+//! `shaders/algebra.wgsl`. The functions from the line "twins of shaders/algebra.wgsl" on (the
+//! quaternion, octonion and [`Hyper`] arithmetic) are that file's twins, with the same names in
+//! the same order: tests/twins.rs checks it, and lists the ones only this side has.
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
@@ -219,7 +221,7 @@ impl_vector_ops!(Vec4 { x, y, z, w });
 
 // ----- twins of shaders/algebra.wgsl -----
 
-/// The quaternion product `a b` (not commutative).
+/// The quaternion product `a b` (not commutative). (The seed's quatMult.)
 #[inline(always)]
 pub fn quat_mul<F: Real>(a: Vec4<F>, b: Vec4<F>) -> Vec4<F> {
     Vec4::from_parts(
@@ -228,7 +230,8 @@ pub fn quat_mul<F: Real>(a: Vec4<F>, b: Vec4<F>) -> Vec4<F> {
     )
 }
 
-/// The quaternion square `q q`, a cheaper special case of `quat_mul(q, q)`.
+/// The quaternion square `q q`, a cheaper special case of `quat_mul(q, q)`. (The seed's
+/// quatSq.)
 #[inline(always)]
 pub fn quat_sq<F: Real>(q: Vec4<F>) -> Vec4<F> {
     Vec4::from_parts(
@@ -365,7 +368,8 @@ pub fn square_derivative<F: Real>(z: Hyper<F>, j: Hyper<F>, parts: u32) -> Hyper
     hyper_scale(F::lit(2.0), out)
 }
 
-/// Up to 16 host-side f64 components (missing ones 0) as a [`Hyper`] in this precision.
+/// Up to 16 host-side f64 components (missing ones 0) as a [`Hyper`] in this precision. (CPU
+/// only: the GPU gets its numbers from the uniform buffer.)
 pub fn hyper_from_f64<F: Real>(v: &[f64]) -> Hyper<F> {
     let at = |k: usize| v.get(k).copied().unwrap_or(0.0);
     std::array::from_fn(|p| {

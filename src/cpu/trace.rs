@@ -1,6 +1,8 @@
 //! The CPU twin of shaders/trace.wgsl: the same functions, with the same names, in the same
-//! order, generic over the float type. WGSL's global `params` is `self` here; a change to one
-//! file is a change to both, and the GPU-vs-CPU tests hold them together.
+//! order, generic over the float type (tests/twins.rs checks names and order, and lists the
+//! functions only one side has, each with its reason). WGSL's global `params` is `self` here; a
+//! change to one file is a change to both, and the GPU-vs-CPU tests hold them together. The
+//! kernel's `main` is cpu/mod.rs's `render_rows`.
 
 use crate::algebra::{
     Hyper, Real, Vec3, Vec4, hyper_add, hyper_dot, hyper_mul, hyper_scale, hyper_sq, hyper_sub,
@@ -55,27 +57,29 @@ impl<F: Real> TraceParams<F> {
         q
     }
 
-    /// z <- z^2 + c with z' <- 2 z z', until |z|^2 > escape_radius_squared or max_iterations
-    /// (or |z'|^2 > `Real::DERIVATIVE_LIMIT`, WGSL's DERIVATIVE_LIMIT in f32); returns |z'|^2.
-    /// Quaternions and octonions are composition algebras, |a b| = |a| |b|, so
-    /// |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the product (half the arithmetic of
-    /// an iteration). Sedenions are not: there z' is carried whole.
-    pub fn iterate_intersect(&self, z: &mut Hyper<F>) -> F {
+    /// The orbit of z: z <- z^2 + c with z' <- 2 z z' (z'_0 = 1), until
+    /// |z|^2 > escape_radius_squared or max_iterations (or |z'|^2 > `Real::DERIVATIVE_LIMIT`,
+    /// WGSL's DERIVATIVE_LIMIT in f32); leaves the last z in z and returns |z'|^2. (The seed's
+    /// iterateIntersect.) Quaternions and octonions are composition algebras, |a b| = |a| |b|,
+    /// so |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the product (half the arithmetic
+    /// of an iteration). Sedenions are not: there z' is carried whole.
+    pub fn iterate_orbit(&self, z: &mut Hyper<F>) -> F {
         // The loop compiled once per algebra, so that its arithmetic skips the unused parts.
         match self.algebra_parts {
-            1 => self.iterate_parts::<1>(z),
-            2 => self.iterate_parts::<2>(z),
-            _ => self.iterate_parts::<4>(z),
+            1 => self.iterate_orbit_parts::<1>(z),
+            2 => self.iterate_orbit_parts::<2>(z),
+            _ => self.iterate_orbit_parts::<4>(z),
         }
     }
 
-    /// [`Self::iterate_intersect`] for a number of parts known at compile time.
+    /// [`Self::iterate_orbit`] for a number of parts known at compile time (CPU only: WGSL gets
+    /// the same from the ALGEBRA_PARTS override).
     #[inline(always)]
-    fn iterate_parts<const PARTS: u32>(&self, z: &mut Hyper<F>) -> F {
+    fn iterate_orbit_parts<const PARTS: u32>(&self, z: &mut Hyper<F>) -> F {
         let parts = PARTS;
-        let mut zz = hyper_dot(*z, *z, parts);
-        let mut zpzp = F::one();
-        let mut zp = [
+        let mut z_norm2 = hyper_dot(*z, *z, parts);
+        let mut dz_norm2 = F::one();
+        let mut dz = [
             Vec4::real(F::one()),
             Vec4::zero(),
             Vec4::zero(),
@@ -84,18 +88,18 @@ impl<F: Real> TraceParams<F> {
         for _ in 0..self.max_iterations {
             count(&super::ITERATIONS, 1);
             if parts == 4 {
-                zp = hyper_scale(F::lit(2.0), hyper_mul(*z, zp, parts));
-                zpzp = hyper_dot(zp, zp, parts);
+                dz = hyper_scale(F::lit(2.0), hyper_mul(*z, dz, parts));
+                dz_norm2 = hyper_dot(dz, dz, parts);
             } else {
-                zpzp = zpzp * (F::lit(4.0) * zz);
+                dz_norm2 = dz_norm2 * (F::lit(4.0) * z_norm2);
             }
             *z = hyper_add(hyper_sq(*z, parts), self.c);
-            zz = hyper_dot(*z, *z, parts);
-            if zz > self.escape_radius_squared || zpzp > F::lit(F::DERIVATIVE_LIMIT) {
+            z_norm2 = hyper_dot(*z, *z, parts);
+            if z_norm2 > self.escape_radius_squared || dz_norm2 > F::lit(F::DERIVATIVE_LIMIT) {
                 break;
             }
         }
-        zpzp
+        dz_norm2
     }
 
     /// The seed's distance estimate d = 0.5 |z| log|z| / |z'|, written as
@@ -106,20 +110,20 @@ impl<F: Real> TraceParams<F> {
     pub fn estimate_distance(&self, p: Vec3<F>) -> F {
         count(&super::ESTIMATES, 1);
         let mut z = self.slice_point(p);
-        let zpzp = self.iterate_intersect(&mut z);
-        let zz = hyper_dot(z, z, self.algebra_parts);
-        if zz < F::min_positive_value()
-            || zpzp > F::lit(F::DERIVATIVE_LIMIT)
-            || zpzp <= zz * F::lit(TINY)
+        let dz_norm2 = self.iterate_orbit(&mut z);
+        let z_norm2 = hyper_dot(z, z, self.algebra_parts);
+        if z_norm2 < F::min_positive_value()
+            || dz_norm2 > F::lit(F::DERIVATIVE_LIMIT)
+            || dz_norm2 <= z_norm2 * F::lit(TINY)
         {
             return F::zero();
         }
-        F::lit(0.25) * (zz / zpzp).sqrt() * zz.ln()
+        F::lit(0.25) * (z_norm2 / dz_norm2).sqrt() * z_norm2.ln()
     }
 
     /// The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the
     /// slice. Starts at the origin when it is inside; a ray that misses, or a ball behind, gives
-    /// no hit.
+    /// no hit. (The seed's intersectSphere.)
     pub fn intersect_bounds(&self, origin: Vec3<F>, dir: Vec3<F>) -> Interval<F> {
         let zero = F::zero();
         let oc = origin - self.bounds_center;
@@ -156,15 +160,15 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// Sphere tracing from t_start: estimate d, advance by max(d, 0), stop with a hit when d is
-    /// below the threshold: epsilon, or eps_slope t (epsilon proportional to the pixel
-    /// footprint; 0 for shadow rays), or the float spacing at t (`Real::RELATIVE_EPSILON`) where
-    /// steps stall. A miss when t passes t_end or after max_steps estimates. The hit is the
-    /// point reached by the plain step, as in the seed.
+    /// Sphere tracing (the seed's intersectQJulia) from t_start: estimate d, advance by
+    /// max(d, 0), stop with a hit when d is below the threshold: epsilon, or eps_slope t (epsilon
+    /// proportional to the pixel footprint; 0 for shadow rays), or the float spacing at t
+    /// (`Real::RELATIVE_EPSILON`) where steps stall. A miss when t passes t_end or after
+    /// max_steps estimates. The hit is the point reached by the plain step, as in the seed.
     /// With step_scale > 1 steps are over-relaxed (omega d); when the unbounding spheres of two
     /// successive points stop overlapping the ray may have jumped the surface, so it goes back
     /// to the plain step from the last point and carries on without over-relaxation.
-    pub fn intersect_qjulia(
+    pub fn sphere_trace(
         &self,
         origin: Vec3<F>,
         dir: Vec3<F>,
@@ -217,42 +221,57 @@ impl<F: Real> TraceParams<F> {
             hit: false,
         }
     }
+}
 
-    /// The seed's normal: central differences of |z_N| along the slice axes with normal_delta,
-    /// max_iterations iterations of z <- z^2 + c. All six orbits stop together once any |z|^2
-    /// passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
-    /// grad |z_n| and the direction is already known, and nothing overflows.
+/// v normalised, or the fallback where v is too short to have a direction. Scaled by its
+/// largest component first, so that a long v (an analytic gradient can reach 1e30) cannot
+/// overflow.
+pub fn safe_normalize<F: Real>(v: Vec3<F>, fallback: Vec3<F>) -> Vec3<F> {
+    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
+    if m * m <= F::lit(TINY) {
+        return fallback;
+    }
+    let w = v / m;
+    w / w.dot(w).sqrt()
+}
+
+impl<F: Real> TraceParams<F> {
+    /// The seed's normal (its normEstimate): central differences of |z_N| along the slice axes
+    /// with normal_delta, max_iterations iterations of z <- z^2 + c. All six orbits stop
+    /// together once any |z|^2 passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so
+    /// grad |z_N| is parallel to grad |z_n| and the direction is already known, and nothing
+    /// overflows.
     pub fn normal_central(&self, q: Hyper<F>) -> Vec3<F> {
         let parts = self.algebra_parts;
         let dx = hyper_scale(self.normal_delta, self.slice_x);
         let dy = hyper_scale(self.normal_delta, self.slice_y);
         let dz = hyper_scale(self.normal_delta, self.slice_z);
-        let mut gx1 = hyper_sub(q, dx);
-        let mut gx2 = hyper_add(q, dx);
-        let mut gy1 = hyper_sub(q, dy);
-        let mut gy2 = hyper_add(q, dy);
-        let mut gz1 = hyper_sub(q, dz);
-        let mut gz2 = hyper_add(q, dz);
+        let mut x_minus = hyper_sub(q, dx);
+        let mut x_plus = hyper_add(q, dx);
+        let mut y_minus = hyper_sub(q, dy);
+        let mut y_plus = hyper_add(q, dy);
+        let mut z_minus = hyper_sub(q, dz);
+        let mut z_plus = hyper_add(q, dz);
         let norm2 = |g: Hyper<F>| hyper_dot(g, g, parts);
         for _ in 0..self.max_iterations {
-            let largest = (norm2(gx1).max(norm2(gx2)))
-                .max(norm2(gy1).max(norm2(gy2)))
-                .max(norm2(gz1).max(norm2(gz2)));
+            let largest = (norm2(x_minus).max(norm2(x_plus)))
+                .max(norm2(y_minus).max(norm2(y_plus)))
+                .max(norm2(z_minus).max(norm2(z_plus)));
             if largest > F::lit(NORMAL_LIMIT) {
                 break;
             }
             count(&super::ITERATIONS, 6);
-            gx1 = hyper_add(hyper_sq(gx1, parts), self.c);
-            gx2 = hyper_add(hyper_sq(gx2, parts), self.c);
-            gy1 = hyper_add(hyper_sq(gy1, parts), self.c);
-            gy2 = hyper_add(hyper_sq(gy2, parts), self.c);
-            gz1 = hyper_add(hyper_sq(gz1, parts), self.c);
-            gz2 = hyper_add(hyper_sq(gz2, parts), self.c);
+            x_minus = hyper_add(hyper_sq(x_minus, parts), self.c);
+            x_plus = hyper_add(hyper_sq(x_plus, parts), self.c);
+            y_minus = hyper_add(hyper_sq(y_minus, parts), self.c);
+            y_plus = hyper_add(hyper_sq(y_plus, parts), self.c);
+            z_minus = hyper_add(hyper_sq(z_minus, parts), self.c);
+            z_plus = hyper_add(hyper_sq(z_plus, parts), self.c);
         }
         Vec3::new(
-            norm2(gx2).sqrt() - norm2(gx1).sqrt(),
-            norm2(gy2).sqrt() - norm2(gy1).sqrt(),
-            norm2(gz2).sqrt() - norm2(gz1).sqrt(),
+            norm2(x_plus).sqrt() - norm2(x_minus).sqrt(),
+            norm2(y_plus).sqrt() - norm2(y_minus).sqrt(),
+            norm2(z_plus).sqrt() - norm2(z_minus).sqrt(),
         )
     }
 
@@ -363,7 +382,7 @@ impl<F: Real> TraceParams<F> {
         if !bounds.hit || bounds.t_enter >= t_end {
             return false;
         }
-        self.intersect_qjulia(origin, dir, bounds.t_enter, t_end, F::zero())
+        self.sphere_trace(origin, dir, bounds.t_enter, t_end, F::zero())
             .hit
     }
 
@@ -433,7 +452,7 @@ impl<F: Real> TraceParams<F> {
         }
         let t_start = bounds.t_enter.max(t_min);
         let eps_slope = self.pixel_epsilon * self.pixel_angle;
-        let trace = self.intersect_qjulia(self.eye, dir, t_start, bounds.t_exit, eps_slope);
+        let trace = self.sphere_trace(self.eye, dir, t_start, bounds.t_exit, eps_slope);
         if !trace.hit {
             return miss(trace.steps);
         }
@@ -454,23 +473,6 @@ impl<F: Real> TraceParams<F> {
     }
 }
 
-/// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.
-fn count(counter: &'static std::thread::LocalKey<std::cell::Cell<u64>>, n: u64) {
-    counter.with(|c| c.set(c.get() + n));
-}
-
-/// v normalised, or the fallback where v is too short to have a direction. Scaled by its
-/// largest component first, so that a long v (an analytic gradient can reach 1e30) cannot
-/// overflow.
-pub fn safe_normalize<F: Real>(v: Vec3<F>, fallback: Vec3<F>) -> Vec3<F> {
-    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
-    if m * m <= F::lit(TINY) {
-        return fallback;
-    }
-    let w = v / m;
-    w / w.dot(w).sqrt()
-}
-
 /// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
 pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
     let channel = |c: F| {
@@ -478,6 +480,11 @@ pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
         (c * F::lit(255.0) + F::lit(0.5)).floor().to_f64() as u32
     };
     channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16) | 0xff00_0000
+}
+
+/// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.
+fn count(counter: &'static std::thread::LocalKey<std::cell::Cell<u64>>, n: u64) {
+    counter.with(|c| c.set(c.get() + n));
 }
 
 #[cfg(test)]

@@ -1,0 +1,342 @@
+//! The twin check: each WGSL file and its Rust twin define their shared functions with the same
+//! names in the same order, so that the two can be read side by side.
+//!
+//! The names are read from the source text (WGSL `fn name(`, Rust `fn name` including methods
+//! and generics; comments, strings and Rust's `#[cfg(test)]` module left out). A function that
+//! exists on one side only must be listed below with the reason; everything else must match
+//! one to one. The arithmetic inside the functions is held together by the GPU-vs-CPU tests.
+
+use std::fmt::Write as _;
+
+/// Which file of a twin pair a function exists in alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Side {
+    Wgsl,
+    Rust,
+}
+
+/// A function that one side has and the other has not, and why.
+struct OnlyIn {
+    side: Side,
+    name: &'static str,
+    reason: &'static str,
+}
+
+/// A WGSL file and its Rust twin.
+struct Twin {
+    wgsl: &'static str,
+    rust: &'static str,
+    /// Where the twin starts in the Rust file (a line holding this text), when the file holds
+    /// more than the twin; the reason is in `rust_from_reason`.
+    rust_from: Option<&'static str>,
+    rust_from_reason: &'static str,
+    only_in: &'static [OnlyIn],
+}
+
+const TRACE: Twin = Twin {
+    wgsl: "shaders/trace.wgsl",
+    rust: "src/cpu/trace.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "algebra_parts",
+            reason: "returns the ALGEBRA_PARTS override when specialised; the CPU reads \
+                     `algebra_parts` from its parameters",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "slice_axis_x",
+            reason: "the constant standard axis when specialised (STANDARD_SLICE); the CPU \
+                     reads `slice_x` from its parameters",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "slice_axis_y",
+            reason: "as slice_axis_x, for `slice_y`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "slice_axis_z",
+            reason: "as slice_axis_x, for `slice_z`",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "iterate_orbit_parts",
+            reason: "iterate_orbit's loop compiled once per algebra (a const generic), which a \
+                     specialised pipeline gets from the ALGEBRA_PARTS override",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "cone_tracing",
+            reason: "returns the CONE_TRACING override when specialised; on the CPU \
+                     `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "count",
+            reason: "the CPU's work counters (`cpu::count_work`); the GPU counts nothing",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "main",
+            reason: "the entry point: a workgroup's cone start, then one pixel traced and \
+                     written; on the CPU `cpu::render_rows` in src/cpu/mod.rs (rows in \
+                     parallel, `cone_starts` per row, `trace_pixel`, `pack_colour`, the writes)",
+        },
+    ],
+};
+
+const ALGEBRA: Twin = Twin {
+    wgsl: "shaders/algebra.wgsl",
+    rust: "src/algebra.rs",
+    rust_from: Some("// ----- twins of shaders/algebra.wgsl -----"),
+    rust_from_reason: "above the line are `Real` and `Vec2`/`Vec3`/`Vec4` with their \
+                       operators, the CPU's stand-ins for WGSL's f32 and built-in vector types",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "hyper_from_f64",
+        reason: "host-side f64 numbers to the working precision; the GPU gets its numbers \
+                 from the uniform buffer",
+    }],
+};
+
+const JULIA2D: Twin = Twin {
+    wgsl: "shaders/julia2d.wgsl",
+    rust: "src/cpu/julia2d.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "julia_pixel",
+            reason: "the entry point's work for one pixel (escape, grey, packing), which WGSL \
+                     does inline in `main`",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "render_rows",
+            reason: "the dispatch: rows in parallel and the writes, which the GPU does by \
+                     workgroups in `main`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "main",
+            reason: "the entry point; on the CPU `julia_pixel` and `render_rows`",
+        },
+    ],
+};
+
+/// The source text with comments and string literals blanked out (replaced by spaces, so that
+/// nothing inside them reads as code).
+fn code_only(source: &str) -> String {
+    let chars: Vec<char> = source.chars().collect();
+    let mut out = String::with_capacity(source.len());
+    let mut i = 0;
+    while i < chars.len() {
+        let next = chars.get(i + 1).copied();
+        match (chars[i], next) {
+            ('/', Some('/')) => {
+                while i < chars.len() && chars[i] != '\n' {
+                    i += 1;
+                }
+            }
+            ('/', Some('*')) => {
+                i += 2;
+                while i < chars.len() && !(chars[i] == '*' && chars.get(i + 1) == Some(&'/')) {
+                    i += 1;
+                }
+                i += 2;
+                out.push(' ');
+            }
+            ('"', _) => {
+                i += 1;
+                while i < chars.len() && chars[i] != '"' {
+                    i += if chars[i] == '\\' { 2 } else { 1 };
+                }
+                i += 1;
+                out.push(' ');
+            }
+            (c, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    out
+}
+
+/// The names of the functions defined in `source` (WGSL or Rust), in order: every identifier
+/// that follows the keyword `fn`.
+fn function_names(source: &str) -> Vec<String> {
+    let code = code_only(source);
+    let words: Vec<&str> = code
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| !w.is_empty())
+        .collect();
+    words
+        .windows(2)
+        .filter(|pair| pair[0] == "fn")
+        .map(|pair| pair[1].to_string())
+        .collect()
+}
+
+fn read(path: &str) -> String {
+    let full = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
+}
+
+/// The part of a Rust file that is the twin: from `rust_from` on, up to the test module.
+fn rust_twin_part(twin: &Twin) -> String {
+    let source = read(twin.rust);
+    let start = match twin.rust_from {
+        Some(marker) => source
+            .find(marker)
+            .unwrap_or_else(|| panic!("{}: the line {marker:?} is gone", twin.rust)),
+        None => 0,
+    };
+    let part = &source[start..];
+    let end = part.find("#[cfg(test)]").unwrap_or(part.len());
+    part[..end].to_string()
+}
+
+fn listing(names: &[String]) -> String {
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| format!("{k:>3} {n}"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The failures of one twin pair, empty when it holds.
+fn twin_failures(twin: &Twin) -> String {
+    let wgsl = function_names(&read(twin.wgsl));
+    let rust = function_names(&rust_twin_part(twin));
+    let mut failures = String::new();
+    for only in twin.only_in {
+        let (own, other) = match only.side {
+            Side::Wgsl => (&wgsl, &rust),
+            Side::Rust => (&rust, &wgsl),
+        };
+        if !own.iter().any(|n| n == only.name) {
+            writeln!(
+                failures,
+                "`{}` is listed as {:?}-only but that side has no such function: remove it \
+                 from the list",
+                only.name, only.side
+            )
+            .unwrap();
+        }
+        if other.iter().any(|n| n == only.name) {
+            writeln!(
+                failures,
+                "`{}` is listed as {:?}-only but both sides have it: remove it from the list",
+                only.name, only.side
+            )
+            .unwrap();
+        }
+    }
+    let shared = |names: &[String], side: Side| -> Vec<String> {
+        names
+            .iter()
+            .filter(|n| {
+                !twin
+                    .only_in
+                    .iter()
+                    .any(|o| o.side == side && o.name == n.as_str())
+            })
+            .cloned()
+            .collect()
+    };
+    let (wgsl_shared, rust_shared) = (shared(&wgsl, Side::Wgsl), shared(&rust, Side::Rust));
+    if wgsl_shared != rust_shared {
+        let first = wgsl_shared
+            .iter()
+            .zip(&rust_shared)
+            .position(|(a, b)| a != b)
+            .unwrap_or(wgsl_shared.len().min(rust_shared.len()));
+        writeln!(
+            failures,
+            "the shared functions differ in name or order, first at position {first}\n\
+             {} ({} shared):\n{}\n{} ({} shared):\n{}",
+            twin.wgsl,
+            wgsl_shared.len(),
+            listing(&wgsl_shared),
+            twin.rust,
+            rust_shared.len(),
+            listing(&rust_shared),
+        )
+        .unwrap();
+    }
+    if failures.is_empty() {
+        return failures;
+    }
+    let mut report = format!(
+        "{} and {} are not twins:\n{failures}\nAll functions, exceptions included:\n{}:\n{}\n{}:\n{}\n\
+         Functions one side has for a reason are listed in tests/twins.rs.",
+        twin.wgsl,
+        twin.rust,
+        twin.wgsl,
+        listing(&wgsl),
+        twin.rust,
+        listing(&rust),
+    );
+    if let Some(marker) = twin.rust_from {
+        write!(
+            report,
+            "\n(The Rust twin starts at {marker:?}: {}.)",
+            twin.rust_from_reason
+        )
+        .unwrap();
+    }
+    report
+}
+
+fn check(twin: &Twin) {
+    let failures = twin_failures(twin);
+    assert!(failures.is_empty(), "{failures}");
+}
+
+#[test]
+fn trace_twins_match() {
+    check(&TRACE);
+}
+
+#[test]
+fn algebra_twins_match() {
+    check(&ALGEBRA);
+}
+
+#[test]
+fn julia2d_twins_match() {
+    check(&JULIA2D);
+}
+
+#[test]
+fn every_exception_has_a_reason() {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D] {
+        for only in twin.only_in {
+            assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
+        }
+        assert_eq!(twin.rust_from.is_some(), !twin.rust_from_reason.is_empty());
+    }
+}
+
+#[test]
+fn names_are_read_from_code_only() {
+    let source = r#"
+        // fn in_a_comment() {}
+        /* fn in_a_block() */
+        fn plain(x: f32) -> f32 { return x; }
+        pub fn generic<F: Real>(x: F) {}
+        pub(crate) fn iterate<const N: u32>(&self) { let s = "fn in_a_string(\"x\")"; }
+        @compute @workgroup_size(8, 8, 1)
+        fn main(@builtin(global_invocation_id) id: vec3<u32>) {}
+    "#;
+    assert_eq!(
+        function_names(source),
+        ["plain", "generic", "iterate", "main"]
+    );
+}
