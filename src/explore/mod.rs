@@ -1,11 +1,21 @@
 //! `qjulia explore`: the desktop explorer, an eframe/egui app on winit whose view is drawn by
 //! the same GPU tracer as `qjulia render`, on the same device as the UI.
 
+pub mod animation;
 pub mod app;
 pub mod camera;
+mod export;
 pub mod file_dialog;
+mod heat_texture;
+mod hypersphere;
+pub mod input;
+mod menu;
+mod panels;
+pub mod persistence;
+mod status;
 pub mod view;
 pub mod view2d;
+mod viewport;
 
 use std::sync::Arc;
 
