@@ -12,13 +12,13 @@ pub mod error;
 pub mod explore;
 pub mod frame;
 pub mod gpu;
+pub mod heatmap;
 pub mod output;
 pub mod params;
 pub mod render;
 pub mod report;
 pub mod scene;
 pub mod stats;
-pub mod views;
 
 pub use error::{Error, Result};
 pub use frame::Frame;

@@ -41,7 +41,7 @@ pub fn write_outputs(
 /// a heat map of the steps with its legend strip below (then the PNG is [`LEGEND_HEIGHT`] rows
 /// taller than the image).
 ///
-/// [`LEGEND_HEIGHT`]: crate::views::LEGEND_HEIGHT
+/// [`LEGEND_HEIGHT`]: crate::heatmap::LEGEND_HEIGHT
 pub fn write_view_outputs(
     paths: &OutputPaths,
     frame: &Frame,
@@ -51,7 +51,7 @@ pub fn write_view_outputs(
     if scene.image.view == crate::scene::View::Shaded || paths.png.is_none() {
         return write_outputs(paths, frame, stats, scene);
     }
-    let (width, height, rgb) = crate::views::view_image(frame, scene.image.view);
+    let (width, height, rgb) = crate::heatmap::view_image(frame, scene.image.view);
     let mut outputs = StreamingOutputs::create_sized(paths, scene, [width, height])?;
     outputs.write_png_rows(&rgb)?;
     outputs.write_maps(frame)?;

@@ -520,13 +520,13 @@ fn step_views_draw_a_heat_map_with_a_legend_and_keep_the_view_in_the_png() {
         );
         assert!(out.status.success(), "{}", stderr(&out));
         let img = image::open(dir.path().join(&png)).unwrap().to_rgb8();
-        let legend = qjulia::views::LEGEND_HEIGHT;
+        let legend = qjulia::heatmap::LEGEND_HEIGHT;
         assert_eq!((img.width(), img.height()), (96, 40 + legend));
         // The corners miss the bounding ball: black in the steps view, and in the divergence
         // view, whose corner tiles (8 pixels wide, all missing the ball) do no work.
         assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0], "{view}");
         // Somewhere the colour map's bright end.
-        let top = qjulia::views::COLOUR_STOPS[8];
+        let top = qjulia::heatmap::COLOUR_STOPS[8];
         assert!(
             (0..40).any(|j| (0..96).any(|i| img.get_pixel(i, j).0 == top)),
             "{view}: no pixel at the maximum"

@@ -25,7 +25,10 @@ fn harness(test: &str) -> Option<Harness<'static, ExplorerApp>> {
     );
     let mut app = ExplorerApp::with_scene(common::scene(&["fractal.max_iterations=8"]));
     app.attach_gpu(&render_state);
-    assert!(app.view.is_some(), "the explorer found no GPU tracer");
+    assert!(
+        app.slice_texture.is_some(),
+        "the explorer found no GPU tracer"
+    );
     let harness = Harness::builder()
         .with_size(WINDOW)
         .with_pixels_per_point(1.0)
@@ -286,10 +289,10 @@ fn step_views_show_the_heat_map_of_the_steps() {
             .unwrap()
             .frame;
         let map =
-            qjulia::views::heat_map_of(view, &frame.steps, frame.width, frame.height).unwrap();
+            qjulia::heatmap::heat_map_of(view, &frame.steps, frame.width, frame.height).unwrap();
         assert_eq!(harness.state().heat_legend(), Some(&map.legend));
         // Above the legend strip at the bottom, the screen holds the heat map.
-        let rows = frame.height - qjulia::views::LEGEND_HEIGHT - 4;
+        let rows = frame.height - qjulia::heatmap::LEGEND_HEIGHT - 4;
         let crop = |rgb: Vec<u8>| -> Frame {
             let n = (frame.width * rows) as usize;
             Frame {

@@ -1,11 +1,21 @@
 //! `qjulia explore`: the desktop explorer, an eframe/egui app on winit whose view is drawn by
 //! the same GPU tracer as `qjulia render`, on the same device as the UI.
 
+pub mod animation;
 pub mod app;
 pub mod camera;
+mod export;
 pub mod file_dialog;
-pub mod view;
-pub mod view2d;
+mod heat_texture;
+mod hypersphere;
+pub mod input;
+pub mod julia2d_texture;
+mod menu;
+mod panels;
+pub mod persistence;
+pub mod slice_texture;
+mod status;
+mod viewport;
 
 use std::sync::Arc;
 

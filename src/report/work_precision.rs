@@ -542,7 +542,7 @@ pub fn markdown(
 /// Colour RMSE against seconds, log-log, one series per method, one panel per scene.
 pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
     use plotters::prelude::*;
-    crate::views::register_plot_font();
+    crate::heatmap::register_plot_font();
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
     scenes.dedup();
     let (w, panel_h) = (1100u32, 620u32);

@@ -172,33 +172,110 @@ pub fn view_image(frame: &Frame, view: View) -> (u32, u32, Vec<u8>) {
     }
 }
 
-/// The legend strip, `width` by [`LEGEND_HEIGHT`] pixels: the colour bar from min (left) to max
-/// (right) with ticks at its ends and middle, their values under them, and the title below
-/// (where it fits).
+/// Which side of a legend label its anchor is on: the left end of the text, its middle or its
+/// right end (the top of the text is at the anchor's height).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextAnchor {
+    Left,
+    Centre,
+    Right,
+}
+
+/// The colour bar of a legend strip, in pixels from the strip's top left corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LegendBar {
+    /// Columns `left..right` and rows `top..bottom` (the ends exclusive); min at the left.
+    pub left: i32,
+    pub right: i32,
+    pub top: i32,
+    pub bottom: i32,
+    /// The one-pixel columns of the ticks under the bar's first, middle and last columns, each
+    /// from the bar's bottom to `tick_bottom` (exclusive).
+    pub ticks: [i32; 3],
+    pub tick_bottom: i32,
+}
+
+/// Where the parts of a legend strip go, in pixels from its top left corner (x right, y down):
+/// the one layout of the PNG's strip ([`legend_strip`]) and of the explorer's legend over its
+/// view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LegendLayout {
+    /// The space kept clear at the strip's left and right.
+    pub margin: i32,
+    /// The colour bar, where the strip is wide enough for one.
+    pub bar: Option<LegendBar>,
+    /// The min, mid and max values: the x of each label's anchor, and its side of the text.
+    pub labels: [(i32, TextAnchor); 3],
+    /// The top of the value labels.
+    pub label_top: i32,
+    /// The title's anchor, the middle of its top, [x, y].
+    pub title: [i32; 2],
+}
+
+impl LegendLayout {
+    /// Whether a title `text_width` pixels wide fits between the margins.
+    pub fn title_fits(&self, text_width: i32, width: i32) -> bool {
+        text_width + 2 * self.margin < width
+    }
+}
+
+/// The layout of a legend strip `width` pixels wide and [`LEGEND_HEIGHT`] high: a colour bar
+/// rows 5 to 15 between margins of 6, ticks 3 pixels long under its ends and middle, the values
+/// 5 pixels under the bar, and the title one line (16 pixels) under them.
+pub fn legend_layout(width: u32) -> LegendLayout {
+    let margin = 6;
+    let (bar_top, bar_bottom) = (5, 15);
+    let width = width as i32;
+    let bar = (width > 2 * margin + 1).then(|| {
+        let (left, last) = (margin, width - margin - 1);
+        LegendBar {
+            left,
+            right: last + 1,
+            top: bar_top,
+            bottom: bar_bottom,
+            ticks: [left, (left + last) / 2, last],
+            tick_bottom: bar_bottom + 3,
+        }
+    });
+    let label_top = bar_bottom + 5;
+    LegendLayout {
+        margin,
+        bar,
+        labels: [
+            (margin, TextAnchor::Left),
+            (width / 2, TextAnchor::Centre),
+            (width - margin, TextAnchor::Right),
+        ],
+        label_top,
+        title: [width / 2, label_top + 16],
+    }
+}
+
+/// The legend strip, `width` by [`LEGEND_HEIGHT`] pixels, laid out by [`legend_layout`]: the
+/// colour bar from min (left) to max (right) with ticks at its ends and middle, their values
+/// under them, and the title below (where it fits).
 pub fn legend_strip(legend: &Legend, width: u32) -> Vec<u8> {
     use plotters::prelude::*;
     use plotters::style::text_anchor::{HPos, Pos, VPos};
     let h = LEGEND_HEIGHT;
+    let layout = legend_layout(width);
     let mut buffer: Vec<u8> = std::iter::repeat_n(LEGEND_BACKGROUND, (width * h) as usize)
         .flatten()
         .collect();
-    let margin = 6u32;
-    let (bar_top, bar_bottom) = (5u32, 15u32);
     let white = [235u8; 3];
-    let mut put = |x: u32, y: u32, colour: [u8; 3]| {
-        let k = ((y * width + x) * 3) as usize;
+    let mut put = |x: i32, y: i32, colour: [u8; 3]| {
+        let k = ((y as u32 * width + x as u32) * 3) as usize;
         buffer[k..k + 3].copy_from_slice(&colour);
     };
-    if width > 2 * margin + 1 {
-        let (left, right) = (margin, width - margin - 1);
-        let span = (right - left) as f64;
-        for x in left..=right {
-            for y in bar_top..bar_bottom {
-                put(x, y, colour_map((x - left) as f64 / span));
+    if let Some(bar) = layout.bar {
+        let span = (bar.right - 1 - bar.left) as f64;
+        for x in bar.left..bar.right {
+            for y in bar.top..bar.bottom {
+                put(x, y, colour_map((x - bar.left) as f64 / span));
             }
         }
-        for x in [left, (left + right) / 2, right] {
-            for y in bar_bottom..bar_bottom + 3 {
+        for x in bar.ticks {
+            for y in bar.bottom..bar.tick_bottom {
                 put(x, y, white);
             }
         }
@@ -209,22 +286,25 @@ pub fn legend_strip(legend: &Legend, width: u32) -> Vec<u8> {
         let font = ("sans-serif", 13)
             .into_font()
             .color(&RGBColor(235, 235, 235));
-        let at = |h| font.pos(Pos::new(h, VPos::Top));
-        let y = (bar_bottom + 5) as i32;
-        let labels = [
-            (legend.min, HPos::Left, margin as i32),
-            (legend.mid, HPos::Center, width as i32 / 2),
-            (legend.max, HPos::Right, (width - margin) as i32),
-        ];
+        let at = |anchor| {
+            let h = match anchor {
+                TextAnchor::Left => HPos::Left,
+                TextAnchor::Centre => HPos::Center,
+                TextAnchor::Right => HPos::Right,
+            };
+            font.pos(Pos::new(h, VPos::Top))
+        };
+        let values = [legend.min, legend.mid, legend.max];
         // Drawing errors only mean text that does not fit: the bar is what matters.
-        for (value, anchor, x) in labels {
-            let _ = root.draw_text(&value.to_string(), &at(anchor), (x, y));
+        for (value, (x, anchor)) in values.into_iter().zip(layout.labels) {
+            let _ = root.draw_text(&value.to_string(), &at(anchor), (x, layout.label_top));
         }
         let fits = root
             .estimate_text_size(legend.title, &font)
-            .is_ok_and(|(w, _)| w + 2 * margin < width);
+            .is_ok_and(|(w, _)| layout.title_fits(w as i32, width as i32));
         if fits {
-            let _ = root.draw_text(legend.title, &at(HPos::Center), (width as i32 / 2, y + 16));
+            let [x, y] = layout.title;
+            let _ = root.draw_text(legend.title, &at(TextAnchor::Centre), (x, y));
         }
         let _ = root.present();
     }
@@ -306,6 +386,17 @@ mod tests {
         for k in 1..COLOUR_STOPS.len() {
             assert!(luma(COLOUR_STOPS[k]) > luma(COLOUR_STOPS[k - 1]));
         }
+    }
+
+    #[test]
+    fn the_legend_layout_keeps_its_margins() {
+        let layout = legend_layout(200);
+        let bar = layout.bar.unwrap();
+        assert_eq!((bar.left, bar.right, bar.top, bar.bottom), (6, 194, 5, 15));
+        assert_eq!((bar.ticks, bar.tick_bottom), ([6, 99, 193], 18));
+        assert_eq!(layout.labels.map(|(x, _)| x), [6, 100, 194]);
+        assert_eq!((layout.label_top, layout.title), (20, [100, 36]));
+        assert!(legend_layout(13).bar.is_none());
     }
 
     #[test]

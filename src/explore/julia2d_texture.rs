@@ -1,4 +1,4 @@
-//! The explorer's 2D mode: the 2D Julia set of the current c, drawn by the same GPU kernel as
+//! The 2D Julia set's texture, which the explorer's viewport shows in 2D mode: the set of the current c, drawn by the same GPU kernel as
 //! `qjulia render2d` (shaders/julia2d.wgsl) straight into a texture egui shows. One render in
 //! flight at a time, whole image in one dispatch: when the view changes during a render, the
 //! next one starts as soon as it is done, with the latest values.
@@ -26,7 +26,7 @@ struct Target {
     bind_group: wgpu::BindGroup,
 }
 
-pub struct View2dRenderer {
+pub struct Julia2dTexture {
     julia: Arc<GpuJulia2d>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
@@ -40,7 +40,7 @@ pub struct View2dRenderer {
     done_at: Arc<egui::mutex::Mutex<Option<Instant>>>,
 }
 
-impl View2dRenderer {
+impl Julia2dTexture {
     pub fn new(
         julia: Arc<GpuJulia2d>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
@@ -160,7 +160,7 @@ impl View2dRenderer {
             .julia
             .kernel()
             .output_buffers(row_stride as u64 * size[1] as u64, "view2d");
-        let (texture, texture_id) = super::view::native_texture(
+        let (texture, texture_id) = super::slice_texture::native_texture(
             device,
             &self.renderer,
             "view2d",

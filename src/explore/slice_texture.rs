@@ -1,4 +1,4 @@
-//! The explorer's view: the same GPU tracer as `qjulia render`, drawing into a texture that
+//! The 3D slice's texture, which the explorer's viewport shows: the same GPU tracer as `qjulia render`, drawing into a texture that
 //! egui shows directly (no trip through host memory). A render is cut into tiles of rows, each
 //! its own submission of bounded cost, so the UI never waits behind a long dispatch; tiles of a
 //! stale render are dropped before submission. While the scene changes the view renders at a
@@ -39,7 +39,7 @@ pub enum Quality {
 
 /// What the view shows now, for the status line.
 #[derive(Clone, Debug, Default)]
-pub struct ViewStats {
+pub struct TextureStats {
     /// Size of the image shown, in pixels.
     pub size: [u32; 2],
     /// Its resolution relative to the full view (1 = full).
@@ -91,7 +91,7 @@ struct StepsReadback {
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
-pub struct ViewRenderer {
+pub struct SliceTexture {
     tracer: Arc<GpuTracer>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
@@ -107,11 +107,11 @@ pub struct ViewRenderer {
     /// Estimated seconds per pixel, learned from finished renders.
     seconds_per_pixel: f64,
     in_flight: Arc<AtomicU32>,
-    stats: ViewStats,
+    stats: TextureStats,
     readback: Option<StepsReadback>,
 }
 
-impl ViewRenderer {
+impl SliceTexture {
     pub fn new(
         tracer: Arc<GpuTracer>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
@@ -130,7 +130,7 @@ impl ViewRenderer {
             // About lavapipe on 2 cores; corrected after the first render.
             seconds_per_pixel: 1e-6,
             in_flight: Arc::new(AtomicU32::new(0)),
-            stats: ViewStats::default(),
+            stats: TextureStats::default(),
             readback: None,
         }
     }
@@ -139,7 +139,7 @@ impl ViewRenderer {
         &self.tracer
     }
 
-    pub fn stats(&self) -> &ViewStats {
+    pub fn stats(&self) -> &TextureStats {
         &self.stats
     }
 
@@ -347,7 +347,7 @@ impl ViewRenderer {
         let measured = (seconds / pixels).clamp(1e-10, 1e-3);
         self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
         let full = self.wanted.as_ref().map_or([1, 1], |(_, s)| *s);
-        self.stats = ViewStats {
+        self.stats = TextureStats {
             size: [target.width, target.height],
             scale: target.width as f64 / full[0].max(1) as f64,
             render_seconds: seconds,

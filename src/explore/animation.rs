@@ -1,0 +1,75 @@
+//! The animation of c: a smooth closed path through the algebra around a centre, played from
+//! the c it starts at.
+
+use super::app::ExplorerApp;
+
+/// The animation of c: a smooth closed path through 4D around a centre.
+#[derive(Clone, Debug)]
+pub struct Animation {
+    pub playing: bool,
+    /// Radians of the path per second.
+    pub speed: f64,
+    /// The path's size.
+    pub radius: f64,
+    pub phase: f64,
+    pub center: Vec<f64>,
+}
+
+impl Animation {
+    /// The point of the closed path at `phase`: every component moves, with different
+    /// frequencies, and the path returns to its start after 2 pi.
+    pub fn point(&self, phase: f64) -> Vec<f64> {
+        let r = self.radius;
+        self.center
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| match k {
+                0 => c + r * (phase.cos() - 1.0),
+                1 => c + r * phase.sin(),
+                2 => c + 0.6 * r * (2.0 * phase).sin(),
+                3 => c + 0.6 * r * ((3.0 * phase).cos() - 1.0),
+                // Octonion and sedenion components: smaller, each at its own frequency.
+                _ => c + 0.3 * r * ((k as f64 - 2.0) * phase).sin(),
+            })
+            .collect()
+    }
+}
+
+impl ExplorerApp {
+    /// Play or pause (Space, or the Play button); playing starts the path afresh at today's c.
+    pub(super) fn toggle_play(&mut self) {
+        self.animation.playing = !self.animation.playing;
+        if self.animation.playing {
+            self.animation.center = self.scene.fractal.c.clone();
+            self.animation.phase = 0.0;
+        }
+    }
+
+    /// Moves c along the path by `dt` seconds, while playing.
+    pub(super) fn animate(&mut self, dt: f64) {
+        if self.animation.playing {
+            self.animation.phase =
+                (self.animation.phase + dt * self.animation.speed) % std::f64::consts::TAU;
+            self.scene.fractal.c = self.animation.point(self.animation.phase);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_animation_path_is_closed_and_starts_at_c() {
+        let a = Animation {
+            playing: true,
+            speed: 1.0,
+            radius: 0.1,
+            phase: 0.0,
+            center: vec![-0.2, 0.6, 0.2, 0.2, 0.1, 0.0, 0.0, -0.1],
+        };
+        assert_eq!(a.point(0.0), a.center);
+        let end = a.point(std::f64::consts::TAU);
+        assert!((0..8).all(|k| (end[k] - a.center[k]).abs() < 1e-12));
+    }
+}

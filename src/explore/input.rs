@@ -1,0 +1,186 @@
+//! Keys and mouse: the keyboard shortcuts (listed in the help window), and the mouse on the
+//! view, moving the camera in 3D and panning and zooming the 2D view.
+
+use egui::{Key, Modifiers};
+
+use super::app::{ExplorerApp, Mode};
+use super::camera;
+use super::file_dialog::Purpose;
+use crate::scene::View2d;
+
+/// Radians of orbit per point dragged, and zoom per point scrolled.
+const ORBIT_PER_POINT: f64 = 0.01;
+const ZOOM_PER_POINT: f64 = 0.002;
+
+/// The 2D view's extent range in the explorer (f32 on the GPU resolves no finer).
+pub const MIN_EXTENT: f64 = 1e-6;
+pub const MAX_EXTENT: f64 = 64.0;
+
+fn clamp_extent(extent: f64) -> f64 {
+    extent.clamp(MIN_EXTENT, MAX_EXTENT)
+}
+
+/// The keyboard shortcuts, as the help window lists them.
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("Left drag", "orbit the camera about its target"),
+    ("Right or middle drag", "pan"),
+    ("Wheel", "zoom"),
+    ("Arrow keys", "orbit in steps (in 2D: pan)"),
+    ("+ / -", "zoom in / out"),
+    ("R", "reset the camera (in 2D: the 2D view)"),
+    ("M", "switch between the 3D view and the 2D Julia set"),
+    ("Space", "play / pause the animation of c"),
+    ("Ctrl+O", "open a scene (TOML or a qjulia PNG)"),
+    ("Ctrl+S", "save the scene as TOML"),
+    ("Ctrl+E", "export a PNG"),
+    ("F1", "this help"),
+    (
+        "Ctrl+Q",
+        "quit (the scene and window size are kept for next time)",
+    ),
+];
+
+impl ExplorerApp {
+    /// The keyboard shortcuts, unless a text field has the keyboard.
+    pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let cmd = Modifiers::COMMAND;
+        let (open, save, export) = ctx.input_mut(|i| {
+            (
+                i.consume_key(cmd, Key::O),
+                i.consume_key(cmd, Key::S),
+                i.consume_key(cmd, Key::E),
+            )
+        });
+        if open {
+            self.open_dialog(Purpose::OpenScene);
+        }
+        if save {
+            self.open_dialog(Purpose::SaveScene);
+        }
+        if export {
+            self.open_dialog(Purpose::ExportPng);
+        }
+        ctx.input(|i| {
+            if i.key_pressed(Key::M) {
+                self.mode = match self.mode {
+                    Mode::Slice3d => Mode::Julia2d,
+                    Mode::Julia2d => Mode::Slice3d,
+                };
+            }
+            if i.key_pressed(Key::F1) {
+                self.show_help = !self.show_help;
+            }
+            if i.key_pressed(Key::Space) {
+                self.toggle_play();
+            }
+            if self.mode == Mode::Julia2d {
+                let v = &mut self.scene.view2d;
+                let step = 0.1 * v.extent;
+                for (key, dx, dy) in [
+                    (Key::ArrowLeft, -step, 0.0),
+                    (Key::ArrowRight, step, 0.0),
+                    (Key::ArrowUp, 0.0, step),
+                    (Key::ArrowDown, 0.0, -step),
+                ] {
+                    if i.key_pressed(key) {
+                        v.center[0] += dx;
+                        v.center[1] += dy;
+                    }
+                }
+                if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
+                    v.extent = clamp_extent(v.extent * 0.8);
+                }
+                if i.key_pressed(Key::Minus) {
+                    v.extent = clamp_extent(v.extent / 0.8);
+                }
+                if i.key_pressed(Key::R) {
+                    *v = View2d::default();
+                }
+                return;
+            }
+            let cam = &mut self.scene.camera;
+            let step = 0.1;
+            if i.key_pressed(Key::ArrowLeft) {
+                camera::orbit(cam, -step, 0.0);
+            }
+            if i.key_pressed(Key::ArrowRight) {
+                camera::orbit(cam, step, 0.0);
+            }
+            if i.key_pressed(Key::ArrowUp) {
+                camera::orbit(cam, 0.0, step);
+            }
+            if i.key_pressed(Key::ArrowDown) {
+                camera::orbit(cam, 0.0, -step);
+            }
+            if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
+                camera::zoom(cam, 0.9);
+            }
+            if i.key_pressed(Key::Minus) {
+                camera::zoom(cam, 1.0 / 0.9);
+            }
+            if i.key_pressed(Key::R) {
+                *cam = self.home_camera.clone();
+            }
+        });
+    }
+
+    /// The mouse on the 3D view (`rect`): left drag orbits, right or middle drag pans, the
+    /// wheel zooms.
+    pub(super) fn mouse_3d(&mut self, ui: &egui::Ui, rect: egui::Rect, response: &egui::Response) {
+        let cam = &mut self.scene.camera;
+        if response.dragged_by(egui::PointerButton::Primary) {
+            let d = response.drag_delta();
+            camera::orbit(
+                cam,
+                d.x as f64 * ORBIT_PER_POINT,
+                d.y as f64 * ORBIT_PER_POINT,
+            );
+        }
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+        {
+            let d = response.drag_delta();
+            let h = rect.height().max(1.0) as f64;
+            camera::pan(cam, -d.x as f64 / h, d.y as f64 / h);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+            if scroll != 0.0 {
+                camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
+            }
+        }
+    }
+
+    /// The mouse on the 2D view (`rect`): drag to pan, wheel to zoom about the pointer.
+    pub(super) fn mouse_2d(&mut self, ui: &egui::Ui, rect: egui::Rect, response: &egui::Response) {
+        let v = &mut self.scene.view2d;
+        // Complex units per point: the texture fills the rect, extent across its width.
+        let per_point = v.extent / rect.width().max(1.0) as f64;
+        if response.dragged() {
+            let d = response.drag_delta();
+            v.center[0] -= d.x as f64 * per_point;
+            v.center[1] += d.y as f64 * per_point;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+            if scroll != 0.0 {
+                let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
+                let factor = extent / v.extent;
+                if let Some(p) = response.hover_pos() {
+                    // The point under the pointer stays there.
+                    let under = [
+                        v.center[0] + (p.x - rect.center().x) as f64 * per_point,
+                        v.center[1] - (p.y - rect.center().y) as f64 * per_point,
+                    ];
+                    for (centre, under) in v.center.iter_mut().zip(under) {
+                        *centre = under - (under - *centre) * factor;
+                    }
+                }
+                v.extent = extent;
+            }
+        }
+    }
+}

@@ -1,0 +1,295 @@
+//! The side panel: every scene value as a control, in collapsing groups (the 2D view, fractal,
+//! slice, animation, camera, light and shading, image), one slider per call.
+
+use super::app::{ExplorerApp, Mode};
+use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
+use super::input::{MAX_EXTENT, MIN_EXTENT};
+use crate::scene::rotation::{axis_name, plane_name, planes};
+use crate::scene::{View, View2d};
+
+impl ExplorerApp {
+    /// The side panel: what the view shows, then the groups of controls.
+    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("Show");
+                ui.selectable_value(&mut self.mode, Mode::Slice3d, "3D slice");
+                ui.selectable_value(&mut self.mode, Mode::Julia2d, "2D Julia set");
+            });
+            match self.mode {
+                Mode::Slice3d => {
+                    egui::ComboBox::from_label("view")
+                        .selected_text(self.scene.image.view.name())
+                        .show_ui(ui, |ui| {
+                            for view in View::ALL {
+                                ui.selectable_value(&mut self.scene.image.view, view, view.name());
+                            }
+                        });
+                }
+                Mode::Julia2d => {
+                    egui::CollapsingHeader::new("2D view")
+                        .default_open(true)
+                        .show(ui, |ui| self.view2d_controls(ui));
+                }
+            }
+            egui::CollapsingHeader::new("Fractal")
+                .default_open(true)
+                .show(ui, |ui| self.fractal_controls(ui));
+            egui::CollapsingHeader::new("Slice (4D)")
+                .default_open(true)
+                .show(ui, |ui| self.slice_controls(ui));
+            egui::CollapsingHeader::new("Animation")
+                .default_open(true)
+                .show(ui, |ui| self.animation_controls(ui));
+            egui::CollapsingHeader::new("Camera").show(ui, |ui| self.camera_controls(ui));
+            egui::CollapsingHeader::new("Light and shading")
+                .show(ui, |ui| self.shading_controls(ui));
+            egui::CollapsingHeader::new("Image").show(ui, |ui| self.image_controls(ui));
+        });
+    }
+
+    /// The algebra, c (by component, and as a magnitude and hyperspherical angles) and the
+    /// tracing values.
+    fn fractal_controls(&mut self, ui: &mut egui::Ui) {
+        let mut algebra = self.scene.fractal.algebra;
+        egui::ComboBox::from_label("algebra")
+            .selected_text(algebra.name())
+            .show_ui(ui, |ui| {
+                for a in crate::scene::Algebra::ALL {
+                    ui.selectable_value(&mut algebra, a, a.name());
+                }
+            });
+        if algebra != self.scene.fractal.algebra {
+            self.set_algebra(algebra);
+        }
+        let f = &mut self.scene.fractal;
+        for k in 0..f.c.len() {
+            let name = format!("c {}", axis_name(k));
+            ui.add(egui::Slider::new(&mut f.c[k], -1.5..=1.5).text(name));
+        }
+        // c as a direction on the unit sphere of the algebra and a magnitude.
+        let (magnitude, direction) = magnitude_and_direction(&f.c);
+        let mut angles = hyperspherical(&direction);
+        let mut new_magnitude = magnitude;
+        let mut turned = false;
+        ui.add(egui::Slider::new(&mut new_magnitude, 0.0..=2.0).text("|c|"));
+        let last = angles.len() - 1;
+        for (k, angle) in angles.iter_mut().enumerate() {
+            let range = if k == last {
+                -std::f64::consts::PI..=std::f64::consts::PI
+            } else {
+                0.0..=std::f64::consts::PI
+            };
+            turned |= ui
+                .add(egui::Slider::new(angle, range).text(format!("c angle {}", k + 1)))
+                .changed();
+        }
+        if turned || new_magnitude != magnitude {
+            let dir = if turned {
+                from_hyperspherical(&angles)
+            } else {
+                direction
+            };
+            f.c = dir.iter().map(|v| v * new_magnitude).collect();
+        }
+        ui.add(
+            egui::Slider::new(&mut f.max_iterations, 1..=200)
+                .logarithmic(true)
+                .text("max iterations"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.epsilon, 1e-5..=0.1)
+                .logarithmic(true)
+                .text("epsilon"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.escape_radius_squared, 4.0..=1e6)
+                .logarithmic(true)
+                .text("escape radius²"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.bounding_radius_squared, 0.5..=16.0).text("bounding radius²"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.max_steps, 1..=5000)
+                .logarithmic(true)
+                .text("max steps"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.step_scale, 0.5..=2.0).text("step scale (over-relaxation)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut f.pixel_epsilon, 0.0..=4.0).text("epsilon in pixels (0 = off)"),
+        );
+        egui::ComboBox::from_label("tracing")
+            .selected_text(f.tracing.name())
+            .show_ui(ui, |ui| {
+                for tracing in crate::scene::Tracing::ALL {
+                    ui.selectable_value(&mut f.tracing, tracing, tracing.name());
+                }
+            });
+    }
+
+    /// The 2D mode's view: centre, extent and iterations.
+    fn view2d_controls(&mut self, ui: &mut egui::Ui) {
+        let c = &self.scene.fractal.c;
+        ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
+        let v = &mut self.scene.view2d;
+        let speed = 0.002 * v.extent;
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut v.center[0]).speed(speed));
+            ui.label("centre real");
+        });
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
+            ui.label("centre imaginary");
+        });
+        ui.add(
+            egui::Slider::new(&mut v.extent, MIN_EXTENT..=MAX_EXTENT)
+                .logarithmic(true)
+                .text("extent (width)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut v.max_iterations, 1..=5000)
+                .logarithmic(true)
+                .text("2D iterations"),
+        );
+        ui.label("Drag to pan, wheel to zoom about the pointer.");
+        if ui.button("Reset 2D view (R)").clicked() {
+            *v = View2d::default();
+        }
+    }
+
+    /// The slice: a rotation angle per plane of the algebra, and the offset.
+    fn slice_controls(&mut self, ui: &mut egui::Ui) {
+        let mut turned = false;
+        let dim = self.scene.fractal.algebra.dim();
+        let angles = &mut self.angles;
+        egui::ScrollArea::vertical()
+            .id_salt("rotation planes")
+            .max_height(260.0)
+            .show(ui, |ui| {
+                for (angle, plane) in angles.iter_mut().zip(planes(dim)) {
+                    let slider =
+                        egui::Slider::new(angle, -std::f64::consts::PI..=std::f64::consts::PI);
+                    turned |= ui
+                        .add(slider.text(format!("turn {}", plane_name(plane))))
+                        .changed();
+                }
+            });
+        if ui.button("Reset rotation").clicked() {
+            self.angles.iter_mut().for_each(|a| *a = 0.0);
+            turned = true;
+        }
+        if turned {
+            self.apply_rotation();
+        }
+        for k in 0..self.scene.slice.offset.len() {
+            let name = format!("offset {}", axis_name(k));
+            ui.add(egui::Slider::new(&mut self.scene.slice.offset[k], -1.5..=1.5).text(name));
+        }
+    }
+
+    /// Play or pause the animation of c, its speed and its path's size.
+    fn animation_controls(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let label = if self.animation.playing {
+                "Pause"
+            } else {
+                "Play"
+            };
+            if ui.button(label).clicked() {
+                self.toggle_play();
+            }
+            ui.label("c moves on a closed 4D path");
+        });
+        ui.add(
+            egui::Slider::new(&mut self.animation.speed, 0.02..=3.0)
+                .logarithmic(true)
+                .text("speed (rad/s)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.animation.radius, 0.005..=0.5)
+                .logarithmic(true)
+                .text("path size"),
+        );
+    }
+
+    /// The field of view; eye and target as moved by the mouse.
+    fn camera_controls(&mut self, ui: &mut egui::Ui) {
+        let cam = &mut self.scene.camera;
+        ui.add(egui::Slider::new(&mut cam.fov_y_degrees, 1.0..=170.0).text("field of view (°)"));
+        ui.label(format!(
+            "eye    {:.3} {:.3} {:.3}",
+            cam.eye[0], cam.eye[1], cam.eye[2]
+        ));
+        ui.label(format!(
+            "target {:.3} {:.3} {:.3}",
+            cam.target[0], cam.target[1], cam.target[2]
+        ));
+        if ui.button("Reset camera (R)").clicked() {
+            *cam = self.home_camera.clone();
+        }
+    }
+
+    /// The light and the shading values.
+    fn shading_controls(&mut self, ui: &mut egui::Ui) {
+        for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
+            ui.add(egui::Slider::new(&mut self.scene.light.position[k], -6.0..=6.0).text(*name));
+        }
+        let sh = &mut self.scene.shading;
+        ui.checkbox(&mut sh.shadows, "shadows");
+        ui.add(egui::Slider::new(&mut sh.shadow_factor, 0.0..=1.0).text("shadow factor"));
+        ui.horizontal(|ui| {
+            colour_edit(ui, &mut sh.diffuse);
+            ui.label("diffuse");
+            colour_edit(ui, &mut sh.background);
+            ui.label("background");
+        });
+        ui.add(egui::Slider::new(&mut sh.normal_tint, 0.0..=1.0).text("normal tint"));
+        ui.add(egui::Slider::new(&mut sh.specular, 0.0..=2.0).text("specular"));
+        ui.add(
+            egui::Slider::new(&mut sh.shininess, 0.0..=200.0)
+                .logarithmic(true)
+                .text("shininess"),
+        );
+        egui::ComboBox::from_label("normal")
+            .selected_text(sh.normal.name())
+            .show_ui(ui, |ui| {
+                for method in crate::scene::NormalMethod::ALL {
+                    ui.selectable_value(&mut sh.normal, method, method.name());
+                }
+            });
+        ui.add(
+            egui::Slider::new(&mut sh.normal_delta, 1e-6..=1e-2)
+                .logarithmic(true)
+                .text("normal delta"),
+        );
+    }
+
+    /// The exported image's size, and the view's resolution.
+    fn image_controls(&mut self, ui: &mut egui::Ui) {
+        ui.label("Exported image size:");
+        ui.add(
+            egui::Slider::new(&mut self.scene.image.width, 1..=8192)
+                .logarithmic(true)
+                .text("width"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.scene.image.height, 1..=8192)
+                .logarithmic(true)
+                .text("height"),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
+        );
+    }
+}
+
+/// A colour picker for an `[f64; 3]` in [0, 1].
+fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
+    let mut rgb = colour.map(|c| c as f32);
+    if ui.color_edit_button_rgb(&mut rgb).changed() {
+        *colour = rgb.map(|c| (c as f64).clamp(0.0, 1.0));
+    }
+}

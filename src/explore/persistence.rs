@@ -1,0 +1,93 @@
+//! What outlives a frame of the explorer: the scene and the view's resolution kept between runs
+//! in eframe's storage (eframe also keeps the window size), and scene files opened and saved.
+
+use std::path::Path;
+
+use super::app::ExplorerApp;
+use crate::scene::{Scene, SceneLoader, SceneSource};
+
+/// Storage keys for what persists between runs.
+const STORAGE_SCENE: &str = "qjulia-scene";
+const STORAGE_RESOLUTION: &str = "qjulia-resolution-scale";
+
+/// What the last run left: its scene (when it still loads) and the view's resolution scale.
+pub fn load_persisted(storage: Option<&dyn eframe::Storage>) -> (Option<Scene>, f32) {
+    let scene = storage
+        .and_then(|s| eframe::get_value::<String>(s, STORAGE_SCENE))
+        .and_then(|text| {
+            let mut loader = SceneLoader::new();
+            loader.toml_str(&text, SceneSource::Default).ok()?;
+            loader.build().ok()
+        });
+    let resolution = storage
+        .and_then(|s| eframe::get_value::<f32>(s, STORAGE_RESOLUTION))
+        .unwrap_or(1.0)
+        .clamp(0.25, 2.0);
+    (scene, resolution)
+}
+
+impl ExplorerApp {
+    /// Keeps the scene and the resolution scale for the next run ([`load_persisted`]).
+    pub(super) fn persist(&self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_SCENE, &self.scene.to_toml());
+        eframe::set_value(storage, STORAGE_RESOLUTION, &self.resolution_scale);
+    }
+
+    /// Loads a scene file; on error the previous scene stays and the error is shown.
+    pub fn open(&mut self, path: &Path) {
+        let mut loader = SceneLoader::new();
+        match loader.file(path).and_then(|()| loader.build()) {
+            Ok(scene) => {
+                self.set_scene(scene);
+                self.message = Some((format!("opened {}", path.display()), false));
+            }
+            Err(e) => self.message = Some((format!("error: {e}"), true)),
+        }
+    }
+
+    /// Saves the scene as TOML.
+    pub(super) fn save(&mut self, path: &Path) {
+        let result = std::fs::write(path, self.scene.to_toml());
+        self.message = Some(match result {
+            Ok(()) => (format!("saved {}", path.display()), false),
+            Err(e) => (format!("error: {}: {e}", path.display()), true),
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::presets::PRESETS;
+
+    /// A storage in memory, like eframe's file storage.
+    #[derive(Default)]
+    struct Memory(std::collections::HashMap<String, String>);
+
+    impl eframe::Storage for Memory {
+        fn get_string(&self, key: &str) -> Option<String> {
+            self.0.get(key).cloned()
+        }
+        fn set_string(&mut self, key: &str, value: String) {
+            self.0.insert(key.to_string(), value);
+        }
+        fn remove_string(&mut self, key: &str) {
+            self.0.remove(key);
+        }
+        fn flush(&mut self) {}
+    }
+
+    #[test]
+    fn the_scene_and_resolution_persist_between_runs() {
+        let mut scene = PRESETS[3].scene();
+        scene.camera.eye = [0.25, 1.5, 2.0];
+        let mut app = ExplorerApp::with_scene(scene.clone());
+        app.resolution_scale = 0.5;
+        let mut storage = Memory::default();
+        eframe::App::save(&mut app, &mut storage);
+        let (restored, resolution) = load_persisted(Some(&storage));
+        assert_eq!(restored, Some(scene));
+        assert_eq!(resolution, 0.5);
+        assert_eq!(load_persisted(None), (None, 1.0));
+    }
+}

@@ -1,0 +1,100 @@
+//! The status line under the view (frame time, what the view shows and how long it took, the
+//! adapter, a running export, the last message), and its twin on stderr for measuring the
+//! explorer where no one watches it (`QJULIA_EXPLORE_LOG=1`).
+
+use std::time::Instant;
+
+use super::app::{ExplorerApp, Mode};
+
+impl ExplorerApp {
+    /// One line of fixed height (a status bar that changed height would resize the view).
+    pub(super) fn status(&self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let fps = if self.frame_seconds > 0.0 {
+                1.0 / self.frame_seconds
+            } else {
+                0.0
+            };
+            ui.label(format!(
+                "{:.1} ms/frame ({fps:.0} fps)",
+                self.frame_seconds * 1e3
+            ));
+            if self.mode == Mode::Julia2d {
+                if let Some(view2d) = &self.julia2d_texture {
+                    let v = &self.scene.view2d;
+                    ui.separator();
+                    ui.label(format!(
+                        "2D at {:.6} {:+.6} i, extent {:.3e}",
+                        v.center[0], v.center[1], v.extent
+                    ));
+                    ui.label(format!("render {:.0} ms", view2d.render_seconds * 1e3));
+                }
+            } else if let Some(view) = &self.slice_texture {
+                let s = view.stats();
+                ui.separator();
+                ui.label(format!(
+                    "{}x{} at scale {:.2}{}",
+                    s.size[0],
+                    s.size[1],
+                    s.scale,
+                    if s.refined { "" } else { " (preview)" }
+                ));
+                ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
+                match s.summary {
+                    Some(sum) => ui.label(format!(
+                        "steps mean {:.1} max {}",
+                        sum.steps_mean, sum.steps_max
+                    )),
+                    _ => ui.label("steps …"),
+                };
+            }
+            ui.separator();
+            ui.label(&self.adapter_label);
+            if self.export.is_some() {
+                ui.separator();
+                ui.spinner();
+                ui.label("exporting…");
+            }
+            if let Some((text, is_error)) = &self.message {
+                ui.separator();
+                if *is_error {
+                    ui.colored_label(ui.visuals().error_fg_color, text);
+                } else {
+                    ui.label(text);
+                }
+            }
+        });
+    }
+
+    /// With `QJULIA_EXPLORE_LOG=1`, one line a second on stderr: frame rate and what the view
+    /// shows (for measuring the explorer where no one watches it).
+    pub(super) fn log(&mut self, now: Instant) {
+        if std::env::var_os("QJULIA_EXPLORE_LOG").is_none_or(|v| v != "1") {
+            return;
+        }
+        self.log_frames += 1;
+        let since = self.log_since.get_or_insert(now);
+        let elapsed = now.duration_since(*since).as_secs_f64();
+        if elapsed >= 1.0 {
+            let s = self
+                .slice_texture
+                .as_ref()
+                .map(|v| v.stats().clone())
+                .unwrap_or_default();
+            eprintln!(
+                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}) rendered in {:.0} ms, {:.0} ms after the last change",
+                self.log_frames as f64 / elapsed,
+                self.view_pixels[0],
+                self.view_pixels[1],
+                s.size[0],
+                s.size[1],
+                s.scale,
+                if s.refined { "full" } else { "preview" },
+                s.render_seconds * 1e3,
+                s.since_change_seconds * 1e3,
+            );
+            self.log_frames = 0;
+            self.log_since = Some(now);
+        }
+    }
+}
