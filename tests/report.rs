@@ -14,7 +14,7 @@ fn tiny() -> Scene {
 #[test]
 fn the_truth_against_itself_has_no_error_and_coarse_settings_have_more() {
     let base = tiny();
-    let truth = wp::Truth::new(&base);
+    let truth = wp::Truth::new(&base).unwrap();
     let exact = wp::Setting {
         scene_name: "tiny",
         method: "self",

@@ -1,7 +1,8 @@
-//! The 2D Julia set's texture, which the explorer's viewport shows in 2D mode: the set of the current c, drawn by the same GPU kernel as
-//! `qjulia render2d` (shaders/julia2d.wgsl) straight into a texture egui shows. One render in
-//! flight at a time, whole image in one dispatch: when the view changes during a render, the
-//! next one starts as soon as it is done, with the latest values.
+//! The 2D Julia set's texture, which the explorer's viewport shows in 2D mode: the set of the
+//! current c, drawn by the same GPU kernel as `qjulia render2d` (shaders/julia2d.wgsl) straight
+//! into a texture egui shows. One render in flight at a time, whole image in one dispatch: when
+//! the view changes during a render, the next one starts as soon as it is done, with the latest
+//! values.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -1,8 +1,9 @@
-//! The 3D slice's texture, which the explorer's viewport shows: the same GPU tracer as `qjulia render`, drawing into a texture that
-//! egui shows directly (no trip through host memory). A render is cut into tiles of rows, each
-//! its own submission of bounded cost, so the UI never waits behind a long dispatch; tiles of a
-//! stale render are dropped before submission. While the scene changes the view renders at a
-//! reduced resolution chosen to keep the frame rate up, then refines to full resolution.
+//! The 3D slice's texture, which the explorer's viewport shows: the same GPU tracer as
+//! `qjulia render`, drawing into a texture that egui shows directly (no trip through host
+//! memory). A render is cut into tiles of rows, each its own submission of bounded cost, so the
+//! UI never waits behind a long dispatch; tiles of a stale render are dropped before
+//! submission. While the scene changes it renders at a reduced resolution chosen to keep the
+//! frame rate up, then refines to full resolution.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};

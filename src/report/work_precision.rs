@@ -15,7 +15,7 @@ use crate::algebra::{Real, Vec3};
 use crate::frame::{Frame, unpack_rgb};
 use crate::gpu::GpuTracer;
 use crate::scene::{NormalMethod, Scene};
-use crate::{TraceParams, cpu};
+use crate::TraceParams;
 
 /// One point of the sweep.
 #[derive(Clone, Debug)]
@@ -199,17 +199,17 @@ pub struct Truth {
 }
 
 impl Truth {
-    pub fn new(base: &Scene) -> Self {
+    pub fn new(base: &Scene) -> crate::Result<Self> {
         let scene = truth_scene(base);
         let params = TraceParams::<f64>::new(&scene);
-        let (frame, seconds) = cpu::render(&params);
+        let (frame, seconds) = Runner::CpuF64.render(&scene, None)?;
         let normals = normals::<f64>(&scene, &frame);
-        Self {
+        Ok(Self {
             frame,
             normals,
             params,
             seconds,
-        }
+        })
     }
 }
 
@@ -292,7 +292,7 @@ pub fn run(
     let mut truth_seconds = Vec::new();
     for (name, base) in scenes {
         progress(&format!("{name}: truth (f64, converged settings)"), 0, 1);
-        let truth = Truth::new(base);
+        let truth = Truth::new(base)?;
         truth_seconds.push((*name, truth.seconds));
         let all = settings(name, base, gpu.is_some());
         for (k, setting) in all.iter().enumerate() {
