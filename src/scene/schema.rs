@@ -479,24 +479,52 @@ mod tests {
         if readme == schema {
             return;
         }
-        let (old, new): (Vec<&str>, Vec<&str>) =
-            (readme.lines().collect(), schema.lines().collect());
-        let mut diff = String::new();
-        for i in 0..old.len().max(new.len()) {
-            let (a, b) = (old.get(i), new.get(i));
-            if a != b {
-                if let Some(a) = a {
-                    diff.push_str(&format!("line {:>3} - {a}\n", i + 1));
-                }
-                if let Some(b) = b {
-                    diff.push_str(&format!("line {:>3} + {b}\n", i + 1));
-                }
-            }
-        }
+        let old: Vec<&str> = readme.lines().collect();
+        let new: Vec<&str> = schema.lines().collect();
         panic!(
             "README.md's scene-file block (-) differs from the schema in src/scene/mod.rs (+):\n\
-             {diff}\nthe block should read:\n```toml\n{schema}```"
+             {}\nthe block should read:\n```toml\n{schema}```",
+            line_diff(&old, &new)
         );
+    }
+
+    /// The lines only `old` has (-) and only `new` has (+), by a longest common subsequence,
+    /// each with its line number in the block.
+    fn line_diff(old: &[&str], new: &[&str]) -> String {
+        // common[i][j]: the longest common subsequence of old[i..] and new[j..].
+        let mut common = vec![vec![0usize; new.len() + 1]; old.len() + 1];
+        for i in (0..old.len()).rev() {
+            for j in (0..new.len()).rev() {
+                common[i][j] = if old[i] == new[j] {
+                    common[i + 1][j + 1] + 1
+                } else {
+                    common[i + 1][j].max(common[i][j + 1])
+                };
+            }
+        }
+        let (mut i, mut j, mut out) = (0, 0, String::new());
+        while i < old.len() || j < new.len() {
+            if i < old.len() && j < new.len() && old[i] == new[j] {
+                (i, j) = (i + 1, j + 1);
+            } else if j == new.len() || (i < old.len() && common[i + 1][j] >= common[i][j + 1]) {
+                out.push_str(&format!("line {:>3} - {}\n", i + 1, old[i]));
+                i += 1;
+            } else {
+                out.push_str(&format!("line {:>3} + {}\n", j + 1, new[j]));
+                j += 1;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_readme_diff_names_only_the_lines_that_differ() {
+        assert_eq!(line_diff(&["a", "c"], &["a", "b", "c"]), "line   2 + b\n");
+        assert_eq!(
+            line_diff(&["a", "b", "c"], &["a", "x", "c"]),
+            "line   2 - b\nline   2 + x\n"
+        );
+        assert_eq!(line_diff(&["a", "b"], &["a"]), "line   2 - b\n");
     }
 
     #[test]
