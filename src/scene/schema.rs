@@ -1,14 +1,17 @@
-//! The scene's keys, declared once. [`scene_schema!`] turns one declaration per key (its field,
+//! The scene's keys, declared once. `scene_schema!` turns one declaration per key (its field,
 //! type, default, kind and range, README comment and explorer slider) into the scene's structs,
 //! their defaults and the tables [`SCHEMA`], [`TABLES`] and [`KEYS`] that loading, `--set`,
 //! validation, the README's scene-file block and the explorer read.
 //!
-//! Adding a key is one line in the declaration in `src/scene/mod.rs` (plus its use):
+//! Adding a key is one entry in the declaration in `src/scene/mod.rs`, e.g. under `[light]`:
 //!
 //! ```text
 //! /// The light's radius: 0 is a point light.
-//! radius: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0), "soft shadows, {range}";
+//! radius: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0),
+//!     "soft shadows' light radius, {range} (0 = a point light)";
 //! ```
+//!
+//! plus its use; the test `readme_scene_block_is_the_schemas` then prints the README line to add.
 
 use std::fmt;
 use std::ops::RangeInclusive;
