@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use toml::Value;
 
 use super::Scene;
+use super::schema::{KEYS, Key, Kind, SCHEMA};
 
 /// Where a scene value came from, so that an error can name it.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,44 +77,6 @@ impl SceneError {
         }
     }
 }
-
-/// Every leaf key a scene has, as dotted paths. Keep in sync with [`SceneLoader::build`].
-pub const KEYS: &[&str] = &[
-    "fractal.algebra",
-    "fractal.c",
-    "fractal.max_iterations",
-    "fractal.escape_radius_squared",
-    "fractal.epsilon",
-    "fractal.bounding_radius_squared",
-    "fractal.max_steps",
-    "fractal.step_scale",
-    "fractal.pixel_epsilon",
-    "fractal.tracing",
-    "slice.x",
-    "slice.y",
-    "slice.z",
-    "slice.offset",
-    "camera.eye",
-    "camera.target",
-    "camera.up",
-    "camera.fov_y_degrees",
-    "light.position",
-    "shading.shadows",
-    "shading.normal",
-    "shading.normal_delta",
-    "shading.diffuse",
-    "shading.normal_tint",
-    "shading.specular",
-    "shading.shininess",
-    "shading.shadow_factor",
-    "shading.background",
-    "image.width",
-    "image.height",
-    "image.view",
-    "view2d.center",
-    "view2d.extent",
-    "view2d.max_iterations",
-];
 
 /// Collects scene layers, later ones overriding earlier ones key by key, then builds and
 /// validates the [`Scene`].
@@ -203,69 +166,13 @@ impl SceneLoader {
             used: BTreeMap::new(),
         };
         let mut s = Scene::default();
-        let algebras = super::Algebra::ALL;
-        let mut algebra = s.fractal.algebra;
-        r.choice(
-            "fractal.algebra",
-            &mut algebra,
-            &algebras,
-            super::Algebra::name,
-        )?;
-        // The defaults follow the algebra; vectors given must have its length.
-        s.set_algebra(algebra);
-        let dim = algebra.dim();
-        r.hyper("fractal.c", &mut s.fractal.c, dim, algebra)?;
-        r.integer("fractal.max_iterations", &mut s.fractal.max_iterations)?;
-        r.float(
-            "fractal.escape_radius_squared",
-            &mut s.fractal.escape_radius_squared,
-        )?;
-        r.float("fractal.epsilon", &mut s.fractal.epsilon)?;
-        r.float(
-            "fractal.bounding_radius_squared",
-            &mut s.fractal.bounding_radius_squared,
-        )?;
-        r.integer("fractal.max_steps", &mut s.fractal.max_steps)?;
-        r.float("fractal.step_scale", &mut s.fractal.step_scale)?;
-        r.float("fractal.pixel_epsilon", &mut s.fractal.pixel_epsilon)?;
-        let tracings = super::Tracing::ALL;
-        r.choice(
-            "fractal.tracing",
-            &mut s.fractal.tracing,
-            &tracings,
-            super::Tracing::name,
-        )?;
-        r.hyper("slice.x", &mut s.slice.x, dim, algebra)?;
-        r.hyper("slice.y", &mut s.slice.y, dim, algebra)?;
-        r.hyper("slice.z", &mut s.slice.z, dim, algebra)?;
-        r.hyper("slice.offset", &mut s.slice.offset, dim, algebra)?;
-        r.vector("camera.eye", &mut s.camera.eye)?;
-        r.vector("camera.target", &mut s.camera.target)?;
-        r.vector("camera.up", &mut s.camera.up)?;
-        r.float("camera.fov_y_degrees", &mut s.camera.fov_y_degrees)?;
-        r.vector("light.position", &mut s.light.position)?;
-        r.boolean("shading.shadows", &mut s.shading.shadows)?;
-        let normals = super::NormalMethod::ALL;
-        r.choice(
-            "shading.normal",
-            &mut s.shading.normal,
-            &normals,
-            super::NormalMethod::name,
-        )?;
-        r.float("shading.normal_delta", &mut s.shading.normal_delta)?;
-        r.vector("shading.diffuse", &mut s.shading.diffuse)?;
-        r.float("shading.normal_tint", &mut s.shading.normal_tint)?;
-        r.float("shading.specular", &mut s.shading.specular)?;
-        r.float("shading.shininess", &mut s.shading.shininess)?;
-        r.float("shading.shadow_factor", &mut s.shading.shadow_factor)?;
-        r.vector("shading.background", &mut s.shading.background)?;
-        r.integer("image.width", &mut s.image.width)?;
-        r.integer("image.height", &mut s.image.height)?;
-        let views = super::View::ALL;
-        r.choice("image.view", &mut s.image.view, &views, super::View::name)?;
-        r.vector("view2d.center", &mut s.view2d.center)?;
-        r.float("view2d.extent", &mut s.view2d.extent)?;
-        r.integer("view2d.max_iterations", &mut s.view2d.max_iterations)?;
+        for key in SCHEMA {
+            r.read(key, &mut s)?;
+            if key.path == "fractal.algebra" {
+                // The defaults follow the algebra; vectors given must have its length.
+                s.set_algebra(s.fractal.algebra);
+            }
+        }
         r.reject_unknown()?;
         validate(&mut s, &r)?;
         Ok(s)
@@ -325,11 +232,14 @@ struct Reader {
 }
 
 impl Reader {
-    fn take(&mut self, key: &'static str) -> Option<(Value, SceneSource)> {
-        debug_assert!(KEYS.contains(&key), "{key} missing from KEYS");
-        let entry = self.entries.remove(key)?;
-        self.used.insert(key, entry.clone());
-        Some(entry)
+    /// Reads `key`'s value, where a layer gives one, into the scene.
+    fn read(&mut self, key: &'static Key, s: &mut Scene) -> Result<(), SceneError> {
+        let Some(entry) = self.entries.remove(key.path) else {
+            return Ok(());
+        };
+        self.used.insert(key.path, entry.clone());
+        let (v, src) = entry;
+        parse(&key.kind, &v, s).map_err(|reason| SceneError::value(&src, key.path, &v, &reason))
     }
 
     /// The source of a key's final value, for checks made after reading.
@@ -338,133 +248,6 @@ impl Reader {
             .get(key)
             .cloned()
             .unwrap_or((Value::String("(default)".into()), SceneSource::Default))
-    }
-
-    fn float(&mut self, key: &'static str, out: &mut f64) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            *out =
-                number(&v).ok_or_else(|| SceneError::value(&src, key, &v, "must be a number"))?;
-            if !out.is_finite() {
-                return Err(SceneError::value(&src, key, &v, "must be finite"));
-            }
-        }
-        Ok(())
-    }
-
-    fn integer(&mut self, key: &'static str, out: &mut u32) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            let Value::Integer(i) = v else {
-                return Err(SceneError::value(&src, key, &v, "must be an integer"));
-            };
-            let (lo, hi) = integer_range(key);
-            if i < lo as i64 || i > hi as i64 {
-                return Err(SceneError::value(
-                    &src,
-                    key,
-                    &v,
-                    &format!("must be in [{lo}, {hi}]"),
-                ));
-            }
-            *out = i as u32;
-        }
-        Ok(())
-    }
-
-    fn boolean(&mut self, key: &'static str, out: &mut bool) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            *out = v
-                .as_bool()
-                .ok_or_else(|| SceneError::value(&src, key, &v, "must be true or false"))?;
-        }
-        Ok(())
-    }
-
-    /// One of a fixed set of names, e.g. `shading.normal = "analytic"`.
-    fn choice<T: Copy>(
-        &mut self,
-        key: &'static str,
-        out: &mut T,
-        all: &[T],
-        name: fn(T) -> &'static str,
-    ) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            let given = v.as_str().unwrap_or_default();
-            *out = all
-                .iter()
-                .copied()
-                .find(|&c| name(c) == given)
-                .ok_or_else(|| {
-                    let names: Vec<String> =
-                        all.iter().map(|&c| format!("\"{}\"", name(c))).collect();
-                    SceneError::value(
-                        &src,
-                        key,
-                        &v,
-                        &format!("must be one of {}", names.join(", ")),
-                    )
-                })?;
-        }
-        Ok(())
-    }
-
-    /// A vector of the algebra: exactly its dimension of numbers.
-    fn hyper(
-        &mut self,
-        key: &'static str,
-        out: &mut Vec<f64>,
-        dim: usize,
-        algebra: super::Algebra,
-    ) -> Result<(), SceneError> {
-        let Some((v, src)) = self.take(key) else {
-            return Ok(());
-        };
-        let shape = || match algebra {
-            super::Algebra::Quaternion => format!("must be an array of {dim} numbers"),
-            _ => format!(
-                "must be an array of {dim} numbers (fractal.algebra is \"{}\")",
-                algebra.name()
-            ),
-        };
-        let items = v
-            .as_array()
-            .ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
-        if items.len() != dim {
-            let reason = format!("{}, not {}", shape(), items.len());
-            return Err(SceneError::value(&src, key, &v, &reason));
-        }
-        out.clear();
-        for item in items {
-            let x = number(item).ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
-            if !x.is_finite() {
-                return Err(SceneError::value(&src, key, &v, "must be finite"));
-            }
-            out.push(x);
-        }
-        Ok(())
-    }
-
-    fn vector<const N: usize>(
-        &mut self,
-        key: &'static str,
-        out: &mut [f64; N],
-    ) -> Result<(), SceneError> {
-        if let Some((v, src)) = self.take(key) {
-            let shape = || format!("must be an array of {N} numbers");
-            let items = v
-                .as_array()
-                .ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
-            if items.len() != N {
-                let reason = format!("{}, not {}", shape(), items.len());
-                return Err(SceneError::value(&src, key, &v, &reason));
-            }
-            for (slot, item) in out.iter_mut().zip(items) {
-                *slot = number(item).ok_or_else(|| SceneError::value(&src, key, &v, &shape()))?;
-                if !slot.is_finite() {
-                    return Err(SceneError::value(&src, key, &v, "must be finite"));
-                }
-            }
-        }
-        Ok(())
     }
 
     /// Whatever is left was not a scene key.
@@ -488,20 +271,80 @@ impl Reader {
     }
 }
 
+/// Reads one value of the kind into the scene, or says why it is not one (the reason of a
+/// one-line error).
+fn parse(kind: &Kind, v: &Value, s: &mut Scene) -> Result<(), String> {
+    match *kind {
+        Kind::Float { at, .. } => {
+            let x = number(v).ok_or("must be a number")?;
+            if !x.is_finite() {
+                return Err("must be finite".into());
+            }
+            *(at.get_mut)(s) = x;
+        }
+        Kind::Integer { at, min, max } => {
+            let Value::Integer(i) = *v else {
+                return Err("must be an integer".into());
+            };
+            if i < i64::from(min) || i > i64::from(max) {
+                return Err(format!("must be in [{min}, {max}]"));
+            }
+            *(at.get_mut)(s) = i as u32;
+        }
+        Kind::Bool { at } => {
+            *(at.get_mut)(s) = v.as_bool().ok_or("must be true or false")?;
+        }
+        Kind::Choice { names, set, .. } => {
+            if !set(s, v.as_str().unwrap_or_default()) {
+                let names: Vec<String> = names().iter().map(|n| format!("\"{n}\"")).collect();
+                return Err(format!("must be one of {}", names.join(", ")));
+            }
+        }
+        Kind::Vector { at, .. } | Kind::Hyper { at } => {
+            // A fixed vector keeps its length; a number of the algebra has its dimension (the
+            // scene's vectors already do: `set_algebra` ran).
+            let len = (at.get)(s).len();
+            let algebra = s.fractal.algebra;
+            let shape = || match kind {
+                Kind::Hyper { .. } if algebra != super::Algebra::Quaternion => format!(
+                    "must be an array of {len} numbers (fractal.algebra is \"{}\")",
+                    algebra.name()
+                ),
+                _ => format!("must be an array of {len} numbers"),
+            };
+            let items = v.as_array().ok_or_else(shape)?;
+            if items.len() != len {
+                return Err(format!("{}, not {}", shape(), items.len()));
+            }
+            for (slot, item) in (at.get_mut)(s).iter_mut().zip(items) {
+                *slot = number(item).ok_or_else(shape)?;
+                if !slot.is_finite() {
+                    return Err("must be finite".into());
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks the scene's value of one kind against its range (after all layers are read).
+fn check_range(kind: &Kind, s: &Scene) -> Result<(), String> {
+    match *kind {
+        Kind::Float { at, range } if !range.contains(*(at.get)(s)) => {
+            Err(format!("must be {range}"))
+        }
+        Kind::Vector { at, each } if (at.get)(s).iter().any(|&x| !each.contains(x)) => {
+            Err(format!("must have every component {each}"))
+        }
+        _ => Ok(()),
+    }
+}
+
 fn number(v: &Value) -> Option<f64> {
     match v {
         Value::Float(f) => Some(*f),
         Value::Integer(i) => Some(*i as f64),
         _ => None,
-    }
-}
-
-fn integer_range(key: &str) -> (u32, u32) {
-    match key {
-        "image.width" | "image.height" => (1, 65536),
-        "fractal.max_iterations" | "view2d.max_iterations" => (1, 100_000),
-        "fractal.max_steps" => (1, 1_000_000),
-        _ => unreachable!("no range for {key}"),
     }
 }
 
@@ -514,51 +357,9 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
         let (v, src) = r.source_of(key);
         SceneError::value(&src, key, &v, reason)
     };
-    for (key, value) in [
-        ("fractal.epsilon", s.fractal.epsilon),
-        (
-            "fractal.escape_radius_squared",
-            s.fractal.escape_radius_squared,
-        ),
-        (
-            "fractal.bounding_radius_squared",
-            s.fractal.bounding_radius_squared,
-        ),
-        ("view2d.extent", s.view2d.extent),
-    ] {
-        if value <= 0.0 {
-            return Err(fail(key, "must be > 0"));
-        }
-    }
-    if s.fractal.step_scale <= 0.0 || s.fractal.step_scale > 2.0 {
-        return Err(fail("fractal.step_scale", "must be in (0, 2]"));
-    }
-    if s.fractal.pixel_epsilon < 0.0 {
-        return Err(fail("fractal.pixel_epsilon", "must be >= 0"));
-    }
-    let fov = s.camera.fov_y_degrees;
-    if fov <= 0.0 || fov >= 180.0 {
-        return Err(fail("camera.fov_y_degrees", "must be in (0, 180)"));
-    }
-    for (key, value) in [
-        ("shading.normal_tint", s.shading.normal_tint),
-        ("shading.specular", s.shading.specular),
-        ("shading.shininess", s.shading.shininess),
-    ] {
-        if value < 0.0 {
-            return Err(fail(key, "must be >= 0"));
-        }
-    }
-    if !(0.0..=1.0).contains(&s.shading.shadow_factor) {
-        return Err(fail("shading.shadow_factor", "must be in [0, 1]"));
-    }
-    for (key, colour) in [
-        ("shading.diffuse", s.shading.diffuse),
-        ("shading.background", s.shading.background),
-    ] {
-        if colour.iter().any(|c| !(0.0..=1.0).contains(c)) {
-            return Err(fail(key, "must have every component in [0, 1]"));
-        }
+    // Each key's range, in the schema's order.
+    for key in SCHEMA {
+        check_range(&key.kind, s).map_err(|reason| fail(key.path, &reason))?;
     }
 
     // The camera: the later-given of the keys involved is the one blamed.

@@ -1,54 +1,16 @@
 //! The scene: plain data describing one picture, its defaults (the seed's constants) and its
-//! validation. Loading from TOML, `--set` and PNGs lives in [`load`].
+//! validation. Every key is declared once, below, with its type, default, range, README comment
+//! and explorer slider ([`schema`]); loading from TOML, `--set` and PNGs lives in [`load`].
 
 mod load;
 pub mod presets;
 pub mod rotation;
+pub mod schema;
 
-pub use load::{KEYS, SceneError, SceneLoader, SceneSource, scene_from_png};
+pub use load::{SceneError, SceneLoader, SceneSource, scene_from_png};
 
+use schema::{Range, scene_schema};
 use serde::Serialize;
-
-/// Everything one picture depends on. Defaults reproduce the seed's constants (CONTRACT.md).
-#[derive(Clone, Debug, PartialEq, Serialize, Default)]
-pub struct Scene {
-    pub fractal: Fractal,
-    pub slice: Slice,
-    pub camera: Camera,
-    pub light: Light,
-    pub shading: Shading,
-    pub image: Image,
-    /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode.
-    pub view2d: View2d,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Fractal {
-    /// The algebra z and c live in: quaternions (4D), octonions (8D) or sedenions (16D).
-    pub algebra: Algebra,
-    /// The Julia constant, `[real, i, j, k, ...]`: as many numbers as the algebra has dimensions.
-    pub c: Vec<f64>,
-    /// Iterations of z <- z^2 + c per distance estimate.
-    pub max_iterations: u32,
-    /// |z|^2 above this counts as escaped (the seed's ESCAPE_THRESHOLD).
-    pub escape_radius_squared: f64,
-    /// A ray hits when the distance estimate drops below this.
-    pub epsilon: f64,
-    /// The 4D ball |q|^2 <= this bounds the set.
-    pub bounding_radius_squared: f64,
-    /// Sphere-tracing steps per ray before giving up (a miss).
-    pub max_steps: u32,
-    /// Over-relaxation of sphere-tracing steps (omega in (0, 2]; 1 is the seed's plain step).
-    /// Above 1, steps are omega d with a safe fallback when they overshoot.
-    pub step_scale: f64,
-    /// Also hit where d < pixel_epsilon times the pixel's footprint at that distance (0: off,
-    /// the seed's fixed epsilon only).
-    pub pixel_epsilon: f64,
-    /// "seed": every ray sphere-traced from the bounding ball (CONTRACT.md's definitions,
-    /// exactly); "cone": each 8x8 block of rays first marches one cone, and its rays start where
-    /// the cone stopped.
-    pub tracing: Tracing,
-}
 
 /// The algebra of z and c (`fractal.algebra`): the quaternions and the next two Cayley-Dickson
 /// algebras, whose numbers are pairs of numbers of the one before.
@@ -112,52 +74,6 @@ impl Tracing {
     }
 }
 
-/// The 3D slice of the algebra's space: p -> offset + p.x*x + p.y*y + p.z*z, each vector with
-/// as many numbers as the algebra has dimensions.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Slice {
-    pub x: Vec<f64>,
-    pub y: Vec<f64>,
-    pub z: Vec<f64>,
-    pub offset: Vec<f64>,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Camera {
-    pub eye: [f64; 3],
-    pub target: [f64; 3],
-    pub up: [f64; 3],
-    pub fov_y_degrees: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Light {
-    pub position: [f64; 3],
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Shading {
-    /// Cast a shadow ray from every hit toward the light.
-    pub shadows: bool,
-    /// How the shading normal is computed: the seed's central differences, four tetrahedral
-    /// samples, or the analytic gradient.
-    pub normal: NormalMethod,
-    /// The finite-difference step of the central and tetrahedral normals (the seed's 1e-4).
-    pub normal_delta: f64,
-    /// The base (diffuse) colour; the seed's (1, 0.45, 0.25).
-    pub diffuse: [f64; 3],
-    /// How much of |N| tints the diffuse colour; the seed's 0.3.
-    pub normal_tint: f64,
-    /// Amplitude of the specular highlight; the seed's 0.45.
-    pub specular: f64,
-    /// Phong exponent; the seed's 10.
-    pub shininess: f64,
-    /// A shadowed hit's colour is multiplied by this; the seed's 0.4.
-    pub shadow_factor: f64,
-    /// Colour of rays that hit nothing; the seed's grey 0.3.
-    pub background: [f64; 3],
-}
-
 /// How the shading normal is computed (`shading.normal`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
 #[serde(rename_all = "lowercase")]
@@ -192,14 +108,6 @@ impl NormalMethod {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
-    pub view: View,
-}
-
 /// What `render`'s PNG shows (`image.view`); see src/views.rs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
 #[serde(rename_all = "lowercase")]
@@ -226,31 +134,122 @@ impl View {
     }
 }
 
-/// The 2D Julia view: the filled Julia set of the complex c = c[0] + c[1] i (the first two
-/// components of `fractal.c`), imaginary axis up.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct View2d {
-    /// The complex number at the image's centre, `[real, imaginary]`.
-    pub center: [f64; 2],
-    /// The width of the image in the complex plane (the height follows the image's aspect).
-    pub extent: f64,
-    /// Iterations of z <- z^2 + c before a point counts as in the set.
-    pub max_iterations: u32,
-}
+scene_schema! {
+    /// Everything one picture depends on. Defaults reproduce the seed's constants (CONTRACT.md).
+    pub struct Scene {
+        fractal: Fractal "" {
+            /// The algebra z and c live in: quaternions (4D), octonions (8D) or sedenions (16D).
+            algebra: Algebra = Algebra::Quaternion, choice(),
+                "\"quaternion\", \"octonion\" or \"sedenion\": 4, 8 or 16 numbers in c and the slice";
+            /// The Julia constant, `[real, i, j, k, ...]`: as many numbers as the algebra has
+            /// dimensions.
+            c: Vec<f64> = vec![-0.2, 0.6, 0.2, 0.2], hyper(), slider(-1.5, 1.5),
+                "the Julia constant";
+            /// Iterations of z <- z^2 + c per distance estimate.
+            max_iterations: u32 = 10, integer(1, 100_000), slider(1, 200, log),
+                "iterations of z <- z^2 + c per distance estimate ({range})";
+            /// |z|^2 above this counts as escaped (the seed's ESCAPE_THRESHOLD).
+            escape_radius_squared: f64 = 10.0, float(Range::above(0.0)), slider(4.0, 1e6, log),
+                "|z|^2 above this counts as escaped ({range})";
+            /// A ray hits when the distance estimate drops below this.
+            epsilon: f64 = 0.003, float(Range::above(0.0)), slider(1e-5, 0.1, log),
+                "a ray hits when the distance estimate drops below this ({range})";
+            /// The 4D ball |q|^2 <= this bounds the set.
+            bounding_radius_squared: f64 = 3.0, float(Range::above(0.0)), slider(0.5, 16.0),
+                "the 4D ball |q|^2 <= this bounds the set ({range})";
+            /// Sphere-tracing steps per ray before giving up (a miss).
+            max_steps: u32 = 1000, integer(1, 1_000_000), slider(1, 5000, log),
+                "sphere-tracing steps per ray before giving up ({range})";
+            /// Over-relaxation of sphere-tracing steps (omega in (0, 2]; 1 is the seed's plain
+            /// step). Above 1, steps are omega d with a safe fallback when they overshoot.
+            step_scale: f64 = 1.0, float(Range::open_closed(0.0, 2.0)), slider(0.5, 2.0),
+                "over-relaxed steps omega d, {range}, with a safe fallback; 1 = the seed";
+            /// Also hit where d < pixel_epsilon times the pixel's footprint at that distance (0:
+            /// off, the seed's fixed epsilon only).
+            pixel_epsilon: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 4.0),
+                "also hit below this many pixel footprints, {range} (0 = off, the seed)";
+            /// "seed": every ray sphere-traced from the bounding ball (CONTRACT.md's
+            /// definitions, exactly); "cone": each 8x8 block of rays first marches one cone, and
+            /// its rays start where the cone stopped.
+            tracing: Tracing = Tracing::Seed, choice(),
+                "\"seed\" (the contract's definitions, exactly) or \"cone\" (one cone per 8x8 block first)";
+        }
 
-impl Default for Fractal {
-    fn default() -> Self {
-        Self {
-            algebra: Algebra::Quaternion,
-            c: vec![-0.2, 0.6, 0.2, 0.2],
-            max_iterations: 10,
-            escape_radius_squared: 10.0,
-            epsilon: 0.003,
-            bounding_radius_squared: 3.0,
-            max_steps: 1000,
-            step_scale: 1.0,
-            pixel_epsilon: 0.0,
-            tracing: Tracing::Seed,
+        /// The 3D slice of the algebra's space: p -> offset + p.x*x + p.y*y + p.z*z, each vector
+        /// with as many numbers as the algebra has dimensions.
+        slice: Slice "the 3D slice of 4D space: p -> offset + p.x*x + p.y*y + p.z*z" {
+            x: Vec<f64> = vec![1.0, 0.0, 0.0, 0.0], hyper(),
+                "orthonormal; within 1e-3 of it, re-orthonormalised";
+            y: Vec<f64> = vec![0.0, 1.0, 0.0, 0.0], hyper(), "";
+            z: Vec<f64> = vec![0.0, 0.0, 1.0, 0.0], hyper(), "";
+            offset: Vec<f64> = vec![0.0; 4], hyper(), slider(-1.5, 1.5), "";
+        }
+
+        camera: Camera "" {
+            eye: [f64; 3] = [0.0, 0.0, 3.0], vector(), "";
+            target: [f64; 3] = [0.0, 0.0, 0.0], vector(), "!= eye";
+            up: [f64; 3] = [0.0, 1.0, 0.0], vector(), "not parallel to target - eye";
+            fov_y_degrees: f64 = 45.0, float(Range::open(0.0, 180.0)), slider(1.0, 170.0),
+                "{range}";
+        }
+
+        light: Light "" {
+            position: [f64; 3] = [2.0, 2.0, 3.0], vector(), slider(-6.0, 6.0), "a point light";
+        }
+
+        shading: Shading "" {
+            /// Cast a shadow ray from every hit toward the light.
+            shadows: bool = true, boolean(), "cast a shadow ray from every hit";
+            /// How the shading normal is computed: the seed's central differences, four
+            /// tetrahedral samples, or the analytic gradient.
+            normal: NormalMethod = NormalMethod::Central, choice(),
+                "\"central\" (the seed), \"tetrahedral\" or \"analytic\" (exact gradient)";
+            /// The finite-difference step of the central and tetrahedral normals (the seed's
+            /// 1e-4).
+            normal_delta: f64 = 1e-4, float(Range::ANY), slider(1e-6, 1e-2, log),
+                "finite-difference step of the central and tetrahedral normals";
+            /// The base (diffuse) colour; the seed's (1, 0.45, 0.25).
+            diffuse: [f64; 3] = [1.0, 0.45, 0.25], vector(Range::closed(0.0, 1.0)),
+                "base colour, {range}";
+            /// How much of |N| tints the diffuse colour; the seed's 0.3.
+            normal_tint: f64 = 0.3, float(Range::at_least(0.0)), slider(0.0, 1.0),
+                "colour += normal_tint * |N|, {range}";
+            /// Amplitude of the specular highlight; the seed's 0.45.
+            specular: f64 = 0.45, float(Range::at_least(0.0)), slider(0.0, 2.0),
+                "highlight amplitude, {range}";
+            /// Phong exponent; the seed's 10.
+            shininess: f64 = 10.0, float(Range::at_least(0.0)), slider(0.0, 200.0, log),
+                "Phong exponent, {range}";
+            /// A shadowed hit's colour is multiplied by this; the seed's 0.4.
+            shadow_factor: f64 = 0.4, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "a shadowed hit's colour is multiplied by this, {range}";
+            /// Colour of rays that hit nothing; the seed's grey 0.3.
+            background: [f64; 3] = [0.3, 0.3, 0.3], vector(Range::closed(0.0, 1.0)),
+                "colour of rays that hit nothing, {range}";
+        }
+
+        image: Image "" {
+            width: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
+            height: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
+            /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
+            view: View = View::Shaded, choice(),
+                "what render's PNG shows: \"shaded\", \"steps\" or \"divergence\" (--view)";
+        }
+
+        /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode: the filled Julia
+        /// set of the complex c = c[0] + c[1] i (the first two components of `fractal.c`),
+        /// imaginary axis up.
+        view2d: View2d "the 2D Julia view (render2d, the explorer's 2D mode)" {
+            /// The complex number at the image's centre, `[real, imaginary]`.
+            center: [f64; 2] = [0.0, 0.0], vector(),
+                "the complex number at the image's centre, [real, imaginary]; finite";
+            /// The width of the image in the complex plane (the height follows the image's
+            /// aspect).
+            extent: f64 = 4.0, float(Range::above(0.0)), slider(1e-6, 64.0, log),
+                "the image's width in the complex plane, finite and {range}";
+            /// Iterations of z <- z^2 + c before a point counts as in the set.
+            max_iterations: u32 = 256, integer(1, 100_000), slider(1, 5000, log),
+                "iterations before a point counts as in the set ({range})";
         }
     }
 }
@@ -285,72 +284,6 @@ pub fn orthonormalise(basis: [&[f64]; 3]) -> Option<[Vec<f64>; 3]> {
         out.push(w.iter().map(|x| x / length).collect());
     }
     out.try_into().ok()
-}
-
-impl Default for Slice {
-    fn default() -> Self {
-        Self {
-            x: vec![1.0, 0.0, 0.0, 0.0],
-            y: vec![0.0, 1.0, 0.0, 0.0],
-            z: vec![0.0, 0.0, 1.0, 0.0],
-            offset: vec![0.0; 4],
-        }
-    }
-}
-
-impl Default for Camera {
-    fn default() -> Self {
-        Self {
-            eye: [0.0, 0.0, 3.0],
-            target: [0.0, 0.0, 0.0],
-            up: [0.0, 1.0, 0.0],
-            fov_y_degrees: 45.0,
-        }
-    }
-}
-
-impl Default for Light {
-    fn default() -> Self {
-        Self {
-            position: [2.0, 2.0, 3.0],
-        }
-    }
-}
-
-impl Default for Shading {
-    fn default() -> Self {
-        Self {
-            shadows: true,
-            normal: NormalMethod::Central,
-            normal_delta: 1e-4,
-            diffuse: [1.0, 0.45, 0.25],
-            normal_tint: 0.3,
-            specular: 0.45,
-            shininess: 10.0,
-            shadow_factor: 0.4,
-            background: [0.3, 0.3, 0.3],
-        }
-    }
-}
-
-impl Default for Image {
-    fn default() -> Self {
-        Self {
-            width: 512,
-            height: 512,
-            view: View::Shaded,
-        }
-    }
-}
-
-impl Default for View2d {
-    fn default() -> Self {
-        Self {
-            center: [0.0, 0.0],
-            extent: 4.0,
-            max_iterations: 256,
-        }
-    }
 }
 
 impl Scene {
