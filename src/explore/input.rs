@@ -12,12 +12,17 @@ use crate::scene::View2d;
 const ORBIT_PER_POINT: f64 = 0.01;
 const ZOOM_PER_POINT: f64 = 0.002;
 
-/// The 2D view's extent range in the explorer (f32 on the GPU resolves no finer).
-pub const MIN_EXTENT: f64 = 1e-6;
-pub const MAX_EXTENT: f64 = 64.0;
-
+/// The 2D view's extent within its slider's range (the scene schema's; f32 on the GPU resolves
+/// no finer).
 fn clamp_extent(extent: f64) -> f64 {
-    extent.clamp(MIN_EXTENT, MAX_EXTENT)
+    let range = slider("view2d.extent");
+    extent.clamp(range.min, range.max)
+}
+
+/// The explorer's slider of a scene key, from the scene schema.
+pub(super) fn slider(path: &str) -> crate::scene::schema::Slider {
+    crate::scene::schema::slider(path)
+        .unwrap_or_else(|| panic!("the scene schema gives {path} no slider"))
 }
 
 /// The keyboard shortcuts, as the help window lists them.

@@ -3,7 +3,7 @@
 
 use super::app::{ExplorerApp, Mode};
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
-use super::input::{MAX_EXTENT, MIN_EXTENT};
+use super::input::slider;
 use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{View, View2d};
 
@@ -65,7 +65,7 @@ impl ExplorerApp {
         let f = &mut self.scene.fractal;
         for k in 0..f.c.len() {
             let name = format!("c {}", axis_name(k));
-            ui.add(egui::Slider::new(&mut f.c[k], -1.5..=1.5).text(name));
+            ui.add(key_slider(&mut f.c[k], "fractal.c").text(name));
         }
         // c as a direction on the unit sphere of the algebra and a magnitude.
         let (magnitude, direction) = magnitude_and_direction(&f.c);
@@ -93,33 +93,31 @@ impl ExplorerApp {
             f.c = dir.iter().map(|v| v * new_magnitude).collect();
         }
         ui.add(
-            egui::Slider::new(&mut f.max_iterations, 1..=200)
-                .logarithmic(true)
-                .text("max iterations"),
+            key_slider_u32(&mut f.max_iterations, "fractal.max_iterations").text("max iterations"),
+        );
+        ui.add(key_slider(&mut f.epsilon, "fractal.epsilon").text("epsilon"));
+        ui.add(
+            key_slider(
+                &mut f.escape_radius_squared,
+                "fractal.escape_radius_squared",
+            )
+            .text("escape radius²"),
         );
         ui.add(
-            egui::Slider::new(&mut f.epsilon, 1e-5..=0.1)
-                .logarithmic(true)
-                .text("epsilon"),
+            key_slider(
+                &mut f.bounding_radius_squared,
+                "fractal.bounding_radius_squared",
+            )
+            .text("bounding radius²"),
+        );
+        ui.add(key_slider_u32(&mut f.max_steps, "fractal.max_steps").text("max steps"));
+        ui.add(
+            key_slider(&mut f.step_scale, "fractal.step_scale")
+                .text("step scale (over-relaxation)"),
         );
         ui.add(
-            egui::Slider::new(&mut f.escape_radius_squared, 4.0..=1e6)
-                .logarithmic(true)
-                .text("escape radius²"),
-        );
-        ui.add(
-            egui::Slider::new(&mut f.bounding_radius_squared, 0.5..=16.0).text("bounding radius²"),
-        );
-        ui.add(
-            egui::Slider::new(&mut f.max_steps, 1..=5000)
-                .logarithmic(true)
-                .text("max steps"),
-        );
-        ui.add(
-            egui::Slider::new(&mut f.step_scale, 0.5..=2.0).text("step scale (over-relaxation)"),
-        );
-        ui.add(
-            egui::Slider::new(&mut f.pixel_epsilon, 0.0..=4.0).text("epsilon in pixels (0 = off)"),
+            key_slider(&mut f.pixel_epsilon, "fractal.pixel_epsilon")
+                .text("epsilon in pixels (0 = off)"),
         );
         egui::ComboBox::from_label("tracing")
             .selected_text(f.tracing.name())
@@ -144,15 +142,9 @@ impl ExplorerApp {
             ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
             ui.label("centre imaginary");
         });
+        ui.add(key_slider(&mut v.extent, "view2d.extent").text("extent (width)"));
         ui.add(
-            egui::Slider::new(&mut v.extent, MIN_EXTENT..=MAX_EXTENT)
-                .logarithmic(true)
-                .text("extent (width)"),
-        );
-        ui.add(
-            egui::Slider::new(&mut v.max_iterations, 1..=5000)
-                .logarithmic(true)
-                .text("2D iterations"),
+            key_slider_u32(&mut v.max_iterations, "view2d.max_iterations").text("2D iterations"),
         );
         ui.label("Drag to pan, wheel to zoom about the pointer.");
         if ui.button("Reset 2D view (R)").clicked() {
@@ -186,7 +178,7 @@ impl ExplorerApp {
         }
         for k in 0..self.scene.slice.offset.len() {
             let name = format!("offset {}", axis_name(k));
-            ui.add(egui::Slider::new(&mut self.scene.slice.offset[k], -1.5..=1.5).text(name));
+            ui.add(key_slider(&mut self.scene.slice.offset[k], "slice.offset").text(name));
         }
     }
 
@@ -218,7 +210,9 @@ impl ExplorerApp {
     /// The field of view; eye and target as moved by the mouse.
     fn camera_controls(&mut self, ui: &mut egui::Ui) {
         let cam = &mut self.scene.camera;
-        ui.add(egui::Slider::new(&mut cam.fov_y_degrees, 1.0..=170.0).text("field of view (°)"));
+        ui.add(
+            key_slider(&mut cam.fov_y_degrees, "camera.fov_y_degrees").text("field of view (°)"),
+        );
         ui.label(format!(
             "eye    {:.3} {:.3} {:.3}",
             cam.eye[0], cam.eye[1], cam.eye[2]
@@ -235,24 +229,20 @@ impl ExplorerApp {
     /// The light and the shading values.
     fn shading_controls(&mut self, ui: &mut egui::Ui) {
         for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
-            ui.add(egui::Slider::new(&mut self.scene.light.position[k], -6.0..=6.0).text(*name));
+            ui.add(key_slider(&mut self.scene.light.position[k], "light.position").text(*name));
         }
         let sh = &mut self.scene.shading;
         ui.checkbox(&mut sh.shadows, "shadows");
-        ui.add(egui::Slider::new(&mut sh.shadow_factor, 0.0..=1.0).text("shadow factor"));
+        ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
         ui.horizontal(|ui| {
             colour_edit(ui, &mut sh.diffuse);
             ui.label("diffuse");
             colour_edit(ui, &mut sh.background);
             ui.label("background");
         });
-        ui.add(egui::Slider::new(&mut sh.normal_tint, 0.0..=1.0).text("normal tint"));
-        ui.add(egui::Slider::new(&mut sh.specular, 0.0..=2.0).text("specular"));
-        ui.add(
-            egui::Slider::new(&mut sh.shininess, 0.0..=200.0)
-                .logarithmic(true)
-                .text("shininess"),
-        );
+        ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
+        ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
+        ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
         egui::ComboBox::from_label("normal")
             .selected_text(sh.normal.name())
             .show_ui(ui, |ui| {
@@ -260,26 +250,14 @@ impl ExplorerApp {
                     ui.selectable_value(&mut sh.normal, method, method.name());
                 }
             });
-        ui.add(
-            egui::Slider::new(&mut sh.normal_delta, 1e-6..=1e-2)
-                .logarithmic(true)
-                .text("normal delta"),
-        );
+        ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
     }
 
     /// The exported image's size, and the view's resolution.
     fn image_controls(&mut self, ui: &mut egui::Ui) {
         ui.label("Exported image size:");
-        ui.add(
-            egui::Slider::new(&mut self.scene.image.width, 1..=8192)
-                .logarithmic(true)
-                .text("width"),
-        );
-        ui.add(
-            egui::Slider::new(&mut self.scene.image.height, 1..=8192)
-                .logarithmic(true)
-                .text("height"),
-        );
+        ui.add(key_slider_u32(&mut self.scene.image.width, "image.width").text("width"));
+        ui.add(key_slider_u32(&mut self.scene.image.height, "image.height").text("height"));
         ui.add(
             egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
         );
@@ -292,4 +270,16 @@ fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
     if ui.color_edit_button_rgb(&mut rgb).changed() {
         *colour = rgb.map(|c| (c as f64).clamp(0.0, 1.0));
     }
+}
+
+/// The slider of a float scene key: range and scale from the scene schema.
+fn key_slider<'a>(value: &'a mut f64, path: &str) -> egui::Slider<'a> {
+    let s = slider(path);
+    egui::Slider::new(value, s.range()).logarithmic(s.logarithmic)
+}
+
+/// The slider of an integer scene key: range and scale from the scene schema.
+fn key_slider_u32<'a>(value: &'a mut u32, path: &str) -> egui::Slider<'a> {
+    let s = slider(path);
+    egui::Slider::new(value, s.range_u32()).logarithmic(s.logarithmic)
 }

@@ -21,6 +21,13 @@ use crate::error::{Error, Result};
 /// lavapipe packs 8 lanes along x. A test checks each shader against it.
 pub const WORKGROUP_SIZE: (u32, u32) = (8, 8);
 
+/// Override constants as a hash key (the values' bits).
+type ConstantsKey = Vec<(&'static str, u64)>;
+
+fn constants_key(constants: &[(&'static str, f64)]) -> ConstantsKey {
+    constants.iter().map(|&(n, v)| (n, v.to_bits())).collect()
+}
+
 /// One storage array a kernel writes: binding 1 + its index in [`KernelSpec::outputs`].
 #[derive(Clone, Copy, Debug)]
 pub struct OutputSpec {
@@ -46,9 +53,6 @@ pub struct KernelSpec {
     /// kernel that bounds its own loops (by its params) and checks its own indices.
     pub trusted: bool,
 }
-
-/// Override constants that specialise a pipeline; empty: the generic one.
-pub type Constants = Vec<(&'static str, f64)>;
 
 /// The rows one dispatch covers, and which of the band's dispatches it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,8 +100,8 @@ pub struct Kernel {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Pipelines by their constants (f64 bits), and whether each has run once (warmed up).
-    pipelines: Mutex<HashMap<Vec<(&'static str, u64)>, (wgpu::ComputePipeline, bool)>>,
+    /// Pipelines by their constants, and whether each has run once (warmed up).
+    pipelines: Mutex<HashMap<ConstantsKey, (wgpu::ComputePipeline, bool)>>,
 }
 
 /// Device-side buffers of one run, reused across its bands.
@@ -195,7 +199,7 @@ impl Kernel {
     /// The pipeline for these override constants (empty: generic), built on first use and
     /// cached.
     pub fn pipeline(&self, constants: &[(&'static str, f64)]) -> Result<wgpu::ComputePipeline> {
-        let key: Vec<_> = constants.iter().map(|&(n, v)| (n, v.to_bits())).collect();
+        let key = constants_key(constants);
         let mut cache = self.pipelines.lock().expect("pipeline cache");
         if let Some((p, _)) = cache.get(&key) {
             return Ok(p.clone());
@@ -371,25 +375,21 @@ impl Kernel {
                     rows,
                     dispatch,
                 };
-                let timestamps =
-                    buffers
-                        .timestamps
-                        .as_ref()
-                        .map(|t| wgpu::ComputePassTimestampWrites {
-                            query_set: &t.queries,
-                            beginning_of_pass_write_index: (dispatch == 0).then_some(0),
-                            end_of_pass_write_index: (dispatch + 1 == dispatches).then_some(1),
-                        });
-                let last = (dispatch + 1 == dispatches).then_some(rows as u64 * width as u64);
-                self.dispatch(
-                    &pipeline,
-                    &buffers,
-                    &(run.params)(band),
-                    (width, rows),
-                    timestamps,
-                )?;
-                if let Some(items) = last {
-                    self.copy_out(&buffers, items)?;
+                // The band's time: from the start of its first dispatch to the end of its last.
+                let (first, last) = (dispatch == 0, dispatch + 1 == dispatches);
+                let timestamps = buffers
+                    .timestamps
+                    .as_ref()
+                    .filter(|_| first || last)
+                    .map(|t| wgpu::ComputePassTimestampWrites {
+                        query_set: &t.queries,
+                        beginning_of_pass_write_index: first.then_some(0),
+                        end_of_pass_write_index: last.then_some(1),
+                    });
+                let params = (run.params)(band);
+                self.dispatch(&pipeline, &buffers, &params, (width, rows), timestamps)?;
+                if last {
+                    self.copy_out(&buffers, rows as u64 * width as u64)?;
                 }
             }
             let items = rows as u64 * width as u64;
@@ -415,7 +415,7 @@ impl Kernel {
 
     /// Whether the pipeline of these constants has run once; marks it so.
     fn warmed(&self, constants: &[(&'static str, f64)]) -> bool {
-        let key: Vec<_> = constants.iter().map(|&(n, v)| (n, v.to_bits())).collect();
+        let key = constants_key(constants);
         let mut cache = self.pipelines.lock().expect("pipeline cache");
         let entry = cache.get_mut(&key).expect("built before it runs");
         std::mem::replace(&mut entry.1, true)
@@ -535,9 +535,9 @@ impl Kernel {
     }
 
     /// The mapped bytes of each output asked for.
-    fn read_mapped<'b>(
+    fn read_mapped(
         &self,
-        buffers: &'b RunBuffers,
+        buffers: &RunBuffers,
         items: u64,
     ) -> Result<Vec<Option<wgpu::BufferView>>> {
         buffers

@@ -11,11 +11,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::stability::Runner;
+use crate::TraceParams;
 use crate::algebra::{Real, Vec3};
 use crate::frame::{Frame, unpack_rgb};
 use crate::gpu::GpuTracer;
 use crate::scene::{NormalMethod, Scene};
-use crate::TraceParams;
 
 /// One point of the sweep.
 #[derive(Clone, Debug)]

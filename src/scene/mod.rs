@@ -108,7 +108,7 @@ impl NormalMethod {
     }
 }
 
-/// What `render`'s PNG shows (`image.view`); see src/views.rs.
+/// What `render`'s PNG shows (`image.view`); see src/heatmap.rs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum View {
