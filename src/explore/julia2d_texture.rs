@@ -8,30 +8,16 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use super::kernel_texture::KernelTarget;
 use crate::gpu::{GpuJulia2d, GpuJulia2dParams};
 use crate::params::Julia2dParams;
 use crate::scene::Scene;
-
-/// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
-const ROW_ALIGN: u32 = 64;
-
-/// The output buffers and the texture egui samples.
-struct Target {
-    width: u32,
-    height: u32,
-    row_stride: u32,
-    /// Colour, in-set marker and iterations (the colour is copied into the texture).
-    outputs: Vec<wgpu::Buffer>,
-    texture: wgpu::Texture,
-    texture_id: egui::TextureId,
-    bind_group: wgpu::BindGroup,
-}
 
 pub struct Julia2dTexture {
     julia: Arc<GpuJulia2d>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
-    target: Option<Target>,
+    target: Option<KernelTarget>,
     /// The parameters of the render in flight, or of the last one done.
     submitted: Option<Julia2dParams<f32>>,
     in_flight: Arc<AtomicBool>,
@@ -113,27 +99,7 @@ impl Julia2dTexture {
             (t.width, t.height),
             None,
         );
-        encoder.copy_buffer_to_texture(
-            wgpu::TexelCopyBufferInfo {
-                buffer: &t.outputs[0],
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(t.row_stride * 4),
-                    rows_per_image: Some(t.height),
-                },
-            },
-            wgpu::TexelCopyTextureInfo {
-                texture: &t.texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::Extent3d {
-                width: t.width,
-                height: t.height,
-                depth_or_array_layers: 1,
-            },
-        );
+        t.copy_rows(&mut encoder, 0, t.height);
         self.in_flight.store(true, Ordering::Release);
         self.started = Instant::now();
         queue.submit([encoder.finish()]);
@@ -155,28 +121,12 @@ impl Julia2dTexture {
             return;
         }
         let old = self.target.take();
-        let device = &self.julia.context().device;
-        let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        let outputs = self
-            .julia
-            .kernel()
-            .output_buffers(row_stride as u64 * size[1] as u64, "view2d");
-        let (texture, texture_id) = super::slice_texture::native_texture(
-            device,
+        self.target = Some(KernelTarget::new(
+            self.julia.kernel(),
             &self.renderer,
-            "view2d",
+            ("view2d", &self.uniform),
             size,
             old.map(|t| t.texture_id),
-        );
-        let bind_group = self.julia.kernel().bind_group(&self.uniform, &outputs);
-        self.target = Some(Target {
-            width: size[0],
-            height: size[1],
-            row_stride,
-            outputs,
-            texture,
-            texture_id,
-            bind_group,
-        });
+        ));
     }
 }

@@ -10,6 +10,7 @@ mod heat_texture;
 mod hypersphere;
 pub mod input;
 pub mod julia2d_texture;
+mod kernel_texture;
 mod menu;
 mod panels;
 pub mod persistence;

@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::kernel_texture::KernelTarget;
 use crate::gpu::{GpuParams, GpuTracer, WORKGROUP_SIZE};
 use crate::params::TraceParams;
 use crate::scene::Scene;
@@ -28,8 +29,6 @@ const IDLE_FRAME_SECONDS: f64 = 0.08;
 const MAX_IN_FLIGHT: u32 = 4;
 /// How long the scene must stay unchanged before the full-resolution render starts.
 pub const IDLE_DELAY: Duration = Duration::from_millis(150);
-/// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
-const ROW_ALIGN: u32 = 64;
 
 /// The two images the view keeps: a quick one while things move and the full one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,17 +59,6 @@ pub struct TextureStats {
     pub since_change_seconds: f64,
 }
 
-/// One render target: output buffers and the texture egui samples.
-struct Target {
-    width: u32,
-    height: u32,
-    row_stride: u32,
-    outputs: Vec<wgpu::Buffer>,
-    texture: wgpu::Texture,
-    texture_id: egui::TextureId,
-    bind_group: wgpu::BindGroup,
-}
-
 /// A render in progress: which target, what, and how far.
 struct Job {
     quality: Quality,
@@ -96,7 +84,7 @@ pub struct SliceTexture {
     tracer: Arc<GpuTracer>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
-    targets: [Option<Target>; 2],
+    targets: [Option<KernelTarget>; 2],
     job: Option<Job>,
     /// The target shown now.
     shown: Option<Quality>,
@@ -287,32 +275,7 @@ impl SliceTexture {
                 (width, rows),
                 None,
             );
-            let offset = job.next_row as u64 * target.row_stride as u64 * 4;
-            encoder.copy_buffer_to_texture(
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &target.outputs[0],
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset,
-                        bytes_per_row: Some(target.row_stride * 4),
-                        rows_per_image: Some(rows),
-                    },
-                },
-                wgpu::TexelCopyTextureInfo {
-                    texture: &target.texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d {
-                        x: 0,
-                        y: job.next_row,
-                        z: 0,
-                    },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::Extent3d {
-                    width,
-                    height: rows,
-                    depth_or_array_layers: 1,
-                },
-            );
+            target.copy_rows(&mut encoder, job.next_row, rows);
             self.in_flight.fetch_add(1, Ordering::AcqRel);
             job.pending.fetch_add(1, Ordering::AcqRel);
             queue.submit([encoder.finish()]);
@@ -442,70 +405,12 @@ impl SliceTexture {
             self.shown = None;
         }
         let old = self.targets[slot].take();
-        let device = &self.tracer.context().device;
-        let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        let outputs = self
-            .tracer
-            .kernel()
-            .output_buffers(row_stride as u64 * size[1] as u64, "view");
-        let (texture, texture_id) = native_texture(
-            device,
+        self.targets[slot] = Some(KernelTarget::new(
+            self.tracer.kernel(),
             &self.renderer,
-            "view",
+            ("view", &self.uniform),
             size,
             old.map(|t| t.texture_id),
-        );
-        let bind_group = self.tracer.kernel().bind_group(&self.uniform, &outputs);
-        self.targets[slot] = Some(Target {
-            width: size[0],
-            height: size[1],
-            row_stride,
-            outputs,
-            texture,
-            texture_id,
-            bind_group,
-        });
+        ));
     }
-}
-
-/// A texture of `size` pixels that egui draws, registered with the renderer (or replacing the
-/// texture behind `old`, keeping its id). egui samples textures as gamma-encoded values and
-/// writes them to a gamma framebuffer unchanged: a plain (non-sRGB) RGBA8 texture puts the PNG's
-/// very bytes on screen.
-pub(crate) fn native_texture(
-    device: &wgpu::Device,
-    renderer: &egui::mutex::RwLock<egui_wgpu::Renderer>,
-    label: &str,
-    size: [u32; 2],
-    old: Option<egui::TextureId>,
-) -> (wgpu::Texture, egui::TextureId) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    let mut renderer = renderer.write();
-    let id = match old {
-        Some(id) => {
-            renderer.update_egui_texture_from_wgpu_texture(
-                device,
-                &view,
-                wgpu::FilterMode::Nearest,
-                id,
-            );
-            id
-        }
-        None => renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
-    };
-    (texture, id)
 }

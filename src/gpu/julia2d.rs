@@ -1,10 +1,10 @@
 //! The 2D Julia view's kernel (shaders/julia2d.wgsl) on the [`Kernel`] runner, for
 //! `qjulia render2d` and the explorer's 2D mode.
 
-use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
+use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
 use super::params::GpuJulia2dParams;
 use super::shaders::JULIA2D_MODULE;
-use super::{GpuContext, IMAGE_OUTPUTS, decode_frame};
+use super::{GpuContext, IMAGE_OUTPUTS, render_image_bands};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
@@ -69,14 +69,7 @@ impl GpuJulia2d {
         let uniform = |band: Band| {
             bytemuck::bytes_of(&GpuJulia2dParams::new(params, band.row, band.rows)).to_vec()
         };
-        let run = Run {
-            constants: &[],
-            size: (params.width, params.height),
-            read: &[true; 3],
-            dispatches_per_band: 1,
-            params: &uniform,
-        };
-        self.kernel
-            .run(&run, |out| decode_frame(params.width, &out), sink)
+        let size = (params.width, params.height);
+        render_image_bands(&self.kernel, &[], size, &uniform, sink)
     }
 }

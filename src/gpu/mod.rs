@@ -156,6 +156,25 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     },
 ];
 
+/// Runs an image kernel over a `width` x `height` image with these override constants and
+/// per-band uniform, one dispatch a band, handing each band to `sink` as a [`Frame`].
+pub(crate) fn render_image_bands(
+    kernel: &Kernel,
+    constants: &[(&'static str, f64)],
+    (width, height): (u32, u32),
+    uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
+    sink: &mut dyn FnMut(Frame) -> Result<()>,
+) -> Result<kernel::RunTimes> {
+    let run = kernel::Run {
+        constants,
+        size: (width, height),
+        read: &[true; IMAGE_OUTPUTS.len()],
+        dispatches_per_band: 1,
+        params: uniform,
+    };
+    kernel.run(&run, |out| decode_frame(width, &out), sink)
+}
+
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
 /// and depths that came out NaN or infinite are counted.
 pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {

@@ -1,11 +1,11 @@
 //! The tracer kernel (shaders/trace.wgsl) on the [`Kernel`] runner: its spec, its pipelines per
 //! scene [`Variant`], and renders into host memory band by band.
 
-use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
+use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
 use super::params::GpuParams;
 use super::shaders::TRACE_MODULE;
 use super::variant::Variant;
-use super::{GpuContext, IMAGE_OUTPUTS, decode_frame};
+use super::{GpuContext, IMAGE_OUTPUTS, render_image_bands};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
@@ -116,14 +116,7 @@ impl GpuTracer {
             .unwrap_or_default();
         let uniform =
             |band: Band| bytemuck::bytes_of(&GpuParams::new(params, band.row, band.rows)).to_vec();
-        let run = Run {
-            constants: &constants,
-            size: (params.width, params.height),
-            read: &[true; 3],
-            dispatches_per_band: 1,
-            params: &uniform,
-        };
-        self.kernel
-            .run(&run, |out| decode_frame(params.width, &out), sink)
+        let size = (params.width, params.height);
+        render_image_bands(&self.kernel, &constants, size, &uniform, sink)
     }
 }
