@@ -4,7 +4,6 @@
 //! one file is a change to both, and the GPU-vs-CPU tests hold them together. The kernel's `main`
 //! is `julia_pixel` and `render_rows` here.
 
-use rayon::prelude::*;
 
 use crate::algebra::{Real, Vec2};
 use crate::frame::Frame;
@@ -102,32 +101,17 @@ impl<F: Real> Julia2dParams<F> {
 /// Renders the rows `rows` (0 at the top) of the 2D view, in parallel over rows: colour the
 /// grey, depth 0 in the set and NaN outside it (as a miss), steps the iterations made.
 pub fn render_rows<F: Real>(params: &Julia2dParams<F>, rows: std::ops::Range<u32>) -> Frame {
-    let (w, h) = (params.width as usize, rows.len());
-    let mut colour = vec![0u32; w * h];
-    let mut depth = vec![0f32; w * h];
-    let mut steps = vec![0u32; w * h];
-    colour
-        .par_chunks_mut(w)
-        .zip(depth.par_chunks_mut(w))
-        .zip(steps.par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(r, ((colour_row, depth_row), steps_row))| {
-            let j = rows.start + r as u32;
-            for i in 0..w {
-                let (grey, inside, n) = params.julia_pixel(i as u32, j);
-                colour_row[i] = grey;
-                depth_row[i] = if inside { 0.0 } else { f32::NAN };
-                steps_row[i] = n;
+    super::fill_rows(params.width, rows, |j| {
+        move |i| {
+            let (grey, inside, n) = params.julia_pixel(i, j);
+            super::PixelOut {
+                colour: grey,
+                depth: if inside { 0.0 } else { f32::NAN },
+                steps: n,
+                non_finite: 0,
             }
-        });
-    Frame {
-        width: params.width,
-        height: h as u32,
-        colour,
-        depth,
-        steps,
-        non_finite: 0,
-    }
+        }
+    })
 }
 
 #[cfg(test)]

@@ -79,7 +79,52 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
 /// Renders the rows `rows` (0 at the top) of the image, in parallel over rows: a frame of
 /// `rows.len()` rows.
 pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>) -> Frame {
-    let (w, h) = (params.width as usize, rows.len());
+    fill_rows(params.width, rows, |j| {
+        // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
+        // hand them over in.
+        let cones = cone_starts(params, j);
+        move |i| {
+            let t_min = cones
+                .get((i / trace::CONE_BLOCK) as usize)
+                .copied()
+                .unwrap_or(F::zero());
+            let pixel = params.trace_pixel(i, j, t_min);
+            let c = pixel.colour;
+            PixelOut {
+                colour: trace::pack_colour(pixel.colour),
+                depth: if pixel.hit {
+                    pixel.depth.to_f64() as f32
+                } else {
+                    f32::NAN
+                },
+                steps: pixel.steps,
+                non_finite: [c.x, c.y, c.z, pixel.depth]
+                    .iter()
+                    .filter(|v| !v.is_finite())
+                    .count() as u64,
+            }
+        }
+    })
+}
+
+/// What a CPU kernel makes of one pixel: the frame's three values, and how many values came
+/// out NaN or infinite on the way.
+pub struct PixelOut {
+    pub colour: u32,
+    /// NaN where nothing was hit.
+    pub depth: f32,
+    pub steps: u32,
+    pub non_finite: u64,
+}
+
+/// The rows `rows` of a `width`-wide image, in parallel over rows: `row(j)` prepares row j and
+/// gives the function of its pixels, called for i = 0 to width - 1.
+pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, row: R) -> Frame
+where
+    R: Fn(u32) -> P + Sync,
+    P: Fn(u32) -> PixelOut,
+{
+    let (w, h) = (width as usize, rows.len());
     let mut colour = vec![0u32; w * h];
     let mut depth = vec![0f32; w * h];
     let mut steps = vec![0u32; w * h];
@@ -90,35 +135,21 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
         .zip(steps.par_chunks_mut(w))
         .enumerate()
         .for_each(|(r, ((colour_row, depth_row), steps_row))| {
-            let j = rows.start + r as u32;
-            // Each row computes its blocks' cones again: the CPU has no shared workgroup
-            // memory to hand them over in.
-            let cones = cone_starts(params, j);
+            let pixel = row(rows.start + r as u32);
+            let mut bad = 0;
             for i in 0..w {
-                let t_min = cones
-                    .get(i / trace::CONE_BLOCK as usize)
-                    .copied()
-                    .unwrap_or(F::zero());
-                let pixel = params.trace_pixel(i as u32, j, t_min);
-                let c = pixel.colour;
-                let bad = [c.x, c.y, c.z, pixel.depth]
-                    .iter()
-                    .filter(|v| !v.is_finite())
-                    .count();
-                if bad > 0 {
-                    non_finite.fetch_add(bad as u64, Ordering::Relaxed);
-                }
-                colour_row[i] = trace::pack_colour(pixel.colour);
-                depth_row[i] = if pixel.hit {
-                    pixel.depth.to_f64() as f32
-                } else {
-                    f32::NAN
-                };
-                steps_row[i] = pixel.steps;
+                let out = pixel(i as u32);
+                colour_row[i] = out.colour;
+                depth_row[i] = out.depth;
+                steps_row[i] = out.steps;
+                bad += out.non_finite;
+            }
+            if bad > 0 {
+                non_finite.fetch_add(bad, Ordering::Relaxed);
             }
         });
     Frame {
-        width: params.width,
+        width,
         height: h as u32,
         colour,
         depth,
