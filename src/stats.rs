@@ -90,13 +90,13 @@ impl SummaryBuilder {
 
     pub fn finish(self) -> Summary {
         let n = self.pixels.max(1) as f64;
-        let blocks = self.blocks.finish();
+        let (tile_efficiency, wasted_steps_mean) = self.blocks.finish();
         Summary {
             hit_fraction: self.hits as f64 / n,
             steps_mean: self.steps as f64 / n,
             steps_max: self.steps_max,
-            tile_efficiency: blocks.efficiency,
-            wasted_steps_mean: blocks.wasted_steps_mean,
+            tile_efficiency,
+            wasted_steps_mean,
         }
     }
 }
@@ -104,7 +104,7 @@ impl SummaryBuilder {
 /// Divergence over square blocks of `block` pixels a side, aligned to pixel (0, 0), accumulated
 /// band by band (bands of whole rows, any number of rows each).
 #[derive(Clone, Debug)]
-pub struct BlockWork {
+struct BlockWork {
     width: u32,
     block: u32,
     /// Rows added so far.
@@ -116,19 +116,8 @@ pub struct BlockWork {
     paid: u64,
 }
 
-/// What the lanes of the blocks do: the share of the paid work that is useful, and the wasted
-/// steps per pixel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BlockSummary {
-    /// Sum of steps over the sum of (block pixels times the block's most steps); 1 where no
-    /// block works at all.
-    pub efficiency: f64,
-    /// Mean over pixels of the block's most steps minus the pixel's own.
-    pub wasted_steps_mean: f64,
-}
-
 impl BlockWork {
-    pub fn new(width: u32, block: u32) -> Self {
+    fn new(width: u32, block: u32) -> Self {
         Self {
             width,
             block,
@@ -140,7 +129,7 @@ impl BlockWork {
     }
 
     /// Adds whole rows of steps (a multiple of the width).
-    pub fn add_rows(&mut self, steps: &[u32]) {
+    fn add_rows(&mut self, steps: &[u32]) {
         for row in steps.chunks(self.width as usize) {
             for (i, &s) in row.iter().enumerate() {
                 let b = &mut self.open[i / self.block as usize];
@@ -163,18 +152,19 @@ impl BlockWork {
         }
     }
 
-    /// The summary over every row added.
-    pub fn finish(mut self) -> BlockSummary {
+    /// Over every row added: the share of the paid work that is useful (sum of steps over the
+    /// sum of block pixels times the block's most steps; 1 where no block works at all), and
+    /// the mean over pixels of the block's most steps minus the pixel's own.
+    fn finish(mut self) -> (f64, f64) {
         self.close();
         let pixels = self.rows as u64 * self.width as u64;
-        BlockSummary {
-            efficiency: if self.paid == 0 {
-                1.0
-            } else {
-                self.useful as f64 / self.paid as f64
-            },
-            wasted_steps_mean: (self.paid - self.useful) as f64 / pixels.max(1) as f64,
-        }
+        let efficiency = if self.paid == 0 {
+            1.0
+        } else {
+            self.useful as f64 / self.paid as f64
+        };
+        let wasted_steps_mean = (self.paid - self.useful) as f64 / pixels.max(1) as f64;
+        (efficiency, wasted_steps_mean)
     }
 }
 
@@ -228,7 +218,7 @@ mod tests {
         let efficiency = |steps: Vec<u32>, block| {
             let mut work = BlockWork::new(2, block);
             work.add_rows(&steps);
-            work.finish().efficiency
+            work.finish().0
         };
         assert_eq!(efficiency(vec![5, 5, 5, 5], 2), 1.0);
         assert_eq!(efficiency(vec![4, 0, 0, 0], 2), 0.25);
@@ -280,13 +270,7 @@ mod tests {
         // No work at all: efficiency 1, nothing wasted.
         let mut idle = BlockWork::new(4, DIVERGENCE_BLOCK);
         idle.add_rows(&[0; 8]);
-        assert_eq!(
-            idle.finish(),
-            BlockSummary {
-                efficiency: 1.0,
-                wasted_steps_mean: 0.0
-            }
-        );
+        assert_eq!(idle.finish(), (1.0, 0.0));
     }
 
     #[test]

@@ -4,7 +4,6 @@
 //! one file is a change to both, and the GPU-vs-CPU tests hold them together. The kernel's `main`
 //! is `julia_pixel` and `render_rows` here.
 
-
 use crate::algebra::{Real, Vec2};
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
