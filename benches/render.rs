@@ -174,7 +174,7 @@ fn summary(gpus: Option<&Gpus>) {
             .render_frame(&scene, Picture::SHADED)
             .expect("CPU render");
         out += &format!(
-            "| {name} | work | {} px | | {} estimates | {} iterations | primary steps useful in 8x8 tiles: {:.0}% |\n",
+            "| {name} | work | {} px | | {} estimates | {} iterations | primary steps useful in 8x8 blocks: {:.0}% |\n",
             work.pixels,
             work.estimates,
             work.iterations,
