@@ -49,6 +49,23 @@ struct Params {
     tracing: u32,
     // Quaternion parts of a number of the scene's algebra: 1 quaternion, 2 octonion, 4 sedenion.
     algebra_parts: u32,
+    // Rays per pixel; this dispatch adds the samples [sample_start, sample_end).
+    samples: u32,
+    sample_start: u32,
+    sample_end: u32,
+    // The light's radius: 0 is a point light (hard shadows).
+    light_radius: f32,
+    ambient: f32,
+    occlusion: f32,
+    // Orbit-trap colouring: the trap |z| = trap_radius, the palette's cycles and phase.
+    trap_radius: f32,
+    palette_phase: vec3<f32>,
+    trap_scale: f32,
+    // The cut: the set within cut_normal . p <= cut_offset (cut_normal of unit length).
+    cut_normal: vec3<f32>,
+    cut_offset: f32,
+    colouring: u32,
+    cut: u32,
 }
 
 // params.normal_method: the seed's central differences, a tetrahedron of four samples, or the
@@ -71,6 +88,17 @@ override PIXEL_EPSILON: bool = true;
 override SHADE: bool = true;
 override CONE_TRACING: bool = false;
 override ALGEBRA_PARTS: u32 = 1u;
+// The picture's features (each off in the seed's look): samples > 1, light radius > 0 (with
+// shadows), occlusion > 0, orbit-trap colouring, the cut.
+override SAMPLES: bool = true;
+override SOFT_SHADOWS: bool = true;
+override OCCLUSION: bool = true;
+override ORBIT_TRAP: bool = true;
+override CUT: bool = true;
+
+// params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.
+const COLOURING_FLAT: u32 = 0u;
+const COLOURING_ORBIT_TRAP: u32 = 1u;
 
 // params.tracing: the seed's sphere tracing of every ray, or a cone per 8x8 block first.
 const TRACING_SEED: u32 = 0u;
@@ -457,9 +485,11 @@ fn camera_ray_at(x: f32, y: f32) -> vec3<f32> {
     return normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
 }
 
-// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
-fn camera_ray(i: u32, j: u32) -> vec3<f32> {
-    return camera_ray_at(f32(i) + 0.5, f32(j) + 0.5);
+// The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
+// (CONTRACT.md's camera); sample 0 goes through the pixel's centre.
+fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<f32> {
+    let s = sample_position(sample);
+    return camera_ray_at(f32(i) + s.x, f32(j) + s.y);
 }
 
 // Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
@@ -501,10 +531,10 @@ struct Pixel {
     hit: bool,
 }
 
-// Everything for pixel (i, j): bounds, sphere tracing (from t_min on: the cone's start, or 0),
-// normal, Phong, shadow.
-fn trace_pixel(i: u32, j: u32, t_min: f32) -> Pixel {
-    let dir = camera_ray(i, j);
+// Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the cone's
+// start, or 0), normal, Phong, shadow.
+fn trace_pixel(i: u32, j: u32, sample: u32, t_min: f32) -> Pixel {
+    let dir = camera_ray(i, j, sample);
     let bounds = intersect_bounds(params.eye, dir);
     if !bounds.hit {
         return Pixel(params.background, -1.0, 0u, false);
@@ -530,6 +560,23 @@ fn trace_pixel(i: u32, j: u32, t_min: f32) -> Pixel {
         colour *= params.shadow_factor;
     }
     return Pixel(colour, trace.t, trace.steps, true);
+}
+
+// Where sample k lies in its pixel, (x, y) in [0, 1)^2 from the pixel's top left corner:
+// (0.5, 0.5), the centre, for sample 0; else the Halton point of index k in bases 2 and 3
+// (k < 4096: its 12 binary and 8 ternary digits, so both coordinates are exact in f32).
+fn sample_position(k: u32) -> vec2<f32> {
+    if k == 0u {
+        return vec2<f32>(0.5, 0.5);
+    }
+    let base2 = reverseBits(k) >> 20u;
+    var base3 = 0u;
+    var rest = k;
+    for (var digit = 0u; digit < 8u; digit++) {
+        base3 = base3 * 3u + rest % 3u;
+        rest /= 3u;
+    }
+    return vec2<f32>(f32(base2) * (1.0 / 4096.0), f32(base3) * (1.0 / 6561.0));
 }
 
 // Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
@@ -566,7 +613,7 @@ fn main(
     if i >= params.width || row >= params.row_count {
         return;
     }
-    let pixel = trace_pixel(i, params.row_offset + row, t_min);
+    let pixel = trace_pixel(i, params.row_offset + row, 0u, t_min);
     let index = (params.out_row + row) * params.row_stride + i;
     out_colour[index] = pack_colour(pixel.colour);
     out_depth[index] = select(-1.0, pixel.depth, pixel.hit);

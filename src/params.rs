@@ -3,7 +3,7 @@
 //! frame and the slice's bounding ball already worked out.
 
 use crate::algebra::{Hyper, Real, Vec2, Vec3, hyper_from_f64};
-use crate::scene::{NormalMethod, Scene, Tracing};
+use crate::scene::{Colouring, NormalMethod, Scene, Tracing};
 
 /// The tracer's inputs in precision `F`. Field names are those of `Params` in
 /// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
@@ -47,6 +47,21 @@ pub struct TraceParams<F> {
     pub tracing: Tracing,
     /// Quaternion parts of a number of the algebra: 1 quaternion, 2 octonion, 4 sedenion.
     pub algebra_parts: u32,
+    /// Rays per pixel (`image.samples`).
+    pub samples: u32,
+    /// The light's radius (`light.radius`): 0 is a point light.
+    pub light_radius: F,
+    pub ambient: F,
+    pub occlusion: F,
+    pub colouring: Colouring,
+    pub trap_radius: F,
+    pub trap_scale: F,
+    pub palette_phase: Vec3<F>,
+    /// Whether the set is cut by the half-space cut_normal . p <= cut_offset.
+    pub cut: bool,
+    /// Unit length.
+    pub cut_normal: Vec3<F>,
+    pub cut_offset: F,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -90,7 +105,28 @@ impl<F: Real> TraceParams<F> {
             pixel_angle: F::lit(scene.pixel_angle()),
             tracing: f.tracing,
             algebra_parts: f.algebra.parts(),
+            samples: scene.image.samples,
+            light_radius: F::lit(scene.light.radius),
+            ambient: F::lit(sh.ambient),
+            occlusion: F::lit(sh.occlusion),
+            colouring: sh.colouring,
+            trap_radius: F::lit(sh.trap_radius),
+            trap_scale: F::lit(sh.trap_scale),
+            palette_phase: Vec3::from_f64(sh.palette_phase),
+            cut: scene.cut.enabled,
+            cut_normal: Vec3::from_f64(unit(scene.cut.normal)),
+            cut_offset: F::lit(scene.cut.offset),
         }
+    }
+}
+
+/// `v` scaled to unit length (validation has made sure it is not zero).
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if n > 0.0 {
+        v.map(|x| x / n)
+    } else {
+        [0.0, 0.0, 1.0]
     }
 }
 

@@ -114,7 +114,7 @@ fn check_unit_ball_normals<F: Real>(name: &str, frame: &Frame, params: &TracePar
             if depth.is_nan() {
                 continue;
             }
-            let dir = params.camera_ray(i, j);
+            let dir = params.camera_ray(i, j, 0);
             let p = params.eye + dir * F::lit(depth as f64);
             let n = params.estimate_normal(p, dir).to_f64();
             let radial = p.to_f64();

@@ -91,6 +91,19 @@ fn uniform_layout_matches_the_shader() {
         pixel_angle,
         tracing,
         algebra_parts,
+        samples,
+        sample_start,
+        sample_end,
+        light_radius,
+        ambient,
+        occlusion,
+        trap_radius,
+        palette_phase,
+        trap_scale,
+        cut_normal,
+        cut_offset,
+        colouring,
+        cut,
     );
     let shader: Vec<(String, u32)> = members
         .iter()
@@ -162,7 +175,8 @@ fn every_specialised_variant_validates() {
     .validate(&module)
     .unwrap();
     let variants = Variant::all();
-    assert_eq!(variants.len(), 576);
+    // 576 base variants, each with none, each one and all five of the picture's features.
+    assert_eq!(variants.len(), 576 * 7);
     for variant in variants {
         let mut constants = naga::back::PipelineConstants::default();
         for (name, value) in variant.constants() {

@@ -48,7 +48,7 @@ pub fn count_work<F: Real>(params: &TraceParams<F>) -> Work {
                 .get((i / trace::CONE_BLOCK) as usize)
                 .copied()
                 .unwrap_or(F::zero());
-            params.trace_pixel(i, j, t_min);
+            params.trace_pixel(i, j, 0, t_min);
         }
     }
     Work {
@@ -88,7 +88,7 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
                 .get((i / trace::CONE_BLOCK) as usize)
                 .copied()
                 .unwrap_or(F::zero());
-            let pixel = params.trace_pixel(i, j, t_min);
+            let pixel = params.trace_pixel(i, j, 0, t_min);
             let c = pixel.colour;
             PixelOut {
                 colour: trace::pack_colour(pixel.colour),

@@ -395,10 +395,11 @@ impl<F: Real> TraceParams<F> {
         (self.cam_forward + self.cam_right * px + self.cam_up * py).normalize()
     }
 
-    /// The primary ray's direction through pixel (i, j), row 0 at the top (CONTRACT.md's camera).
-    pub fn camera_ray(&self, i: u32, j: u32) -> Vec3<F> {
-        let half = F::lit(0.5);
-        self.camera_ray_at(F::lit(i as f64) + half, F::lit(j as f64) + half)
+    /// The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
+    /// (CONTRACT.md's camera); sample 0 goes through the pixel's centre.
+    pub fn camera_ray(&self, i: u32, j: u32, sample: u32) -> Vec3<F> {
+        let (sx, sy) = sample_position::<F>(sample);
+        self.camera_ray_at(F::lit(i as f64) + sx, F::lit(j as f64) + sy)
     }
 
     /// Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the
@@ -436,16 +437,16 @@ impl<F: Real> TraceParams<F> {
         t
     }
 
-    /// Everything for pixel (i, j): bounds, sphere tracing (from t_min on: the cone's start, or
-    /// 0), normal, Phong, shadow.
-    pub fn trace_pixel(&self, i: u32, j: u32, t_min: F) -> Pixel<F> {
+    /// Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the
+    /// cone's start, or 0), normal, Phong, shadow.
+    pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F) -> Pixel<F> {
         let miss = |steps| Pixel {
             colour: self.background,
             depth: -F::one(),
             steps,
             hit: false,
         };
-        let dir = self.camera_ray(i, j);
+        let dir = self.camera_ray(i, j, sample);
         let bounds = self.intersect_bounds(self.eye, dir);
         if !bounds.hit {
             return miss(0);
@@ -471,6 +472,26 @@ impl<F: Real> TraceParams<F> {
             hit: true,
         }
     }
+}
+
+/// Where sample k lies in its pixel, (x, y) in [0, 1)^2 from the pixel's top left corner:
+/// (0.5, 0.5), the centre, for sample 0; else the Halton point of index k in bases 2 and 3
+/// (k < 4096: its 12 binary and 8 ternary digits, so both coordinates are exact in f32).
+pub fn sample_position<F: Real>(k: u32) -> (F, F) {
+    if k == 0 {
+        return (F::lit(0.5), F::lit(0.5));
+    }
+    let base2 = k.reverse_bits() >> 20;
+    let mut base3 = 0u32;
+    let mut rest = k;
+    for _ in 0..8 {
+        base3 = base3 * 3 + rest % 3;
+        rest /= 3;
+    }
+    (
+        F::lit(base2 as f64) * F::lit(1.0 / 4096.0),
+        F::lit(base3 as f64) * F::lit(1.0 / 6561.0),
+    )
 }
 
 /// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).

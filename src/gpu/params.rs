@@ -52,8 +52,22 @@ pub struct GpuParams {
     pub pixel_angle: f32,
     pub tracing: u32,
     pub algebra_parts: u32,
+    pub samples: u32,
+    /// The samples this dispatch adds: [sample_start, sample_end) of `samples`.
+    pub sample_start: u32,
+    pub sample_end: u32,
+    pub light_radius: f32,
+    pub ambient: f32,
+    pub occlusion: f32,
+    pub trap_radius: f32,
+    pub palette_phase: [f32; 3],
+    pub trap_scale: f32,
+    pub cut_normal: [f32; 3],
+    pub cut_offset: f32,
+    pub colouring: u32,
+    pub cut: u32,
     /// The WGSL struct's size is a multiple of 16 bytes.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 impl GpuParams {
@@ -101,7 +115,20 @@ impl GpuParams {
             pixel_angle: p.pixel_angle,
             tracing: p.tracing.code(),
             algebra_parts: p.algebra_parts,
-            _pad: [0; 3],
+            samples: p.samples,
+            sample_start: 0,
+            sample_end: p.samples,
+            light_radius: p.light_radius,
+            ambient: p.ambient,
+            occlusion: p.occlusion,
+            trap_radius: p.trap_radius,
+            palette_phase: v3(p.palette_phase),
+            trap_scale: p.trap_scale,
+            cut_normal: v3(p.cut_normal),
+            cut_offset: p.cut_offset,
+            colouring: p.colouring.code(),
+            cut: p.cut as u32,
+            _pad: [0; 2],
         }
     }
 
@@ -111,6 +138,15 @@ impl GpuParams {
         Self {
             row_stride,
             out_row,
+            ..self
+        }
+    }
+
+    /// The same band, adding only the samples [start, end) in this dispatch.
+    pub fn with_samples(self, start: u32, end: u32) -> Self {
+        Self {
+            sample_start: start,
+            sample_end: end,
             ..self
         }
     }

@@ -23,6 +23,16 @@ pub struct Variant {
     pub cone: bool,
     /// fractal.algebra.
     pub algebra: Algebra,
+    /// image.samples > 1.
+    pub samples: bool,
+    /// light.radius > 0 with shadows on.
+    pub soft_shadows: bool,
+    /// shading.occlusion > 0.
+    pub occlusion: bool,
+    /// shading.colouring = "orbit_trap".
+    pub orbit_trap: bool,
+    /// cut.enabled.
+    pub cut: bool,
 }
 
 impl Variant {
@@ -45,6 +55,11 @@ impl Variant {
                 2 => Algebra::Octonion,
                 _ => Algebra::Sedenion,
             },
+            samples: p.samples > 1,
+            soft_shadows: p.shadows && p.light_radius > 0.0,
+            occlusion: shade && p.occlusion > 0.0,
+            orbit_trap: shade && p.colouring == crate::scene::Colouring::OrbitTrap,
+            cut: p.cut,
         }
     }
 
@@ -61,11 +76,16 @@ impl Variant {
             ("SHADE", b(self.shade)),
             ("CONE_TRACING", b(self.cone)),
             ("ALGEBRA_PARTS", self.algebra.parts() as f64),
+            ("SAMPLES", b(self.samples)),
+            ("SOFT_SHADOWS", b(self.soft_shadows)),
+            ("OCCLUSION", b(self.occlusion)),
+            ("ORBIT_TRAP", b(self.orbit_trap)),
+            ("CUT", b(self.cut)),
         ]
     }
 
-    /// Every variant there is.
-    pub fn all() -> Vec<Variant> {
+    /// Every variant before the picture's features (all of those off).
+    pub fn all_base() -> Vec<Variant> {
         let mut out = Vec::new();
         for (normal, algebra) in NormalMethod::ALL
             .into_iter()
@@ -82,8 +102,38 @@ impl Variant {
                     shade: bit(4),
                     cone: bit(5),
                     algebra,
+                    samples: false,
+                    soft_shadows: false,
+                    occlusion: false,
+                    orbit_trap: false,
+                    cut: false,
                 });
             }
+        }
+        out
+    }
+
+    /// The variants the tests validate: every base variant with none of the picture's
+    /// features, with each one alone, and with all of them.
+    pub fn all() -> Vec<Variant> {
+        let features: [fn(&mut Variant); 5] = [
+            |v| v.samples = true,
+            |v| v.soft_shadows = true,
+            |v| v.occlusion = true,
+            |v| v.orbit_trap = true,
+            |v| v.cut = true,
+        ];
+        let mut out = Vec::new();
+        for base in Variant::all_base() {
+            out.push(base);
+            for f in features {
+                let mut v = base;
+                f(&mut v);
+                out.push(v);
+            }
+            let mut all = base;
+            features.iter().for_each(|f| f(&mut all));
+            out.push(all);
         }
         out
     }

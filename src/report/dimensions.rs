@@ -184,7 +184,7 @@ fn first_step_efficiency(scene: &Scene, depth: &[f32]) -> f64 {
             if t_hit.is_nan() {
                 continue;
             }
-            let dir = p.camera_ray(i, j);
+            let dir = p.camera_ray(i, j, 0);
             let bounds = p.intersect_bounds(p.eye, dir);
             let left = t_hit - bounds.t_enter;
             if !bounds.hit || left <= 10.0 * p.epsilon {

@@ -175,7 +175,7 @@ fn normals<F: Real>(scene: &Scene, frame: &Frame) -> Vec<Option<[f64; 3]>> {
                 (k % frame.width as usize) as u32,
                 (k / frame.width as usize) as u32,
             );
-            let dir = p.camera_ray(i, j);
+            let dir = p.camera_ray(i, j, 0);
             let hit = p.eye + dir * F::lit(depth as f64);
             Some(p.estimate_normal(hit, dir).to_f64())
         })
@@ -237,7 +237,7 @@ pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
                 (k % frame.width as usize) as u32,
                 (k / frame.width as usize) as u32,
             );
-            let hit = tp.eye + tp.camera_ray(i, j) * d as f64;
+            let hit = tp.eye + tp.camera_ray(i, j, 0) * d as f64;
             if tp.estimate_distance(hit) < -setting.scene.fractal.epsilon {
                 oversteps += 1;
             }

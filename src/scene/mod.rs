@@ -74,6 +74,33 @@ impl Tracing {
     }
 }
 
+/// Where a hit's base colour comes from (`shading.colouring`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Colouring {
+    /// The diffuse colour, everywhere (the seed).
+    #[default]
+    Flat,
+    /// The orbit of the hit point: its closest approach to the trap, through the palette.
+    OrbitTrap,
+}
+
+impl Colouring {
+    pub const ALL: [Colouring; 2] = [Colouring::Flat, Colouring::OrbitTrap];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Colouring::Flat => "flat",
+            Colouring::OrbitTrap => "orbit_trap",
+        }
+    }
+
+    /// The number the shader's `colouring` uses.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+}
+
 /// How the shading normal is computed (`shading.normal`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
 #[serde(rename_all = "lowercase")]
@@ -194,7 +221,12 @@ scene_schema! {
         }
 
         light: Light "" {
-            position: [f64; 3] = [2.0, 2.0, 3.0], vector(), slider(-6.0, 6.0), "a point light";
+            position: [f64; 3] = [2.0, 2.0, 3.0], vector(), slider(-6.0, 6.0),
+                "the light's centre";
+            /// The light's radius: 0 is the seed's point light with hard shadows; above 0 the
+            /// light is a sphere and shadows have a penumbra.
+            radius: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0),
+                "a sphere of this radius, {range}: soft shadows (0 = a point light, the seed)";
         }
 
         shading: Shading "" {
@@ -226,14 +258,45 @@ scene_schema! {
             /// Colour of rays that hit nothing; the seed's grey 0.3.
             background: [f64; 3] = [0.3, 0.3, 0.3], vector(Range::closed(0.0, 1.0)),
                 "colour of rays that hit nothing, {range}";
+            /// Light that reaches every hit, times the base colour and the occlusion.
+            ambient: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0),
+                "colour += ambient * occlusion factor * base colour, {range} (0 = the seed)";
+            /// Strength of the ambient occlusion from distance estimates along the normal.
+            occlusion: f64 = 0.0, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "ambient occlusion's strength, {range} (0 = off)";
+            /// Where the base colour comes from: the diffuse colour, or the hit's orbit.
+            colouring: Colouring = Colouring::Flat, choice(),
+                "\"flat\" (the diffuse colour, the seed) or \"orbit_trap\" (the orbit's closest approach to the trap)";
+            /// The trap: the sphere |z| = trap_radius of the algebra's space.
+            trap_radius: f64 = 0.5, float(Range::at_least(0.0)), slider(0.0, 2.0),
+                "the orbit trap, the sphere |z| = trap_radius, {range}";
+            /// How many times the palette repeats per unit of trap distance.
+            trap_scale: f64 = 1.0, float(Range::above(0.0)), slider(0.05, 20.0, log),
+                "palette cycles per unit of trap distance, {range}";
+            /// The palette's phase per channel: colour = 0.5 + 0.5 cos(2 pi (scale t + phase)).
+            palette_phase: [f64; 3] = [0.0, 0.1, 0.2], vector(Range::closed(0.0, 1.0)),
+                "the palette's phase per channel, {range}";
         }
 
         image: Image "" {
             width: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
             height: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
+            /// Rays per pixel: sample 0 through the centre, the others at the pixel's Halton
+            /// (2, 3) points; the clamped colours are averaged.
+            samples: u32 = 1, integer(1, 4096), slider(1, 1024, log),
+                "rays per pixel, averaged ({range}; 1 = the seed)";
             /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
             view: View = View::Shaded, choice(),
                 "what render's PNG shows: \"shaded\", \"steps\" or \"divergence\" (--view)";
+        }
+
+        /// A cut: the set is intersected with the half-space normal . p <= offset (slice
+        /// coordinates), showing its inside on the cut face.
+        cut: Cut "the set within the half-space normal . p <= offset (slice coordinates)" {
+            enabled: bool = false, boolean(), "cut the set (false = the whole set, the seed)";
+            /// The plane's normal, normalised when read; must not be zero.
+            normal: [f64; 3] = [0.0, 0.0, 1.0], vector(), "the plane's normal; not zero";
+            offset: f64 = 0.0, float(Range::ANY), "the plane's distance from the origin along the normal";
         }
 
         /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode: the filled Julia
