@@ -121,6 +121,13 @@ var<workgroup> cone_t: f32;
 @group(0) @binding(2) var<storage, read_write> out_depth: array<f32>;
 // Distance estimates along the primary ray.
 @group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
+// Distance estimates made for the pixel, every sample and every ray (summed across dispatches).
+@group(0) @binding(4) var<storage, read_write> out_estimates: array<u32>;
+// With several samples: the mean of the samples' clamped colours so far (rgb).
+@group(0) @binding(5) var<storage, read_write> accumulated: array<vec4<f32>>;
+
+// Distance estimates this invocation has made for its pixel (the cone's are not counted).
+var<private> estimates: u32;
 
 // |z'|^2 above this: iterating stops before z' can overflow, and the estimate is taken as 0.
 // With |z|^2 <= escape_radius_squared <= 1e8 (the host clamps it for f32) the true estimate
@@ -221,6 +228,7 @@ fn iterate_orbit(z: ptr<function, Hyper>) -> f32 {
 // Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the smallest
 // normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
 fn estimate_distance(p: vec3<f32>) -> f32 {
+    estimates += 1u;
     var z = slice_point(p);
     let dz_norm2 = iterate_orbit(&z);
     let z_norm2 = hyper_dot(z, z, algebra_parts());
@@ -613,9 +621,40 @@ fn main(
     if i >= params.width || row >= params.row_count {
         return;
     }
-    let pixel = trace_pixel(i, params.row_offset + row, 0u, t_min);
+    let j = params.row_offset + row;
     let index = (params.out_row + row) * params.row_stride + i;
-    out_colour[index] = pack_colour(pixel.colour);
-    out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
-    out_steps[index] = pixel.steps;
+    estimates = 0u;
+    var samples = params.samples;
+    if SPECIALISED && !SAMPLES {
+        samples = 1u;
+    }
+    if samples <= 1u {
+        let pixel = trace_pixel(i, j, 0u, t_min);
+        out_colour[index] = pack_colour(pixel.colour);
+        out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
+        out_steps[index] = pixel.steps;
+        out_estimates[index] = estimates;
+        return;
+    }
+    // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
+    // clamped colours, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), exact where every sample
+    // has the same colour; sample 0 gives the depth and the steps.
+    var mean = vec3<f32>(0.0);
+    var made = 0u;
+    if params.sample_start > 0u {
+        mean = accumulated[index].xyz;
+        made = out_estimates[index];
+    }
+    for (var k = params.sample_start; k < params.sample_end; k++) {
+        let pixel = trace_pixel(i, j, k, t_min);
+        let c = clamp(pixel.colour, vec3<f32>(0.0), vec3<f32>(1.0));
+        mean += (c - mean) / f32(k + 1u);
+        if k == 0u {
+            out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
+            out_steps[index] = pixel.steps;
+        }
+    }
+    accumulated[index] = vec4<f32>(mean, 0.0);
+    out_estimates[index] = made + estimates;
+    out_colour[index] = pack_colour(mean);
 }

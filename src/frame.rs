@@ -15,6 +15,9 @@ pub struct Frame {
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
     /// marker aside). Must be 0: the stability suite checks it.
     pub non_finite: u64,
+    /// Distance estimates made for these pixels, every sample and every ray (the 2D view:
+    /// iterations).
+    pub estimates: u64,
 }
 
 impl Frame {
@@ -27,6 +30,7 @@ impl Frame {
             depth: Vec::new(),
             steps: Vec::new(),
             non_finite: 0,
+            estimates: 0,
         }
     }
 
@@ -42,6 +46,7 @@ impl Frame {
         self.depth.extend_from_slice(&band.depth);
         self.steps.extend_from_slice(&band.steps);
         self.non_finite += band.non_finite;
+        self.estimates += band.estimates;
     }
 
     /// Colour as 8-bit RGB bytes, row by row.

@@ -408,6 +408,7 @@ mod tests {
             depth: vec![f32::NAN; 4000],
             steps: (0..4000).map(|k| k % 50).collect(),
             non_finite: 0,
+            estimates: 0,
         };
         let (w, h, rgb) = view_image(&frame, View::Steps);
         assert_eq!((w, h), (200, 20 + LEGEND_HEIGHT));

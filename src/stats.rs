@@ -22,6 +22,9 @@ pub struct Summary {
     pub tile_efficiency: f64,
     /// Mean over pixels of the 8x8 block's most steps minus the pixel's own.
     pub wasted_steps_mean: f64,
+    /// Every distance estimate made: all samples, all rays (primary, shadow, occlusion). In the
+    /// 2D view, every iteration.
+    pub estimates_total: u64,
 }
 
 impl Summary {
@@ -60,6 +63,7 @@ pub struct SummaryBuilder {
     hits: u64,
     steps: u64,
     steps_max: u32,
+    estimates: u64,
     blocks: BlockWork,
 }
 
@@ -70,6 +74,7 @@ impl SummaryBuilder {
             hits: 0,
             steps: 0,
             steps_max: 0,
+            estimates: 0,
             blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
         }
     }
@@ -77,6 +82,7 @@ impl SummaryBuilder {
     /// Adds the rows of a band (of the frame's width).
     pub fn add(&mut self, band: &Frame) {
         self.add_arrays(&band.depth, &band.steps);
+        self.estimates += band.estimates;
     }
 
     /// Adds whole rows given as their depth (NaN: no hit) and steps.
@@ -97,6 +103,7 @@ impl SummaryBuilder {
             steps_max: self.steps_max,
             tile_efficiency,
             wasted_steps_mean,
+            estimates_total: self.estimates,
         }
     }
 }
@@ -210,6 +217,7 @@ mod tests {
             depth: vec![0.0; n],
             steps,
             non_finite: 0,
+            estimates: 0,
         }
     }
 

@@ -78,6 +78,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         depth: vec![0.0; n],
         steps: vec![0; n],
         non_finite: 0,
+        estimates: 0,
     }
 }
 
@@ -305,6 +306,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 depth: vec![0.0; n],
                 steps: vec![0; n],
                 non_finite: 0,
+                estimates: 0,
             }
         };
         common::assert_agree(

@@ -108,6 +108,7 @@ pub fn render_rows<F: Real>(params: &Julia2dParams<F>, rows: std::ops::Range<u32
                 depth: if inside { 0.0 } else { f32::NAN },
                 steps: n,
                 non_finite: 0,
+                estimates: n as u64,
             }
         }
     })

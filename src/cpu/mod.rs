@@ -63,7 +63,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::algebra::Real;
+use crate::algebra::{Real, Vec3};
 use crate::frame::Frame;
 use crate::params::TraceParams;
 use crate::scene::Tracing;
@@ -77,34 +77,59 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
 }
 
 /// Renders the rows `rows` (0 at the top) of the image, in parallel over rows: a frame of
-/// `rows.len()` rows.
+/// `rows.len()` rows. With several samples a pixel's colour is the mean of its samples' clamped
+/// colours; depth and steps are sample 0's.
 pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>) -> Frame {
     fill_rows(params.width, rows, |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
-        // hand them over in.
+        // hand them over in. Their estimates are not the pixels' (the GPU counts them apart).
         let cones = cone_starts(params, j);
         move |i| {
             let t_min = cones
                 .get((i / trace::CONE_BLOCK) as usize)
                 .copied()
                 .unwrap_or(F::zero());
-            let pixel = params.trace_pixel(i, j, 0, t_min);
-            let c = pixel.colour;
+            let before = ESTIMATES.get();
+            let first = params.trace_pixel(i, j, 0, t_min);
+            let mut non_finite = non_finite_values(&first);
+            let colour = if params.samples <= 1 {
+                trace::pack_colour(first.colour)
+            } else {
+                let clamp = |c: Vec3<F>| {
+                    let unit = |v: F| v.max(F::zero()).min(F::one());
+                    Vec3::new(unit(c.x), unit(c.y), unit(c.z))
+                };
+                // The running mean, as the kernel keeps it: exact where all samples agree.
+                let mut mean = clamp(first.colour);
+                for k in 1..params.samples {
+                    let pixel = params.trace_pixel(i, j, k, t_min);
+                    non_finite += non_finite_values(&pixel);
+                    mean = mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64);
+                }
+                trace::pack_colour(mean)
+            };
             PixelOut {
-                colour: trace::pack_colour(pixel.colour),
-                depth: if pixel.hit {
-                    pixel.depth.to_f64() as f32
+                colour,
+                depth: if first.hit {
+                    first.depth.to_f64() as f32
                 } else {
                     f32::NAN
                 },
-                steps: pixel.steps,
-                non_finite: [c.x, c.y, c.z, pixel.depth]
-                    .iter()
-                    .filter(|v| !v.is_finite())
-                    .count() as u64,
+                steps: first.steps,
+                non_finite,
+                estimates: ESTIMATES.get() - before,
             }
         }
     })
+}
+
+/// How many of a pixel's colour channels and depth are NaN or infinite.
+fn non_finite_values<F: Real>(pixel: &trace::Pixel<F>) -> u64 {
+    let c = pixel.colour;
+    [c.x, c.y, c.z, pixel.depth]
+        .iter()
+        .filter(|v| !v.is_finite())
+        .count() as u64
 }
 
 /// What a CPU kernel makes of one pixel: the frame's three values, and how many values came
@@ -115,6 +140,8 @@ pub struct PixelOut {
     pub depth: f32,
     pub steps: u32,
     pub non_finite: u64,
+    /// Distance estimates made for the pixel.
+    pub estimates: u64,
 }
 
 /// The rows `rows` of a `width`-wide image, in parallel over rows: `row(j)` prepares row j and
@@ -129,6 +156,7 @@ where
     let mut depth = vec![0f32; w * h];
     let mut steps = vec![0u32; w * h];
     let non_finite = AtomicU64::new(0);
+    let estimates = AtomicU64::new(0);
     colour
         .par_chunks_mut(w)
         .zip(depth.par_chunks_mut(w))
@@ -136,17 +164,17 @@ where
         .enumerate()
         .for_each(|(r, ((colour_row, depth_row), steps_row))| {
             let pixel = row(rows.start + r as u32);
-            let mut bad = 0;
+            let (mut bad, mut made) = (0, 0);
             for i in 0..w {
                 let out = pixel(i as u32);
                 colour_row[i] = out.colour;
                 depth_row[i] = out.depth;
                 steps_row[i] = out.steps;
                 bad += out.non_finite;
+                made += out.estimates;
             }
-            if bad > 0 {
-                non_finite.fetch_add(bad, Ordering::Relaxed);
-            }
+            non_finite.fetch_add(bad, Ordering::Relaxed);
+            estimates.fetch_add(made, Ordering::Relaxed);
         });
     Frame {
         width,
@@ -155,5 +183,6 @@ where
         depth,
         steps,
         non_finite: non_finite.into_inner(),
+        estimates: estimates.into_inner(),
     }
 }

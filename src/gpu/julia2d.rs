@@ -70,6 +70,6 @@ impl GpuJulia2d {
             bytemuck::bytes_of(&GpuJulia2dParams::new(params, band.row, band.rows)).to_vec()
         };
         let size = (params.width, params.height);
-        render_image_bands(&self.kernel, &[], size, &uniform, sink)
+        render_image_bands(&self.kernel, &[], (size, 1), &uniform, sink)
     }
 }

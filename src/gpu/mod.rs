@@ -140,7 +140,8 @@ fn adapter_rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
 }
 
 /// The outputs of the image kernels (the tracer and the 2D view), 4 bytes a pixel each:
-/// colour (packed RGBA8), depth (negative: no hit) and steps.
+/// colour (packed RGBA8), depth (negative: no hit) and steps. The tracer adds
+/// [`TRACE_OUTPUTS`]'s two.
 pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     OutputSpec {
         name: "colour",
@@ -156,31 +157,51 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     },
 ];
 
+/// The tracer's outputs: the image's three, the estimates made per pixel (u32), and the running
+/// mean of the samples' colours (vec4<f32>).
+pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
+    IMAGE_OUTPUTS[0],
+    IMAGE_OUTPUTS[1],
+    IMAGE_OUTPUTS[2],
+    OutputSpec {
+        name: "estimates",
+        bytes_per_item: 4,
+    },
+    OutputSpec {
+        name: "accumulated",
+        bytes_per_item: 16,
+    },
+];
+
 /// Runs an image kernel over a `width` x `height` image with these override constants and
-/// per-band uniform, one dispatch a band, handing each band to `sink` as a [`Frame`].
+/// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`].
 pub(crate) fn render_image_bands(
     kernel: &Kernel,
     constants: &[(&'static str, f64)],
-    (width, height): (u32, u32),
+    ((width, height), dispatches): ((u32, u32), u32),
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
+    // Colour, depth, steps and (where the kernel has it) the estimates; not the accumulator.
+    let read: Vec<bool> = (0..kernel.spec().outputs.len()).map(|k| k < 4).collect();
     let run = kernel::Run {
         constants,
         size: (width, height),
-        read: &[true; IMAGE_OUTPUTS.len()],
-        dispatches_per_band: 1,
+        read: &read,
+        dispatches_per_band: dispatches,
         params: uniform,
     };
     kernel.run(&run, |out| decode_frame(width, &out), sink)
 }
 
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
-/// and depths that came out NaN or infinite are counted.
+/// and depths that came out NaN or infinite are counted. The estimates are the kernel's fourth
+/// output where it has one (the tracer), else the steps (the 2D view's iterations).
 pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
-    let [Some(colour), Some(depth), Some(steps)] = band.outputs else {
+    let [Some(colour), Some(depth), Some(steps), ..] = band.outputs else {
         panic!("an image band reads back colour, depth and steps");
     };
+    let estimates = band.outputs.get(3).copied().flatten().unwrap_or(steps);
     let depths = bytemuck::cast_slice::<u8, f32>(depth);
     Frame {
         width,
@@ -192,5 +213,9 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .collect(),
         steps: bytemuck::cast_slice(steps).to_vec(),
         non_finite: depths.iter().filter(|d| !d.is_finite()).count() as u64,
+        estimates: bytemuck::cast_slice::<u8, u32>(estimates)
+            .iter()
+            .map(|&e| e as u64)
+            .sum(),
     }
 }
