@@ -24,6 +24,9 @@ fn harness(test: &str) -> Option<Harness<'static, ExplorerApp>> {
         egui_wgpu::RendererOptions::PREDICTABLE,
     );
     let mut app = ExplorerApp::with_scene(common::scene(&["fractal.max_iterations=8"]));
+    // A few samples, so that the view accumulates (and the comparisons check the running mean)
+    // without the default 64 passes of every settle.
+    app.preview_samples = 3;
     app.attach_gpu(&render_state);
     assert!(
         app.slice_texture.is_some(),

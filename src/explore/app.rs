@@ -20,6 +20,9 @@ use crate::heatmap::Legend;
 use crate::scene::rotation::{planes, rotate_basis};
 use crate::scene::{Camera, Scene, View};
 
+/// Samples the idle view accumulates unless the panel says otherwise.
+pub const DEFAULT_PREVIEW_SAMPLES: u32 = 64;
+
 /// What the view shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Mode {
@@ -50,6 +53,8 @@ pub struct ExplorerApp {
     pub animation: Animation,
     /// Resolution of the view relative to the panel's pixels.
     pub resolution_scale: f32,
+    /// Samples the idle view accumulates (independent of `image.samples`, which exports use).
+    pub preview_samples: u32,
     pub(super) dialog: Option<FileDialog>,
     pub(super) last_dir: PathBuf,
     pub(super) message: Option<(String, bool)>,
@@ -128,6 +133,7 @@ impl ExplorerApp {
             gpu_error: None,
             adapter_label: String::new(),
             resolution_scale: 1.0,
+            preview_samples: DEFAULT_PREVIEW_SAMPLES,
             dialog: None,
             last_dir: std::env::current_dir().unwrap_or_else(|_| PathBuf::from(".")),
             message: None,
@@ -147,6 +153,7 @@ impl ExplorerApp {
         let mut scene = self.scene.clone();
         scene.image.width = self.view_pixels[0];
         scene.image.height = self.view_pixels[1];
+        scene.image.samples = self.preview_samples;
         scene
     }
 
@@ -199,6 +206,7 @@ impl ExplorerApp {
             gpu_error,
             adapter_label: adapter,
             resolution_scale: resolution,
+            preview_samples: self.preview_samples,
             last_dir: dir,
             dialog,
             ..Self::with_scene(scene)

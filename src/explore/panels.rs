@@ -261,6 +261,11 @@ impl ExplorerApp {
         ui.add(
             egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
         );
+        ui.add(
+            egui::Slider::new(&mut self.preview_samples, 1..=1024)
+                .logarithmic(true)
+                .text("preview samples (idle view)"),
+        );
     }
 }
 

@@ -57,6 +57,8 @@ pub struct TextureStats {
     pub refined: bool,
     /// Seconds from the last change of scene or size to this image.
     pub since_change_seconds: f64,
+    /// Samples in the running mean shown.
+    pub samples: u32,
 }
 
 /// A render in progress: which target, what, and how far.
@@ -64,6 +66,8 @@ struct Job {
     quality: Quality,
     pipeline: wgpu::ComputePipeline,
     params: TraceParams<f32>,
+    /// The sample this pass adds to the running mean (0: the first image).
+    sample: u32,
     next_row: u32,
     started: Instant,
     /// Completion times of its tiles, filled in by the queue's callbacks.
@@ -228,6 +232,10 @@ impl SliceTexture {
         let mut scene = scene.clone();
         scene.image.width = size[0];
         scene.image.height = size[1];
+        if quality == Quality::Preview {
+            // A preview is one sample; the full image adds its samples pass by pass.
+            scene.image.samples = 1;
+        }
         self.ensure_target(quality, size);
         let params = TraceParams::<f32>::new(&scene);
         // The step views show the steps alone: no shading needed.
@@ -240,6 +248,7 @@ impl SliceTexture {
             quality,
             pipeline,
             params,
+            sample: 0,
             next_row: 0,
             started: Instant::now(),
             pending: Arc::new(AtomicU32::new(0)),
@@ -265,7 +274,8 @@ impl SliceTexture {
         {
             let rows = tile_rows.min(target.height - job.next_row);
             let band = GpuParams::new(&job.params, job.next_row, rows)
-                .with_output(target.row_stride, job.next_row);
+                .with_output(target.row_stride, job.next_row)
+                .with_samples(job.sample, job.sample + 1);
             queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
             let mut encoder = device.create_command_encoder(&Default::default());
             self.tracer.kernel().encode(
@@ -310,6 +320,26 @@ impl SliceTexture {
         // Learn the cost per pixel (a slow start-up render, e.g. shader compilation, is damped).
         let measured = (seconds / pixels).clamp(1e-10, 1e-3);
         self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
+        self.shown = Some(job.quality);
+        self.stats.samples = job.sample + 1;
+        // More samples for the same scene: the next pass adds one to the running mean.
+        let current = match (&self.wanted, &self.last_start) {
+            (Some((scene, size)), Some((started, full, _))) => scene == started && size == full,
+            _ => false,
+        };
+        if job.quality == Quality::Full && job.sample + 1 < job.params.samples && current {
+            self.job = Some(Job {
+                sample: job.sample + 1,
+                next_row: 0,
+                started: Instant::now(),
+                pending: Arc::new(AtomicU32::new(0)),
+                last_done: Arc::new(Mutex::new(None)),
+                ..job
+            });
+        }
+        if job.sample > 0 {
+            return;
+        }
         let full = self.wanted.as_ref().map_or([1, 1], |(_, s)| *s);
         self.stats = TextureStats {
             size: [target.width, target.height],
@@ -320,9 +350,9 @@ impl SliceTexture {
             steps_generation: self.stats.steps_generation,
             refined: job.quality == Quality::Full,
             since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
+            samples: 1,
         };
         self.start_readback(job.quality);
-        self.shown = Some(job.quality);
     }
 
     fn start_readback(&mut self, quality: Quality) {

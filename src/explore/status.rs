@@ -40,6 +40,9 @@ impl ExplorerApp {
                     if s.refined { "" } else { " (preview)" }
                 ));
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
+                if s.refined {
+                    ui.label(format!("samples {}/{}", s.samples, self.preview_samples));
+                }
                 match s.summary {
                     Some(sum) => ui.label(format!(
                         "steps mean {:.1} max {}",
