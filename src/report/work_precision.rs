@@ -59,6 +59,10 @@ pub struct Row {
     pub metrics: Metrics,
 }
 
+/// Samples per pixel of the truth: its colour is the pixel's mean, so that the colour error of a
+/// setting says what its own samples (anti-aliasing) buy.
+pub const TRUTH_SAMPLES: u32 = 16;
+
 /// The converged reference for a scene: f64, a large escape radius, a small epsilon, plain
 /// steps, the analytic normal. It keeps the scene's iteration count: that chooses which
 /// isosurface family is drawn, and twice as many turn the true normals into pixel-scale noise
@@ -66,6 +70,7 @@ pub struct Row {
 /// iterations series measures a change of model, not of accuracy.
 pub fn truth_scene(base: &Scene) -> Scene {
     let mut t = base.clone();
+    t.image.samples = TRUTH_SAMPLES;
     t.fractal.escape_radius_squared = 1e12;
     t.fractal.epsilon = 1e-5;
     t.fractal.max_steps = 200_000;
@@ -131,6 +136,37 @@ pub fn settings(scene_name: &'static str, base: &Scene, gpu: bool) -> Vec<Settin
         add("escape radius", format!("|z|^2 > {r2:e}"), fast, &|s| {
             s.fractal.escape_radius_squared = r2
         });
+    }
+    for (samples, eps) in [(2, 0.003), (4, 0.003), (8, 0.003), (16, 0.003), (4, 0.001)] {
+        add(
+            "samples",
+            format!("{samples} samples eps {eps}"),
+            fast,
+            &|s| {
+                s.image.samples = samples;
+                s.fractal.epsilon = eps;
+            },
+        );
+    }
+    // Features that change the picture: each is measured against a truth with the same value.
+    for radius in [0.1, 0.3] {
+        add(
+            "soft shadows",
+            format!("light radius {radius}"),
+            fast,
+            &|s| s.light.radius = radius,
+        );
+    }
+    for occlusion in [0.5, 1.0] {
+        add(
+            "occlusion",
+            format!("occlusion {occlusion}, ambient 0.2"),
+            fast,
+            &|s| {
+                s.shading.occlusion = occlusion;
+                s.shading.ambient = 0.2;
+            },
+        );
     }
     add("cone tracing", "cone per 8x8 block".into(), fast, &|s| {
         s.fractal.tracing = crate::scene::Tracing::Cone
@@ -292,10 +328,28 @@ pub fn run(
     let mut truth_seconds = Vec::new();
     for (name, base) in scenes {
         progress(&format!("{name}: truth (f64, converged settings)"), 0, 1);
-        let truth = Truth::new(base)?;
-        truth_seconds.push((*name, truth.seconds));
+        let seed_truth = Truth::new(base)?;
+        truth_seconds.push((*name, seed_truth.seconds));
+        // Truths of the picture's features (light radius, occlusion and ambient), made on first
+        // use: a feature changes the picture, so its settings are held to a truth that has it.
+        let mut feature_truths: Vec<(Scene, Truth)> = Vec::new();
         let all = settings(name, base, gpu.is_some());
         for (k, setting) in all.iter().enumerate() {
+            let mut featured = base.clone();
+            featured.light.radius = setting.scene.light.radius;
+            featured.shading.occlusion = setting.scene.shading.occlusion;
+            featured.shading.ambient = setting.scene.shading.ambient;
+            let truth = if featured == *base {
+                &seed_truth
+            } else {
+                if !feature_truths.iter().any(|(s, _)| *s == featured) {
+                    progress(&format!("{name}: truth of {}", setting.label), k, all.len());
+                    let truth = Truth::new(&featured)?;
+                    feature_truths.push((featured.clone(), truth));
+                }
+                let found = feature_truths.iter().find(|(s, _)| *s == featured);
+                &found.expect("made above").1
+            };
             progress(
                 &format!("{name}: {} {}", setting.method, setting.label),
                 k,
@@ -311,7 +365,7 @@ pub fn run(
                 }
             }
             let (frame, seconds) = best.expect("at least one render");
-            let metrics = measure(setting, &frame, &truth);
+            let metrics = measure(setting, &frame, truth);
             rows.push(Row {
                 setting: setting.clone(),
                 seconds,
@@ -328,7 +382,8 @@ pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
         "scene,backend,precision,method,setting,epsilon,pixel_epsilon,max_iterations,escape_radius_squared,\
          step_scale,normal,normal_delta,seconds,steps_mean,mask_disagreement,depth_error_p50,depth_error_p95,\
-         depth_error_max,normal_error_deg_p50,normal_error_deg_p95,psnr_db,colour_rmse,overstep_rate,non_finite\n",
+         depth_error_max,normal_error_deg_p50,normal_error_deg_p95,psnr_db,colour_rmse,overstep_rate,non_finite,\
+         samples,light_radius,occlusion\n",
     );
     for r in rows {
         let (s, m) = (&r.setting, &r.metrics);
@@ -341,7 +396,7 @@ pub fn csv(rows: &[Row]) -> String {
             .unwrap_or(("?", "?"));
         let _ = writeln!(
             out,
-            "{},{backend},{precision},{},\"{}\",{},{},{},{},{},{},{},{:.6},{:.2},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.3},{:.4},{:.6},{}",
+            "{},{backend},{precision},{},\"{}\",{},{},{},{},{},{},{},{:.6},{:.2},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.3},{:.4},{:.6},{},{},{},{}",
             s.scene_name,
             s.method,
             s.label,
@@ -363,7 +418,10 @@ pub fn csv(rows: &[Row]) -> String {
             m.psnr_db,
             m.colour_rmse,
             m.overstep_rate,
-            m.non_finite
+            m.non_finite,
+            s.scene.image.samples,
+            s.scene.light.radius,
+            s.scene.shading.occlusion
         );
     }
     out
@@ -400,6 +458,41 @@ pub fn seed_row<'a>(rows: &[&'a Row]) -> Option<&'a Row> {
         .copied()
 }
 
+/// Series that change the picture (measured against truths of their own).
+const FEATURE_SERIES: [&str; 2] = ["soft shadows", "occlusion"];
+
+/// What anti-aliasing buys: 4 samples at the seed's epsilon against 1 sample at a third of it,
+/// the question the report answers in words.
+fn samples_verdict(rows: &[&Row]) -> String {
+    let find = |samples: u32, eps: f64, method: &str| {
+        rows.iter().find(|r| {
+            r.setting.method == method
+                && r.setting.scene.image.samples == samples
+                && r.setting.scene.fractal.epsilon == eps
+        })
+    };
+    let (Some(four), Some(fine)) = (find(4, 0.003, "samples"), find(1, 0.001, "epsilon fixed"))
+    else {
+        return String::new();
+    };
+    let verdict = if four.metrics.colour_rmse < fine.metrics.colour_rmse {
+        if four.seconds <= fine.seconds {
+            "4 samples at epsilon 0.003 beat 1 sample at epsilon 0.001: lower colour error in less time"
+        } else {
+            "4 samples at epsilon 0.003 have the lower colour error, but take longer than 1 sample at epsilon 0.001"
+        }
+    } else if four.seconds <= fine.seconds {
+        "1 sample at epsilon 0.001 has the lower colour error, and 4 samples at epsilon 0.003 are faster"
+    } else {
+        "1 sample at epsilon 0.001 beats 4 samples at epsilon 0.003: lower colour error in less time"
+    };
+    format!(
+        "What samples buy: {verdict} ({:.4} s, colour RMSE {:.2} against {:.4} s, {:.2}; the truth \
+         averages {TRUTH_SAMPLES} samples).\n\n",
+        four.seconds, four.metrics.colour_rmse, fine.seconds, fine.metrics.colour_rmse
+    )
+}
+
 /// The report: the method, per scene the seed's row, the settings that beat it, and the Pareto
 /// front.
 pub fn markdown(
@@ -413,8 +506,8 @@ pub fn markdown(
          Each setting renders its scene once per repeat (the fastest of the repeats is kept: `seconds` is the \
          render alone, from the first dispatch to the image in host memory after a warm-up, as \
          `--stats` reports it). Errors are against a converged f64 CPU render of the same scene: escape \
-         |z|^2 > 1e12, epsilon 1e-5, plain steps, the analytic normal, and the scene's own iteration \
-         count (iterations choose the surface drawn; the iterations series measures that change \
+         |z|^2 > 1e12, epsilon 1e-5, plain steps, the analytic normal, {TRUTH_SAMPLES} samples per pixel, and the \
+         scene's own iteration count (iterations choose the surface drawn; the iterations series measures that change \
          of model). Depth errors are in \
          pixel footprints at the true depth; normal errors compare the normal the setting shades with \
          (recomputed at its own hit point by the CPU twin in its precision) with the true one; colour \
@@ -425,10 +518,14 @@ pub fn markdown(
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
     scenes.dedup();
     for scene in scenes {
-        let mine: Vec<&Row> = rows
+        let all_mine: Vec<&Row> = rows
             .iter()
             .filter(|r| r.setting.scene_name == scene)
             .collect();
+        // Settings of the same picture; the features (another picture, another truth) apart.
+        let (features, mine): (Vec<&Row>, Vec<&Row>) = all_mine
+            .iter()
+            .partition(|r| FEATURE_SERIES.contains(&r.setting.method));
         let truth = truth_seconds
             .iter()
             .find(|(n, _)| *n == scene)
@@ -448,6 +545,9 @@ pub fn markdown(
                     && n.normal == NormalMethod::Central
                     && n.normal_delta == 1e-4
                     && f.escape_radius_squared == 10.0
+                    && r.setting.scene.image.samples == 1
+                    && r.setting.scene.light.radius == 0.0
+                    && r.setting.scene.shading.occlusion == 0.0
                     && seed_row(&mine)
                         .is_some_and(|s| s.setting.scene.fractal.max_iterations == f.max_iterations)
             })
@@ -525,6 +625,25 @@ pub fn markdown(
             );
         }
         out += "\n";
+        out += &samples_verdict(&mine);
+        if let Some(seed) = seed_row(&mine) {
+            out += "What the picture's features cost (each against a truth with the same feature; \
+                    time against the seed's settings):\n\n\
+                    | series | setting | seconds | x seed's time | colour RMSE | PSNR dB |\n|---|---|---|---|---|---|\n";
+            for r in &features {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {:.4} | {:.2} | {:.2} | {:.1} |",
+                    r.setting.method,
+                    r.setting.label,
+                    r.seconds,
+                    r.seconds / seed.seconds,
+                    r.metrics.colour_rmse,
+                    r.metrics.psnr_db
+                );
+            }
+            out += "\n";
+        }
     }
     out += "How much of a difference in time is noise: the seed's own settings appear in several series \
             (backend eps 0.003, epsilon fixed 0.003, iterations x1, escape radius 10); the spread of their \
