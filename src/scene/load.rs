@@ -397,6 +397,11 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
         ));
     }
 
+    // The cut's normal gives the plane its direction (normalised when read).
+    if s.cut.normal.iter().all(|&v| v == 0.0) {
+        return Err(fail("cut.normal", "must not be zero"));
+    }
+
     // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
     let keys = ["slice.x", "slice.y", "slice.z"];
     let basis = [&s.slice.x, &s.slice.y, &s.slice.z];
