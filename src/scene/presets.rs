@@ -87,6 +87,17 @@ pub const PRESETS: &[Preset] = &[
                [view2d]\ncenter = [0.0, 0.0]\nextent = 3.2\nmax_iterations = 256\n",
         two_d: true,
     },
+    Preset {
+        name: "Gallery",
+        slug: "gallery",
+        about: "the seed's set at its best: cut open, 16 samples, soft shadows, occlusion, orbit-trap colour",
+        toml: "[image]\nsamples = 16\n\
+               [camera]\neye = [2.0, 2.2, 1.8]\n\
+               [light]\nposition = [1.0, 3.0, 3.0]\nradius = 0.2\n\
+               [shading]\nambient = 0.25\nocclusion = 0.8\ncolouring = \"orbit_trap\"\n\
+               [cut]\nenabled = true\nnormal = [0.2, 1.0, 0.5]\noffset = 0.2\n",
+        two_d: false,
+    },
 ];
 
 /// The preset of this slug.
