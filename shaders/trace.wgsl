@@ -227,7 +227,8 @@ fn iterate_orbit(z: ptr<function, Hyper>) -> f32 {
 // 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
 // Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the smallest
 // normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
-fn estimate_distance(p: vec3<f32>) -> f32 {
+// The set alone, without the cut (estimate_distance adds it).
+fn estimate_julia(p: vec3<f32>) -> f32 {
     estimates += 1u;
     var z = slice_point(p);
     let dz_norm2 = iterate_orbit(&z);
@@ -236,6 +237,23 @@ fn estimate_distance(p: vec3<f32>) -> f32 {
         return 0.0;
     }
     return 0.25 * sqrt(z_norm2 / dz_norm2) * log(z_norm2);
+}
+
+// The cut's plane term cut_normal . p - cut_offset: the signed distance of p from the plane
+// (cut_normal is of unit length), positive on the side the cut takes away.
+fn cut_plane(p: vec3<f32>) -> f32 {
+    return dot(params.cut_normal, p) - params.cut_offset;
+}
+
+// The distance estimate everything uses (primary and shadow rays, the cone, occlusion): the
+// set's, and with the cut on, the set intersected with the half-space cut_normal . p <= cut_offset,
+// max(d, cut_normal . p - cut_offset) (still a lower bound of the distance to what is left).
+fn estimate_distance(p: vec3<f32>) -> f32 {
+    let d = estimate_julia(p);
+    if (!SPECIALISED || CUT) && params.cut != 0u {
+        return max(d, cut_plane(p));
+    }
+    return d;
 }
 
 // Where a ray meets the bounding ball.
@@ -426,8 +444,14 @@ fn normal_analytic(q: Hyper) -> vec3<f32> {
 }
 
 // The shading normal by params.normal_method; where no gradient can be formed it points back
-// along the ray.
+// along the ray. On the cut face, the cut's normal.
 fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    // On the cut face the normal is the plane's: where the plane's term is within epsilon of
+    // the set's estimate or above it (inside the set the estimate can be 0, where it cannot be
+    // formed, against a plane term rounded a little below 0).
+    if (!SPECIALISED || CUT) && params.cut != 0u && cut_plane(p) + params.epsilon >= estimate_julia(p) {
+        return params.cut_normal;
+    }
     let q = slice_point(p);
     var grad: vec3<f32>;
     var method = params.normal_method;

@@ -30,7 +30,8 @@ pub enum Command {
     /// The desktop explorer: every scene value live (starts from the scene options when given,
     /// else from the last scene shown, else the default).
     Explore(ExploreArgs),
-    /// List the GPU adapters wgpu finds and say which one `render` would use.
+    /// List the presets (--preset NAME) and the GPU adapters wgpu finds, and say which adapter
+    /// `render` would use.
     Info,
     /// Accuracy and stability reports.
     Report(ReportArgs),
@@ -39,6 +40,10 @@ pub enum Command {
 /// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
 #[derive(Args, Debug, Clone, Default)]
 pub struct SceneArgs {
+    /// Start from a named scene instead of the defaults (`qjulia info` lists them); the scene
+    /// file, the shorthands and --set apply over it.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
     /// A scene file: TOML, or a PNG written by qjulia (default: the built-in default scene).
     #[arg(long, value_name = "FILE.toml")]
     pub scene: Option<PathBuf>,
@@ -186,7 +191,8 @@ impl PrecisionArg {
 impl SceneArgs {
     /// Whether any scene option was given.
     pub fn given(&self) -> bool {
-        self.scene.is_some()
+        self.preset.is_some()
+            || self.scene.is_some()
             || !self.sets.is_empty()
             || self.width.is_some()
             || self.height.is_some()
@@ -200,6 +206,9 @@ impl SceneArgs {
     /// As [`Self::load`], with `--view` (a shorthand flag of `render` and `explore`).
     pub fn load_with_view(&self, view: Option<ViewArg>) -> Result<Scene, qjulia::Error> {
         let mut loader = SceneLoader::new();
+        if let Some(name) = &self.preset {
+            loader.preset(name)?;
+        }
         if let Some(path) = &self.scene {
             loader.file(path)?;
         }
@@ -456,6 +465,15 @@ fn work_precision(
 }
 
 pub fn info() -> anyhow::Result<()> {
+    println!("presets (--preset NAME):");
+    let width = qjulia::scene::presets::PRESETS
+        .iter()
+        .map(|p| p.slug.len())
+        .max()
+        .unwrap_or(0);
+    for p in qjulia::scene::presets::PRESETS {
+        println!("  {:width$}  {}", p.slug, p.about);
+    }
     let adapters = pollster::block_on(qjulia::gpu::available_adapters());
     if adapters.is_empty() {
         println!(

@@ -581,3 +581,110 @@ fn step_views_draw_a_heat_map_with_a_legend_and_keep_the_view_in_the_png() {
     let out = qjulia(dir.path(), &["render", "--view", "normals"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// The scene a PNG written by qjulia carries, built.
+fn scene_of(png: &Path) -> qjulia::Scene {
+    let mut loader = qjulia::scene::SceneLoader::new();
+    loader.file(png).unwrap();
+    loader.build().unwrap()
+}
+
+#[test]
+fn a_preset_is_layered_after_the_defaults_and_before_everything_else() {
+    let dir = tempfile::tempdir().unwrap();
+    // The basilica preset: c = -1, 16 iterations, eye (0.4, 2.2, 2.2), light (1, 3, 2).
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[fractal]\nmax_iterations = 12\n[image]\nwidth = 8\n",
+    )
+    .unwrap();
+    let out = qjulia(
+        dir.path(),
+        &[
+            "render",
+            "--backend",
+            "cpu",
+            "--preset",
+            "basilica",
+            "--scene",
+            "s.toml",
+            "--height",
+            "6",
+            "--set",
+            "light.position=[0, 0, 4]",
+            "-o",
+            "a.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let scene = scene_of(&dir.path().join("a.png"));
+    assert_eq!(scene.fractal.c, [-1.0, 0.0, 0.0, 0.0], "from the preset");
+    assert_eq!(scene.camera.eye, [0.4, 2.2, 2.2], "from the preset");
+    assert_eq!(scene.fractal.max_iterations, 12, "the file over the preset");
+    assert_eq!((scene.image.width, scene.image.height), (8, 6));
+    assert_eq!(
+        scene.light.position,
+        [0.0, 0.0, 4.0],
+        "--set over the preset"
+    );
+    assert_eq!(
+        scene.fractal.epsilon, 0.003,
+        "the default where no layer sets it"
+    );
+    // Every preset renders from the command line, each to its own scene.
+    for p in qjulia::scene::presets::PRESETS {
+        let name = format!("{}.png", p.slug);
+        let out = qjulia(
+            dir.path(),
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--preset",
+                p.slug,
+                "--width",
+                "4",
+                "--height",
+                "4",
+                "-o",
+                &name,
+            ],
+        );
+        assert!(out.status.success(), "{}: {}", p.slug, stderr(&out));
+        let mut scene = scene_of(&dir.path().join(&name));
+        let mut want = p.scene();
+        (want.image.width, want.image.height) = (4, 4);
+        scene.image = want.image.clone();
+        assert_eq!(scene, want, "{}", p.slug);
+    }
+}
+
+#[test]
+fn an_unknown_preset_exits_2_listing_the_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(dir.path(), &["render", "--preset", "Seed", "-o", "x.png"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let line = error_line(&out);
+    assert!(line.starts_with("error: --preset Seed: "), "{line}");
+    for p in qjulia::scene::presets::PRESETS {
+        assert!(line.contains(p.slug), "{line} does not list {}", p.slug);
+    }
+    assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn info_lists_the_presets() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(dir.path(), &["info"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for p in qjulia::scene::presets::PRESETS {
+        assert!(
+            text.lines()
+                .any(|l| l.trim_start().starts_with(&format!("{} ", p.slug))
+                    && l.trim_end().ends_with(p.about)),
+            "{} missing from:\n{text}",
+            p.slug
+        );
+    }
+}

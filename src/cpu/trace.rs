@@ -106,8 +106,8 @@ impl<F: Real> TraceParams<F> {
     /// 0.25 sqrt(|z|^2 / |z'|^2) log(|z|^2) so that no root or log is taken of zero.
     /// Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the
     /// smallest normal float, WGSL's MIN_NORMAL), |z'| = 0 (below TINY |z|, which keeps the
-    /// ratio finite) or |z'| huge.
-    pub fn estimate_distance(&self, p: Vec3<F>) -> F {
+    /// ratio finite) or |z'| huge. The set alone, without the cut (`estimate_distance` adds it).
+    pub fn estimate_julia(&self, p: Vec3<F>) -> F {
         count(&super::ESTIMATES, 1);
         let mut z = self.slice_point(p);
         let dz_norm2 = self.iterate_orbit(&mut z);
@@ -119,6 +119,24 @@ impl<F: Real> TraceParams<F> {
             return F::zero();
         }
         F::lit(0.25) * (z_norm2 / dz_norm2).sqrt() * z_norm2.ln()
+    }
+
+    /// The cut's plane term cut_normal . p - cut_offset: the signed distance of p from the plane
+    /// (cut_normal is of unit length), positive on the side the cut takes away.
+    pub fn cut_plane(&self, p: Vec3<F>) -> F {
+        self.cut_normal.dot(p) - self.cut_offset
+    }
+
+    /// The distance estimate everything uses (primary and shadow rays, the cone, occlusion): the
+    /// set's, and with the cut on, the set intersected with the half-space
+    /// cut_normal . p <= cut_offset, max(d, cut_normal . p - cut_offset) (still a lower bound of
+    /// the distance to what is left).
+    pub fn estimate_distance(&self, p: Vec3<F>) -> F {
+        let d = self.estimate_julia(p);
+        if self.cut {
+            return d.max(self.cut_plane(p));
+        }
+        d
     }
 
     /// The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the
@@ -335,8 +353,14 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// The shading normal by normal_method; where no gradient can be formed it points back
-    /// along the ray.
+    /// along the ray. On the cut face, the cut's normal.
     pub fn estimate_normal(&self, p: Vec3<F>, dir: Vec3<F>) -> Vec3<F> {
+        // On the cut face the normal is the plane's: where the plane's term is within epsilon
+        // of the set's estimate or above it (inside the set the estimate can be 0, where it
+        // cannot be formed, against a plane term rounded a little below 0).
+        if self.cut && self.cut_plane(p) + self.epsilon >= self.estimate_julia(p) {
+            return self.cut_normal;
+        }
         let q = self.slice_point(p);
         let grad = match self.normal_method {
             NormalMethod::Tetrahedral => self.normal_tetrahedral(q),

@@ -1,5 +1,5 @@
 //! The side panel: every scene value as a control, in collapsing groups (the 2D view, fractal,
-//! slice, animation, camera, light and shading, image), one slider per call.
+//! slice, animation, camera, light and shading, cut, image), one slider per call.
 
 use super::app::{ExplorerApp, Mode};
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
@@ -44,6 +44,7 @@ impl ExplorerApp {
             egui::CollapsingHeader::new("Camera").show(ui, |ui| self.camera_controls(ui));
             egui::CollapsingHeader::new("Light and shading")
                 .show(ui, |ui| self.shading_controls(ui));
+            egui::CollapsingHeader::new("Cut").show(ui, |ui| self.cut_controls(ui));
             egui::CollapsingHeader::new("Image").show(ui, |ui| self.image_controls(ui));
         });
     }
@@ -253,6 +254,27 @@ impl ExplorerApp {
         ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
     }
 
+    /// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.
+    fn cut_controls(&mut self, ui: &mut egui::Ui) {
+        let cut = &mut self.scene.cut;
+        ui.checkbox(&mut cut.enabled, "cut the set (n . p <= offset)");
+        let (mut polar, mut azimuth) = normal_angles(cut.normal);
+        let mut turned = ui
+            .add(egui::Slider::new(&mut polar, 0.0..=180.0).text("normal from +z (°)"))
+            .changed();
+        turned |= ui
+            .add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("normal about z (°)"))
+            .changed();
+        if turned {
+            cut.normal = normal_from_angles(polar, azimuth);
+        }
+        ui.label(format!(
+            "normal {:.3} {:.3} {:.3}",
+            cut.normal[0], cut.normal[1], cut.normal[2]
+        ));
+        ui.add(key_slider(&mut cut.offset, "cut.offset").text("offset"));
+    }
+
     /// The exported image's size, and the view's resolution.
     fn image_controls(&mut self, ui: &mut egui::Ui) {
         ui.label("Exported image size:");
@@ -267,6 +289,21 @@ impl ExplorerApp {
                 .text("preview samples (idle view)"),
         );
     }
+}
+
+/// A cut normal (not zero) as its angle from +z and its azimuth about z from +x, in degrees.
+fn normal_angles(n: [f64; 3]) -> (f64, f64) {
+    let horizontal = n[0].hypot(n[1]);
+    (
+        horizontal.atan2(n[2]).to_degrees(),
+        n[1].atan2(n[0]).to_degrees(),
+    )
+}
+
+/// The unit normal at these angles (see [`normal_angles`]).
+fn normal_from_angles(polar: f64, azimuth: f64) -> [f64; 3] {
+    let (p, a) = (polar.to_radians(), azimuth.to_radians());
+    [p.sin() * a.cos(), p.sin() * a.sin(), p.cos()]
 }
 
 /// A colour picker for an `[f64; 3]` in [0, 1].
@@ -287,4 +324,24 @@ fn key_slider<'a>(value: &'a mut f64, path: &str) -> egui::Slider<'a> {
 fn key_slider_u32<'a>(value: &'a mut u32, path: &str) -> egui::Slider<'a> {
     let s = slider(path);
     egui::Slider::new(value, s.range_u32()).logarithmic(s.logarithmic)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cut_normal_angles_round_trip() {
+        assert_eq!(normal_angles([0.0, 0.0, 2.0]), (0.0, 0.0));
+        let n = normal_from_angles(90.0, 90.0);
+        assert!(n[0].abs() < 1e-15 && (n[1] - 1.0).abs() < 1e-15 && n[2].abs() < 1e-15);
+        for v in [[1.0, 2.0, 2.0], [-0.3, 0.1, -0.9], [0.0, -1.0, 0.0]] {
+            let (p, a) = normal_angles(v);
+            let n = normal_from_angles(p, a);
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            for k in 0..3 {
+                assert!((n[k] - v[k] / len).abs() < 1e-12, "{v:?} -> {n:?}");
+            }
+        }
+    }
 }

@@ -1,6 +1,7 @@
-//! Building a [`Scene`] from layers: built-in defaults, a scene file (TOML, or a PNG written by
-//! qjulia), shorthand flags and `--set KEY=VALUE`, in that order of precedence. Every key is
-//! checked once, after all layers, and every error names where the offending value came from.
+//! Building a [`Scene`] from layers: built-in defaults, a preset, a scene file (TOML, or a PNG
+//! written by qjulia), shorthand flags and `--set KEY=VALUE`, in that order of precedence. Every
+//! key is checked once, after all layers, and every error names where the offending value came
+//! from.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -16,6 +17,8 @@ use super::schema::{KEYS, Key, Kind, SCHEMA};
 pub enum SceneSource {
     /// The built-in defaults.
     Default,
+    /// A preset (src/scene/presets.rs), by its slug.
+    Preset(String),
     /// A scene file (TOML, or a PNG carrying its scene).
     File(PathBuf),
     /// A shorthand flag, as typed, e.g. `--width 0`.
@@ -28,6 +31,7 @@ impl fmt::Display for SceneSource {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SceneSource::Default => write!(f, "default scene"),
+            SceneSource::Preset(slug) => write!(f, "preset {slug}"),
             SceneSource::File(p) => write!(f, "{}", p.display()),
             SceneSource::Flag(s) => write!(f, "{s}"),
             SceneSource::Set(s) => write!(f, "--set {s}"),
@@ -59,7 +63,9 @@ impl SceneError {
     /// the value is already in view, `key reason`.
     fn value(source: &SceneSource, key: &str, value: &Value, reason: &str) -> Self {
         let message = match source {
-            SceneSource::File(_) | SceneSource::Default => format!("{key} = {value}: {reason}"),
+            SceneSource::File(_) | SceneSource::Default | SceneSource::Preset(_) => {
+                format!("{key} = {value}: {reason}")
+            }
             SceneSource::Flag(_) | SceneSource::Set(_) => format!("{key} {reason}"),
         };
         Self {
@@ -88,6 +94,21 @@ pub struct SceneLoader {
 impl SceneLoader {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A preset by its slug (`--preset SLUG`), layered like a scene file; an unknown slug is an
+    /// error listing the slugs.
+    pub fn preset(&mut self, slug: &str) -> Result<(), SceneError> {
+        let Some(preset) = super::presets::find(slug) else {
+            return Err(SceneError::general(
+                &SceneSource::Flag(format!("--preset {slug}")),
+                format!(
+                    "unknown preset; the presets are {}",
+                    super::presets::slugs()
+                ),
+            ));
+        };
+        self.toml_str(preset.toml, SceneSource::Preset(preset.slug.to_string()))
     }
 
     /// Adds a scene file: TOML, or a PNG written by qjulia (its embedded scene).
@@ -366,9 +387,10 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
     let latest = |keys: &[&str]| -> String {
         let rank = |src: &SceneSource| match src {
             SceneSource::Default => 0,
-            SceneSource::File(_) => 1,
-            SceneSource::Flag(_) => 2,
-            SceneSource::Set(_) => 3,
+            SceneSource::Preset(_) => 1,
+            SceneSource::File(_) => 2,
+            SceneSource::Flag(_) => 3,
+            SceneSource::Set(_) => 4,
         };
         keys.iter()
             .max_by_key(|k| rank(&r.source_of(k).1))
@@ -395,6 +417,11 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
             &key,
             "makes camera.up parallel to camera.target - camera.eye",
         ));
+    }
+
+    // The cut's normal gives the plane its direction (normalised when read).
+    if s.cut.normal.iter().all(|&v| v == 0.0) {
+        return Err(fail("cut.normal", "must not be zero"));
     }
 
     // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.

@@ -296,7 +296,8 @@ scene_schema! {
             enabled: bool = false, boolean(), "cut the set (false = the whole set, the seed)";
             /// The plane's normal, normalised when read; must not be zero.
             normal: [f64; 3] = [0.0, 0.0, 1.0], vector(), "the plane's normal; not zero";
-            offset: f64 = 0.0, float(Range::ANY), "the plane's distance from the origin along the normal";
+            offset: f64 = 0.0, float(Range::ANY), slider(-1.5, 1.5),
+                "the plane's distance from the origin along the normal";
         }
 
         /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode: the filled Julia

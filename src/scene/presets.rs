@@ -1,10 +1,13 @@
-//! Named scenes that show the range of quaternion Julia sets, as TOML over the defaults.
+//! Named scenes that show the range of quaternion Julia sets, as TOML over the defaults: the
+//! explorer's Presets menu, and `--preset SLUG` on the command line.
 
 use super::{Scene, SceneLoader, SceneSource};
 
 /// A named scene.
 pub struct Preset {
     pub name: &'static str,
+    /// The command line's name for it (`--preset SLUG`): lower case, words joined by '-'.
+    pub slug: &'static str,
     pub about: &'static str,
     /// TOML layered over the defaults.
     pub toml: &'static str,
@@ -15,18 +18,21 @@ pub struct Preset {
 pub const PRESETS: &[Preset] = &[
     Preset {
         name: "Seed's look",
+        slug: "seed",
         about: "Crane's constants: c = (-0.2, 0.6, 0.2, 0.2), shadows on",
         toml: "",
         two_d: false,
     },
     Preset {
         name: "Unit ball",
+        slug: "unit-ball",
         about: "c = 0: the set is exactly the unit ball",
         toml: "[fractal]\nc = [0.0, 0.0, 0.0, 0.0]\n",
         two_d: false,
     },
     Preset {
         name: "Basilica revolved",
+        slug: "basilica",
         about: "c = -1, real: the 2D basilica turned about the real axis",
         toml: "[fractal]\nc = [-1.0, 0.0, 0.0, 0.0]\nmax_iterations = 16\n\
                [camera]\neye = [0.4, 2.2, 2.2]\n[light]\nposition = [1.0, 3.0, 2.0]\n",
@@ -34,6 +40,7 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Rabbit",
+        slug: "rabbit",
         about: "the seed's 'rabbit ears' c = -0.12 + 0.75i, in 3D",
         toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\nmax_iterations = 14\n\
                [camera]\neye = [0.0, 0.8, 2.8]\n",
@@ -41,6 +48,7 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Dendrite",
+        slug: "dendrite",
         about: "c = i: no interior, a tree of thin branches",
         toml: "[fractal]\nc = [0.0, 1.0, 0.0, 0.0]\nmax_iterations = 20\nepsilon = 0.002\n\
                [camera]\neye = [1.2, 0.6, 2.6]\n",
@@ -48,6 +56,7 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Siegel disk",
+        slug: "siegel-disk",
         about: "c = -0.390541 - 0.586788i, with a Siegel disk around a fixed point",
         toml: "[fractal]\nc = [-0.390541, -0.586788, 0.0, 0.0]\nmax_iterations = 30\n\
                [camera]\neye = [0.0, -1.0, 2.8]\n",
@@ -55,6 +64,7 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Tentacles",
+        slug: "tentacles",
         about: "c = (-0.125, -0.256, 0.847, 0.0895), all four components at work",
         toml: "[fractal]\nc = [-0.125, -0.256, 0.847, 0.0895]\nmax_iterations = 12\n\
                [camera]\neye = [1.5, 1.5, 2.0]\n",
@@ -62,6 +72,7 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Turned slice",
+        slug: "turned-slice",
         about: "the seed's set seen through a slice turned in 4D and moved off the origin",
         toml: "[slice]\nx = [0.838386643594204, 0.0, 0.093833584680988, 0.536938631715731]\n\
                y = [0.0, 1.0, 0.0, 0.0]\nz = [-0.259343380052231, 0.0, 0.935095941414137, 0.241529690874419]\n\
@@ -70,19 +81,45 @@ pub const PRESETS: &[Preset] = &[
     },
     Preset {
         name: "Rabbit ears (2D)",
+        slug: "rabbit-2d",
         about: "the seed's Figure 3: the filled Julia set of c = -0.12 + 0.75i in the plane",
         toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\n\
                [view2d]\ncenter = [0.0, 0.0]\nextent = 3.2\nmax_iterations = 256\n",
         two_d: true,
     },
+    Preset {
+        name: "Gallery",
+        slug: "gallery",
+        about: "the seed's set at its best: cut open, 16 samples, soft shadows, occlusion, orbit-trap colour",
+        toml: "[image]\nsamples = 16\n\
+               [camera]\neye = [2.0, 2.2, 1.8]\n\
+               [light]\nposition = [1.0, 3.0, 3.0]\nradius = 0.2\n\
+               [shading]\nambient = 0.25\nocclusion = 0.8\ncolouring = \"orbit_trap\"\n\
+               [cut]\nenabled = true\nnormal = [0.2, 1.0, 0.5]\noffset = 0.2\n",
+        two_d: false,
+    },
 ];
+
+/// The preset of this slug.
+pub fn find(slug: &str) -> Option<&'static Preset> {
+    PRESETS.iter().find(|p| p.slug == slug)
+}
+
+/// Every slug, comma-separated, for messages.
+pub fn slugs() -> String {
+    PRESETS
+        .iter()
+        .map(|p| p.slug)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 impl Preset {
     /// The preset's scene, validated.
     pub fn scene(&self) -> Scene {
         let mut loader = SceneLoader::new();
         loader
-            .toml_str(self.toml, SceneSource::Default)
+            .toml_str(self.toml, SceneSource::Preset(self.slug.to_string()))
             .and_then(|()| loader.clone().build())
             .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
     }
@@ -101,5 +138,25 @@ mod tests {
             }
         }
         assert!(PRESETS.len() >= 6);
+    }
+
+    #[test]
+    fn slugs_are_distinct_lower_case_words() {
+        for (i, p) in PRESETS.iter().enumerate() {
+            assert!(
+                !p.slug.is_empty()
+                    && !p.slug.starts_with('-')
+                    && !p.slug.ends_with('-')
+                    && p.slug
+                        .chars()
+                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'),
+                "{:?}",
+                p.slug
+            );
+            assert!(!p.about.contains('\n'), "{}: one line", p.slug);
+            assert!(PRESETS[i + 1..].iter().all(|q| q.slug != p.slug));
+            assert_eq!(find(p.slug).unwrap().name, p.name);
+        }
+        assert!(find("Seed").is_none() && find("").is_none());
     }
 }
