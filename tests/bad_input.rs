@@ -135,6 +135,7 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("shading.background=[2, 0, 0]", "shading.background"),
         ("fractal=1", "fractal"),
         ("camera.eye.x=1", "camera.eye"),
+        ("light.radius=-1", "light.radius"),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {

@@ -1,0 +1,152 @@
+//! The picture's shading features (issue 11): soft shadows (`light.radius`), ambient light and
+//! occlusion (`shading.ambient`, `shading.occlusion`) and orbit-trap colour
+//! (`shading.colouring`). Each is held to the CPU twin on the GPU, to the seed where it is off,
+//! and to its README formula computed here from the definitions.
+
+mod common;
+
+use qjulia::compare::CONTRACT_TOLERANCE;
+use qjulia::frame::unpack_rgb;
+use qjulia::{Frame, Scene, TraceParams, cpu};
+
+const SMALL: [&str; 2] = ["image.width=128", "image.height=128"];
+
+fn with(extra: &[&str]) -> Scene {
+    let all: Vec<&str> = SMALL.iter().chain(extra).copied().collect();
+    common::scene(&all)
+}
+
+fn cpu_f32(scene: &Scene) -> Frame {
+    cpu::render(&TraceParams::<f32>::new(scene)).0
+}
+
+/// The GPU against the CPU twin in f32, within CONTRACT_TOLERANCE.
+fn gpu_agrees(name: &str, scene: Scene) {
+    let expected = cpu_f32(&scene);
+    assert!(
+        expected.hit_mask().iter().any(|&h| h),
+        "{name}: the test scene shows nothing"
+    );
+    let Some(gpu) = common::gpu(name) else { return };
+    let actual = gpu
+        .render(&TraceParams::<f32>::new(&scene))
+        .expect("GPU render")
+        .frame;
+    common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
+}
+
+#[test]
+fn soft_shadows_gpu_agrees_with_cpu() {
+    gpu_agrees("soft_shadows", with(&["light.radius=0.3"]));
+}
+
+/// A radius of 0 is the seed's point light: the same frame, bit for bit, as a scene without the
+/// key, on both tracers.
+#[test]
+fn radius_zero_is_the_hard_shadow_bit_for_bit() {
+    let seed = with(&[]);
+    let zero = with(&["light.radius=0"]);
+    assert_identical("cpu", &cpu_f32(&seed), &cpu_f32(&zero));
+    let Some(gpu) = common::gpu("radius_zero") else {
+        return;
+    };
+    let a = gpu.render(&TraceParams::<f32>::new(&seed)).unwrap().frame;
+    let b = gpu.render(&TraceParams::<f32>::new(&zero)).unwrap().frame;
+    assert_identical("gpu", &a, &b);
+}
+
+/// Colour, steps and depth (its bits: a miss is NaN) the same at every pixel.
+fn assert_identical(name: &str, a: &Frame, b: &Frame) {
+    let bits = |f: &Frame| f.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+    let differ = (0..a.pixel_count())
+        .filter(|&k| a.colour[k] != b.colour[k] || a.steps[k] != b.steps[k])
+        .count();
+    assert_eq!(differ, 0, "{name}: {differ} pixels differ");
+    assert!(bits(a) == bits(b), "{name}: depths differ");
+}
+
+/// The soft march takes the hard shadow ray's steps (step_scale 1): it reports 0 exactly where
+/// `in_shadow` reports a hit, and otherwise a visibility in (0, 1].
+#[test]
+fn soft_shadow_is_zero_exactly_where_the_hard_ray_hits() {
+    let scene = with(&["light.radius=0.2"]);
+    let p = TraceParams::<f32>::new(&scene);
+    let (mut hidden, mut seen) = (0, 0);
+    for j in (0..128).step_by(3) {
+        for i in (0..128).step_by(3) {
+            let dir = p.camera_ray(i, j, 0);
+            let bounds = p.intersect_bounds(p.eye, dir);
+            if !bounds.hit {
+                continue;
+            }
+            let trace = p.sphere_trace(p.eye, dir, bounds.t_enter, bounds.t_exit, 0.0);
+            if !trace.hit {
+                continue;
+            }
+            let x = p.eye + dir * trace.t;
+            let n = p.estimate_normal(x, dir);
+            let v = p.soft_shadow(x, n);
+            if p.in_shadow(x, n) {
+                hidden += 1;
+                assert_eq!(v, 0.0, "pixel ({i}, {j})");
+            } else {
+                seen += 1;
+                assert!(v > 0.0 && v <= 1.0, "pixel ({i}, {j}): visibility {v}");
+            }
+        }
+    }
+    assert!(hidden > 20 && seen > 20, "{hidden} hidden, {seen} seen");
+}
+
+/// The penumbra lies outside the hard shadow (the soft march hits exactly where the hard ray
+/// does, so the umbra is the hard shadow). The edge: hit pixels of the radius-0 render that are
+/// lit and not in shadow (a hit, not black, the same colour as the render without shadows) with
+/// a 4-neighbour in shadow (a hit whose colour differs from the render without shadows). With
+/// radius 0.2 more than 5% of the edge pixels are strictly between the shadowed and the full
+/// colour in the soft render: in the brightest channel c of the full colour,
+/// shadow_factor * full[c] + 1 < soft[c] < full[c] (the 1 allows for rounding to 8 bits).
+#[test]
+fn a_radius_gives_a_penumbra_at_the_shadow_edge() {
+    let hard = cpu_f32(&with(&[]));
+    let open = cpu_f32(&with(&["shading.shadows=false"]));
+    let soft = cpu_f32(&with(&["light.radius=0.2"]));
+    let shadow_factor = with(&[]).shading.shadow_factor;
+    let (w, h) = (hard.width as i64, hard.height as i64);
+    let at = |i: i64, j: i64| (j * w + i) as usize;
+    let hit = hard.hit_mask();
+    let shadowed = |k: usize| hit[k] && hard.colour[k] != open.colour[k];
+    let lit_open =
+        |k: usize| hit[k] && hard.colour[k] == open.colour[k] && open.colour[k] & 0xff_ffff != 0;
+    let (mut edge, mut penumbra) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let k = at(i, j);
+            if !lit_open(k) {
+                continue;
+            }
+            let next_to_shadow = [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|(di, dj)| {
+                let (a, b) = (i + di, j + dj);
+                a >= 0 && b >= 0 && a < w && b < h && shadowed(at(a, b))
+            });
+            if !next_to_shadow {
+                continue;
+            }
+            edge += 1;
+            let full = unpack_rgb(open.colour[k]);
+            let got = unpack_rgb(soft.colour[k]);
+            let c = (0..3).max_by_key(|&c| full[c]).unwrap();
+            if shadow_factor * full[c] as f64 + 1.0 < got[c] as f64 && got[c] < full[c] {
+                penumbra += 1;
+            }
+        }
+    }
+    eprintln!("shadow edge: {edge} pixels, {penumbra} in a penumbra");
+    assert!(
+        edge > 20,
+        "the test scene has only {edge} shadow-edge pixels"
+    );
+    assert!(
+        penumbra * 20 > edge,
+        "only {penumbra} of {edge} edge pixels are in a penumbra"
+    );
+}
