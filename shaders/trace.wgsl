@@ -136,6 +136,10 @@ const TINY: f32 = 1e-30;
 const MIN_NORMAL: f32 = 1.17549435e-38;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
 const NORMAL_LIMIT: f32 = 1e16;
+// Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
+// k = 1, 2, ... (Twin: cpu::trace's constants of the same names.)
+const OCCLUSION_SAMPLES: u32 = 5u;
+const OCCLUSION_STEP: f32 = 0.04;
 
 // Quaternion parts of the scene's algebra (1, 2 or 4): a constant when specialised.
 fn algebra_parts() -> u32 {
@@ -519,6 +523,20 @@ fn soft_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
     return visibility;
 }
 
+// The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along the
+// normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and 2 d (the
+// estimate is about half the true distance near the surface) at least h_k; what falls short
+// occludes: A = 1 - occlusion (1 / K) sum_k clamp(1 - 2 d(p + h_k n) / h_k, 0, 1).
+fn occlusion(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    var sum = 0.0;
+    for (var k = 1u; k <= OCCLUSION_SAMPLES; k++) {
+        let h = f32(k) * OCCLUSION_STEP;
+        let d = estimate_distance(p + h * n);
+        sum += clamp(1.0 - 2.0 * d / h, 0.0, 1.0);
+    }
+    return 1.0 - params.occlusion * (sum / f32(OCCLUSION_SAMPLES));
+}
+
 // Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
 // or orbit-trap colour) instead of the seed's phong and in_shadow.
 fn shading_features() -> bool {
@@ -527,17 +545,21 @@ fn shading_features() -> bool {
         shadows = SHADOWS;
     }
     let soft = (!SPECIALISED || SOFT_SHADOWS) && shadows && params.light_radius > 0.0;
-    return soft || params.ambient > 0.0;
+    let occluded = (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0;
+    return soft || occluded || params.ambient > 0.0;
 }
 
 // The shading with the picture's features, the README's formula: with base colour B (diffuse),
-// A = 1 (no occlusion) and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
+// the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
 // phong's colour, shadowed as trace_pixel does.
 fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let base = params.diffuse;
-    let a = 1.0;
+    var a = 1.0;
+    if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
+        a = occlusion(p, n);
+    }
     let ambient = params.ambient * a * base;
     let l = safe_normalize(params.light - p, n);
     let e = safe_normalize(params.eye - p, n);

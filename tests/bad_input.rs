@@ -136,6 +136,8 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("fractal=1", "fractal"),
         ("camera.eye.x=1", "camera.eye"),
         ("light.radius=-1", "light.radius"),
+        ("shading.occlusion=2", "shading.occlusion"),
+        ("shading.ambient=-0.5", "shading.ambient"),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {

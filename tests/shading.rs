@@ -5,7 +5,9 @@
 
 mod common;
 
+use qjulia::algebra::Vec3;
 use qjulia::compare::CONTRACT_TOLERANCE;
+use qjulia::cpu::trace::{OCCLUSION_SAMPLES, OCCLUSION_STEP};
 use qjulia::frame::unpack_rgb;
 use qjulia::{Frame, Scene, TraceParams, cpu};
 
@@ -149,4 +151,100 @@ fn a_radius_gives_a_penumbra_at_the_shadow_edge() {
         penumbra * 20 > edge,
         "only {penumbra} of {edge} edge pixels are in a penumbra"
     );
+}
+
+#[test]
+fn occlusion_and_ambient_gpu_agrees_with_cpu() {
+    gpu_agrees(
+        "occlusion",
+        with(&["shading.ambient=0.3", "shading.occlusion=1"]),
+    );
+    gpu_agrees("ambient_only", with(&["shading.ambient=0.5"]));
+}
+
+/// The unit ball (c = 0) with the light at its centre: every hit has N.l = -1, so only the
+/// ambient term is left, ambient A B = A for ambient 1 and a white base. An open convex
+/// surface occludes nothing: 2 d(1 + h) = (1 + h) ln(1 + h) >= h, so A = 1 at every hit, and
+/// every hit is white within 1/255, on both tracers.
+#[test]
+fn the_unit_ball_is_not_occluded() {
+    let scene = common::scene(&[
+        "fractal.c=[0, 0, 0, 0]",
+        "image.width=96",
+        "image.height=96",
+        "camera.eye=[0.4, -0.3, 2.6]",
+        "camera.fov_y_degrees=50",
+        "light.position=[0, 0, 0]",
+        "shading.diffuse=[1, 1, 1]",
+        "shading.ambient=1",
+        "shading.occlusion=1",
+    ]);
+    let check = |name: &str, frame: &Frame| {
+        let hits = frame.hit_mask();
+        let n = hits.iter().filter(|&&h| h).count();
+        assert!(n > 1000, "{name}: {n} hits");
+        for (k, _) in hits.iter().enumerate().filter(|(_, h)| **h) {
+            let rgb = unpack_rgb(frame.colour[k]);
+            assert!(
+                rgb.iter().all(|&c| c >= 254),
+                "{name}: pixel {k} is {rgb:?}"
+            );
+        }
+    };
+    check("cpu", &cpu_f32(&scene));
+    if let Some(gpu) = common::gpu("unit_ball_occlusion") {
+        check(
+            "gpu",
+            &gpu.render(&TraceParams::<f32>::new(&scene)).unwrap().frame,
+        );
+    }
+}
+
+/// The occlusion factor by the README's formula, from the tracer's distance estimate:
+/// A = 1 - occlusion (1/K) sum_{k=1..K} clamp(1 - 2 d(p + k h n) / (k h), 0, 1).
+fn occlusion_formula(p: &TraceParams<f64>, x: Vec3<f64>, n: Vec3<f64>) -> f64 {
+    let k_max = OCCLUSION_SAMPLES;
+    let sum: f64 = (1..=k_max)
+        .map(|k| {
+            let h = k as f64 * OCCLUSION_STEP;
+            let d = p.estimate_distance(x + n * h);
+            (1.0 - 2.0 * d / h).clamp(0.0, 1.0)
+        })
+        .sum();
+    1.0 - p.occlusion * sum / k_max as f64
+}
+
+/// On the seed's set (f64): the factor is the formula at every sampled hit, in
+/// [1 - occlusion, 1], and well below 1 in its folds (some hit below 0.8).
+#[test]
+fn occlusion_follows_the_formula_and_darkens_folds() {
+    let scene = with(&["shading.occlusion=1"]);
+    let p = TraceParams::<f64>::new(&scene);
+    let (mut hits, mut lowest) = (0, 1.0f64);
+    for j in (0..128).step_by(4) {
+        for i in (0..128).step_by(4) {
+            let dir = p.camera_ray(i, j, 0);
+            let bounds = p.intersect_bounds(p.eye, dir);
+            if !bounds.hit {
+                continue;
+            }
+            let trace = p.sphere_trace(p.eye, dir, bounds.t_enter, bounds.t_exit, 0.0);
+            if !trace.hit {
+                continue;
+            }
+            hits += 1;
+            let x = p.eye + dir * trace.t;
+            let n = p.estimate_normal(x, dir);
+            let a = p.occlusion(x, n);
+            let expected = occlusion_formula(&p, x, n);
+            assert!(
+                (a - expected).abs() < 1e-12,
+                "({i}, {j}): {a} vs {expected}"
+            );
+            assert!((0.0..=1.0).contains(&a), "({i}, {j}): {a}");
+            lowest = lowest.min(a);
+        }
+    }
+    assert!(hits > 100, "{hits} hits");
+    assert!(lowest < 0.8, "no fold: the lowest factor is {lowest}");
 }

@@ -20,6 +20,10 @@ pub const CONE_MARGIN: f64 = 4.0;
 pub const TINY: f64 = 1e-30;
 /// |z|^2 at which the normal's six orbits stop, long before they can overflow.
 pub const NORMAL_LIMIT: f64 = 1e16;
+/// Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
+/// k = 1, 2, ...
+pub const OCCLUSION_SAMPLES: u32 = 5;
+pub const OCCLUSION_STEP: f64 = 0.04;
 
 /// Where a ray meets the bounding ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -428,21 +432,39 @@ impl<F: Real> TraceParams<F> {
         visibility
     }
 
+    /// The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along
+    /// the normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and
+    /// 2 d (the estimate is about half the true distance near the surface) at least h_k; what
+    /// falls short occludes: A = 1 - occlusion (1 / K) sum_k clamp(1 - 2 d(p + h_k n) / h_k, 0, 1).
+    pub fn occlusion(&self, p: Vec3<F>, n: Vec3<F>) -> F {
+        let (zero, one, two) = (F::zero(), F::one(), F::lit(2.0));
+        let mut sum = zero;
+        for k in 1..=OCCLUSION_SAMPLES {
+            let h = F::lit(k as f64) * F::lit(OCCLUSION_STEP);
+            let d = self.estimate_distance(p + n * h);
+            sum = sum + (one - two * d / h).max(zero).min(one);
+        }
+        one - self.occlusion * (sum / F::lit(OCCLUSION_SAMPLES as f64))
+    }
+
     /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
     /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
     pub fn shading_features(&self) -> bool {
         let soft = self.shadows && self.light_radius > F::zero();
-        soft || self.ambient > F::zero()
+        soft || self.occlusion > F::zero() || self.ambient > F::zero()
     }
 
     /// The shading with the picture's features, the README's formula: with base colour B
-    /// (diffuse), A = 1 (no occlusion) and V the light's visibility (1 lit, 0 in shadow, between
+    /// (diffuse), the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between
     /// in a penumbra): ambient A B + (shadow_factor + (1 - shadow_factor) V)
     /// (A (B + normal_tint |n|) max(N.L, 0) + highlight), the highlight as in phong. With
     /// ambient 0, A 1 and a point light it is phong's colour, shadowed as trace_pixel does.
     pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>) -> Vec3<F> {
         let base = self.diffuse;
-        let a = F::one();
+        let mut a = F::one();
+        if self.occlusion > F::zero() {
+            a = self.occlusion(p, n);
+        }
         let ambient = base * (self.ambient * a);
         let l = safe_normalize(self.light - p, n);
         let e = safe_normalize(self.eye - p, n);
