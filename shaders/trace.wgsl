@@ -537,6 +537,31 @@ fn occlusion(p: vec3<f32>, n: vec3<f32>) -> f32 {
     return 1.0 - params.occlusion * (sum / f32(OCCLUSION_SAMPLES));
 }
 
+// The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |, z_0 = q,
+// z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or max_iterations
+// (iterate_orbit's count and escape; no derivative is carried, so its limit does not apply).
+fn orbit_trap(q: Hyper) -> f32 {
+    let parts = algebra_parts();
+    var z = q;
+    var trap = abs(sqrt(hyper_dot(z, z, parts)) - params.trap_radius);
+    for (var i = 0u; i < params.max_iterations; i++) {
+        z = hyper_add(hyper_sq(z, parts), params.c);
+        let z_norm2 = hyper_dot(z, z, parts);
+        trap = min(trap, abs(sqrt(z_norm2) - params.trap_radius));
+        if z_norm2 > params.escape_radius_squared {
+            break;
+        }
+    }
+    return trap;
+}
+
+// The palette: 0.5 + 0.5 cos(2 pi x) per channel, x = fract(trap_scale t + palette_phase) (the
+// fraction changes nothing but keeps cos's argument small).
+fn palette(t: f32) -> vec3<f32> {
+    let x = fract(params.trap_scale * t + params.palette_phase);
+    return 0.5 + 0.5 * cos(6.2831855 * x);
+}
+
 // Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
 // or orbit-trap colour) instead of the seed's phong and in_shadow.
 fn shading_features() -> bool {
@@ -546,16 +571,21 @@ fn shading_features() -> bool {
     }
     let soft = (!SPECIALISED || SOFT_SHADOWS) && shadows && params.light_radius > 0.0;
     let occluded = (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0;
-    return soft || occluded || params.ambient > 0.0;
+    let trap = (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP;
+    return soft || occluded || trap || params.ambient > 0.0;
 }
 
-// The shading with the picture's features, the README's formula: with base colour B (diffuse),
+// The shading with the picture's features, the README's formula: with base colour B (diffuse,
+// or the palette's colour of the orbit trap),
 // the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
 // phong's colour, shadowed as trace_pixel does.
 fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    let base = params.diffuse;
+    var base = params.diffuse;
+    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
+        base = palette(orbit_trap(slice_point(p)));
+    }
     var a = 1.0;
     if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
         a = occlusion(p, n);

@@ -138,6 +138,8 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("light.radius=-1", "light.radius"),
         ("shading.occlusion=2", "shading.occlusion"),
         ("shading.ambient=-0.5", "shading.ambient"),
+        ("shading.colouring=\"plaid\"", "shading.colouring"),
+        ("shading.trap_scale=0", "shading.trap_scale"),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {

@@ -248,3 +248,108 @@ fn occlusion_follows_the_formula_and_darkens_folds() {
     assert!(hits > 100, "{hits} hits");
     assert!(lowest < 0.8, "no fold: the lowest factor is {lowest}");
 }
+
+#[test]
+fn orbit_trap_gpu_agrees_with_cpu() {
+    gpu_agrees("orbit_trap", with(&["shading.colouring=\"orbit_trap\""]));
+}
+
+#[test]
+fn all_three_features_gpu_agrees_with_cpu() {
+    gpu_agrees(
+        "all_features",
+        with(&[
+            "light.radius=0.5",
+            "shading.ambient=0.25",
+            "shading.occlusion=1",
+            "shading.colouring=\"orbit_trap\"",
+        ]),
+    );
+}
+
+/// The trap distance at c = 0 from the definition: z_n = z_0^(2^n), so |z_n| = r^(2^n) for
+/// |z_0| = r; t = min over n = 0..N of |r^(2^n) - R|, N the first n with |z_n|^2 above the
+/// escape radius squared, or max_iterations.
+fn trap_at_c0(r: f64, trap_radius: f64, max_iterations: u32, escape_radius_squared: f64) -> f64 {
+    let mut t = (r - trap_radius).abs();
+    for n in 1..=max_iterations {
+        let z = r.powf(2f64.powi(n as i32));
+        t = t.min((z - trap_radius).abs());
+        if z * z > escape_radius_squared {
+            break;
+        }
+    }
+    t
+}
+
+/// The palette from the definition: 0.5 + 0.5 cos(2 pi (scale t + phase)) per channel.
+fn palette(t: f64, scale: f64, phase: [f64; 3]) -> [f64; 3] {
+    phase.map(|ph| 0.5 + 0.5 * (2.0 * std::f64::consts::PI * (scale * t + ph)).cos())
+}
+
+const UNIT_BALL_TRAP: [&str; 11] = [
+    "fractal.c=[0, 0, 0, 0]",
+    "image.width=96",
+    "image.height=96",
+    "camera.eye=[0.4, -0.3, 2.6]",
+    "camera.fov_y_degrees=50",
+    "light.position=[0, 0, 0]",
+    "shading.ambient=1",
+    "shading.colouring=\"orbit_trap\"",
+    "shading.trap_radius=1.5",
+    "shading.trap_scale=2.5",
+    "shading.palette_phase=[0.0, 0.3, 0.6]",
+];
+
+#[test]
+fn orbit_trap_at_c0_follows_the_formula() {
+    let scene = common::scene(&UNIT_BALL_TRAP);
+    let p = TraceParams::<f64>::new(&scene);
+    let (iterations, escape) = (p.max_iterations, p.escape_radius_squared);
+    // The function, at radii whose orbits escape at different n.
+    for &r in &[0.3, 0.9, 0.999, 1.0, 1.0005, 1.002, 1.01, 1.1, 1.4, 2.0] {
+        for dir in [[1.0, 0.0, 0.0], [0.0, 0.6, 0.8], [-0.48, 0.6, -0.64]] {
+            let q = p.slice_point(Vec3::from_f64(dir) * r);
+            let got = p.orbit_trap(q);
+            let expected = trap_at_c0(r, 1.5, iterations, escape);
+            assert!(
+                (got - expected).abs() < 1e-9 * (1.0 + expected),
+                "r = {r}: trap {got}, expected {expected}"
+            );
+        }
+    }
+    // The pictures: with the light at the centre only ambient B is left, B the palette colour
+    // of the hit's trap distance, from the hit's radius (computed in f64 from the depth).
+    let check = |name: &str, frame: &Frame| {
+        let mut worst = 0f64;
+        let mut spread = (f64::MAX, f64::MIN);
+        for j in 0..frame.height {
+            for i in 0..frame.width {
+                let k = (j * frame.width + i) as usize;
+                let depth = frame.depth[k];
+                if depth.is_nan() {
+                    continue;
+                }
+                let dir = p.camera_ray(i, j, 0);
+                let r = (p.eye + dir * depth as f64).length();
+                let t = trap_at_c0(r, 1.5, iterations, escape);
+                spread = (spread.0.min(t), spread.1.max(t));
+                let expected = palette(t, 2.5, [0.0, 0.3, 0.6]);
+                let got = unpack_rgb(frame.colour[k]);
+                for c in 0..3 {
+                    worst = worst.max((got[c] as f64 / 255.0 - expected[c]).abs());
+                }
+            }
+        }
+        eprintln!("{name}: worst channel error {worst:.4}, t in {spread:?}");
+        assert!(worst <= 2.0 / 255.0, "{name}: a channel is {worst} off");
+        assert!(spread.1 - spread.0 > 0.1, "{name}: the trap barely varies");
+    };
+    check("cpu", &cpu_f32(&scene));
+    if let Some(gpu) = common::gpu("orbit_trap_at_c0") {
+        check(
+            "gpu",
+            &gpu.render(&TraceParams::<f32>::new(&scene)).unwrap().frame,
+        );
+    }
+}

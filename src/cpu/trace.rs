@@ -9,7 +9,7 @@ use crate::algebra::{
     square_derivative,
 };
 use crate::params::TraceParams;
-use crate::scene::NormalMethod;
+use crate::scene::{Colouring, NormalMethod};
 
 /// Pixels a side of the blocks that share a cone (one workgroup on the GPU).
 pub const CONE_BLOCK: u32 = 8;
@@ -447,20 +447,60 @@ impl<F: Real> TraceParams<F> {
         one - self.occlusion * (sum / F::lit(OCCLUSION_SAMPLES as f64))
     }
 
+    /// The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |,
+    /// z_0 = q, z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or
+    /// max_iterations (iterate_orbit's count and escape; no derivative is carried, so its limit
+    /// does not apply).
+    pub fn orbit_trap(&self, q: Hyper<F>) -> F {
+        let parts = self.algebra_parts;
+        let mut z = q;
+        let mut trap = (hyper_dot(z, z, parts).sqrt() - self.trap_radius).abs();
+        for _ in 0..self.max_iterations {
+            count(&super::ITERATIONS, 1);
+            z = hyper_add(hyper_sq(z, parts), self.c);
+            let z_norm2 = hyper_dot(z, z, parts);
+            trap = trap.min((z_norm2.sqrt() - self.trap_radius).abs());
+            if z_norm2 > self.escape_radius_squared {
+                break;
+            }
+        }
+        trap
+    }
+
+    /// The palette: 0.5 + 0.5 cos(2 pi x) per channel, x = fract(trap_scale t + palette_phase)
+    /// (the fraction changes nothing but keeps cos's argument small).
+    pub fn palette(&self, t: F) -> Vec3<F> {
+        let half = F::lit(0.5);
+        let channel = |phase: F| {
+            let y = self.trap_scale * t + phase;
+            let x = y - y.floor();
+            half + half * (F::lit(6.2831855) * x).cos()
+        };
+        Vec3::new(
+            channel(self.palette_phase.x),
+            channel(self.palette_phase.y),
+            channel(self.palette_phase.z),
+        )
+    }
+
     /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
     /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
     pub fn shading_features(&self) -> bool {
         let soft = self.shadows && self.light_radius > F::zero();
-        soft || self.occlusion > F::zero() || self.ambient > F::zero()
+        let trap = self.colouring == Colouring::OrbitTrap;
+        soft || self.occlusion > F::zero() || trap || self.ambient > F::zero()
     }
 
     /// The shading with the picture's features, the README's formula: with base colour B
-    /// (diffuse), the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between
+    /// (diffuse, or the palette's colour of the orbit trap), the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between
     /// in a penumbra): ambient A B + (shadow_factor + (1 - shadow_factor) V)
     /// (A (B + normal_tint |n|) max(N.L, 0) + highlight), the highlight as in phong. With
     /// ambient 0, A 1 and a point light it is phong's colour, shadowed as trace_pixel does.
     pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>) -> Vec3<F> {
-        let base = self.diffuse;
+        let mut base = self.diffuse;
+        if self.colouring == Colouring::OrbitTrap {
+            base = self.palette(self.orbit_trap(self.slice_point(p)));
+        }
         let mut a = F::one();
         if self.occlusion > F::zero() {
             a = self.occlusion(p, n);
