@@ -143,6 +143,10 @@ const TINY: f32 = 1e-30;
 const MIN_NORMAL: f32 = 1.17549435e-38;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
 const NORMAL_LIMIT: f32 = 1e16;
+// Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
+// k = 1, 2, ... (Twin: cpu::trace's constants of the same names.)
+const OCCLUSION_SAMPLES: u32 = 5u;
+const OCCLUSION_STEP: f32 = 0.04;
 
 // Quaternion parts of the scene's algebra (1, 2 or 4): a constant when specialised.
 fn algebra_parts() -> u32 {
@@ -510,6 +514,143 @@ fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
     return sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
 }
 
+// The shadow of a spherical light (centre light, radius light_radius > 0), soft: from
+// p + 2 epsilon n toward the centre, marched like in_shadow's ray with plain steps (the same t
+// at every step, so it hits exactly where in_shadow's does with step_scale 1); a hit gives 0,
+// else the visibility is min(1, min over the steps with t > 0 of 2 d / (t tan)), tan =
+// light_radius / (distance from the origin to the centre): the closest approach relative to the
+// cone towards the light, with 2 d for the true distance (the estimate is about half of it near
+// the surface).
+fn soft_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let origin = p + 2.0 * params.epsilon * n;
+    let to_light = params.light - origin;
+    let dist_squared = dot(to_light, to_light);
+    if dist_squared <= TINY {
+        return 1.0;
+    }
+    let dist = sqrt(dist_squared);
+    let dir = to_light / dist;
+    let bounds = intersect_bounds(origin, dir);
+    let t_end = min(bounds.t_exit, dist);
+    if !bounds.hit || bounds.t_enter >= t_end {
+        return 1.0;
+    }
+    let tan_size = params.light_radius / dist;
+    var visibility = 1.0;
+    var t = bounds.t_enter;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        let d = estimate_distance(origin + t * dir);
+        let t_plain = t + max(d, 0.0);
+        if d < max(params.epsilon, t_plain * RELATIVE_EPSILON) {
+            return 0.0;
+        }
+        if t > 0.0 {
+            visibility = min(visibility, 2.0 * d / (t * tan_size));
+        }
+        t = t_plain;
+        if t > t_end {
+            break;
+        }
+    }
+    return visibility;
+}
+
+// The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along the
+// normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and 2 d (the
+// estimate is about half the true distance near the surface) at least h_k; what falls short
+// occludes: A = 1 - occlusion (1 / K) sum_k clamp(1 - 2 d(p + h_k n) / h_k, 0, 1).
+fn occlusion(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    var sum = 0.0;
+    for (var k = 1u; k <= OCCLUSION_SAMPLES; k++) {
+        let h = f32(k) * OCCLUSION_STEP;
+        let d = estimate_distance(p + h * n);
+        sum += clamp(1.0 - 2.0 * d / h, 0.0, 1.0);
+    }
+    return 1.0 - params.occlusion * (sum / f32(OCCLUSION_SAMPLES));
+}
+
+// The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |, z_0 = q,
+// z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or max_iterations
+// (iterate_orbit's count and escape; no derivative is carried, so its limit does not apply).
+fn orbit_trap(q: Hyper) -> f32 {
+    let parts = algebra_parts();
+    var z = q;
+    var trap = abs(sqrt(hyper_dot(z, z, parts)) - params.trap_radius);
+    for (var i = 0u; i < params.max_iterations; i++) {
+        z = hyper_add(hyper_sq(z, parts), params.c);
+        let z_norm2 = hyper_dot(z, z, parts);
+        trap = min(trap, abs(sqrt(z_norm2) - params.trap_radius));
+        if z_norm2 > params.escape_radius_squared {
+            break;
+        }
+    }
+    return trap;
+}
+
+// The palette: 0.5 + 0.5 cos(2 pi x) per channel, x = fract(trap_scale t + palette_phase) (the
+// fraction changes nothing but keeps cos's argument small).
+fn palette(t: f32) -> vec3<f32> {
+    let x = fract(params.trap_scale * t + params.palette_phase);
+    return 0.5 + 0.5 * cos(6.2831855 * x);
+}
+
+// Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
+// or orbit-trap colour) instead of the seed's phong and in_shadow.
+fn shading_features() -> bool {
+    var shadows = params.shadows != 0u;
+    if SPECIALISED {
+        shadows = SHADOWS;
+    }
+    let soft = (!SPECIALISED || SOFT_SHADOWS) && shadows && params.light_radius > 0.0;
+    let occluded = (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0;
+    let trap = (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP;
+    return soft || occluded || trap || params.ambient > 0.0;
+}
+
+// The shading with the picture's features, the README's formula: with base colour B (diffuse,
+// or the palette's colour of the orbit trap),
+// the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
+// ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
+// + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
+// phong's colour, shadowed as trace_pixel does.
+fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    var base = params.diffuse;
+    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
+        base = palette(orbit_trap(slice_point(p)));
+    }
+    var a = 1.0;
+    if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
+        a = occlusion(p, n);
+    }
+    let ambient = params.ambient * a * base;
+    let l = safe_normalize(params.light - p, n);
+    let e = safe_normalize(params.eye - p, n);
+    let n_dot_l = dot(n, l);
+    if n_dot_l <= 0.0 {
+        return ambient;
+    }
+    let r = 2.0 * n_dot_l * n - l;
+    let e_dot_r = dot(e, r);
+    var highlight = 0.0;
+    if e_dot_r > 0.0 {
+        highlight = params.specular * pow(e_dot_r, params.shininess);
+    }
+    var light = a * (base + params.normal_tint * abs(n)) * n_dot_l + vec3<f32>(highlight);
+    var shadows = params.shadows != 0u;
+    if SPECIALISED {
+        shadows = SHADOWS;
+    }
+    // As in trace_pixel: no shadow ray for an unlit point.
+    if shadows && any(light > vec3<f32>(0.0)) {
+        if (!SPECIALISED || SOFT_SHADOWS) && params.light_radius > 0.0 {
+            light *= params.shadow_factor + (1.0 - params.shadow_factor) * soft_shadow(p, n);
+        } else if in_shadow(p, n) {
+            light *= params.shadow_factor;
+        }
+    }
+    return ambient + light;
+}
+
 // The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left corner.
 fn camera_ray_at(x: f32, y: f32) -> vec3<f32> {
     let px = (2.0 * x / f32(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
@@ -581,6 +722,9 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: f32) -> Pixel {
     }
     let p = params.eye + trace.t * dir;
     let n = estimate_normal(p, dir);
+    if shading_features() {
+        return Pixel(shade_features(p, n), trace.t, trace.steps, true);
+    }
     var colour = phong(params.light, params.eye, p, n);
     var shadows = params.shadows != 0u;
     if SPECIALISED {

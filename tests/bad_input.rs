@@ -137,6 +137,11 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("camera.eye.x=1", "camera.eye"),
         ("cut.normal=[0, 0, 0]", "cut.normal"),
         ("cut.offset=nan", "cut.offset"),
+        ("light.radius=-1", "light.radius"),
+        ("shading.occlusion=2", "shading.occlusion"),
+        ("shading.ambient=-0.5", "shading.ambient"),
+        ("shading.colouring=\"plaid\"", "shading.colouring"),
+        ("shading.trap_scale=0", "shading.trap_scale"),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {

@@ -320,3 +320,54 @@ fn step_views_show_the_heat_map_of_the_steps() {
         );
     }
 }
+
+/// The shading panel holds the picture's features (issue 11): its sliders set the scene keys and
+/// the view shows the headless render of the result.
+#[test]
+fn the_shading_panel_sets_the_picture_features() {
+    let Some(mut harness) = harness("explorer_shading") else {
+        return;
+    };
+    settle(&mut harness);
+    let before = shown_view(&mut harness);
+    harness.get_by_label("Light and shading").click_accesskit();
+    for _ in 0..10 {
+        harness.step();
+    }
+    for label in [
+        "trap radius",
+        "trap scale",
+        "phase red",
+        "phase green",
+        "phase blue",
+    ] {
+        harness.get_by_role_and_label(egui::Role::Slider, label);
+    }
+    harness.get_by_label("colouring");
+    for (label, value) in [("light radius", 0.4), ("ambient", 0.3), ("occlusion", 1.0)] {
+        harness
+            .get_by_role_and_label(egui::Role::Slider, label)
+            .set_value_accesskit(value);
+        harness.step();
+    }
+    let scene = &harness.state().scene;
+    assert!(
+        (scene.light.radius - 0.4).abs() < 1e-9,
+        "{}",
+        scene.light.radius
+    );
+    assert!((scene.shading.ambient - 0.3).abs() < 1e-9);
+    assert!((scene.shading.occlusion - 1.0).abs() < 1e-9);
+    settle(&mut harness);
+    let after = shown_view(&mut harness);
+    assert!(
+        changed_fraction(&before, &after) > 0.05,
+        "the features left the picture unchanged"
+    );
+    common::assert_agree(
+        "explorer_features",
+        &headless(&harness),
+        &after,
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+}

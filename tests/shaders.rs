@@ -149,12 +149,17 @@ fn shared_constants_match_the_cpu_twin() {
     assert_eq!(code("TRACING_SEED"), Tracing::Seed.code());
     assert_eq!(code("TRACING_CONE"), Tracing::Cone.code());
     assert_eq!(code("CONE_BLOCK"), qjulia::cpu::trace::CONE_BLOCK);
+    assert_eq!(
+        code("OCCLUSION_SAMPLES"),
+        qjulia::cpu::trace::OCCLUSION_SAMPLES
+    );
     for (name, cpu) in [
         ("DERIVATIVE_LIMIT", <f32 as Real>::DERIVATIVE_LIMIT),
         ("TINY", TINY),
         ("NORMAL_LIMIT", NORMAL_LIMIT),
         ("MIN_NORMAL", f32::MIN_POSITIVE as f64),
         ("RELATIVE_EPSILON", <f32 as Real>::RELATIVE_EPSILON),
+        ("OCCLUSION_STEP", qjulia::cpu::trace::OCCLUSION_STEP),
     ] {
         assert_eq!(
             value(name),

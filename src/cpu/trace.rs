@@ -9,7 +9,7 @@ use crate::algebra::{
     square_derivative,
 };
 use crate::params::TraceParams;
-use crate::scene::NormalMethod;
+use crate::scene::{Colouring, NormalMethod};
 
 /// Pixels a side of the blocks that share a cone (one workgroup on the GPU).
 pub const CONE_BLOCK: u32 = 8;
@@ -20,6 +20,10 @@ pub const CONE_MARGIN: f64 = 4.0;
 pub const TINY: f64 = 1e-30;
 /// |z|^2 at which the normal's six orbits stop, long before they can overflow.
 pub const NORMAL_LIMIT: f64 = 1e16;
+/// Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
+/// k = 1, 2, ...
+pub const OCCLUSION_SAMPLES: u32 = 5;
+pub const OCCLUSION_STEP: f64 = 0.04;
 
 /// Where a ray meets the bounding ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -410,6 +414,148 @@ impl<F: Real> TraceParams<F> {
             .hit
     }
 
+    /// The shadow of a spherical light (centre light, radius light_radius > 0), soft: from
+    /// p + 2 epsilon n toward the centre, marched like [`Self::in_shadow`]'s ray with plain
+    /// steps (the same t at every step, so it hits exactly where in_shadow's does with
+    /// step_scale 1); a hit gives 0, else the visibility is min(1, min over the steps with t > 0
+    /// of 2 d / (t tan)), tan = light_radius / (distance from the origin to the centre): the
+    /// closest approach relative to the cone towards the light, with 2 d for the true distance
+    /// (the estimate is about half of it near the surface).
+    pub fn soft_shadow(&self, p: Vec3<F>, n: Vec3<F>) -> F {
+        let one = F::one();
+        let origin = p + n * (F::lit(2.0) * self.epsilon);
+        let to_light = self.light - origin;
+        let dist_squared = to_light.dot(to_light);
+        if dist_squared <= F::lit(TINY) {
+            return one;
+        }
+        let dist = dist_squared.sqrt();
+        let dir = to_light / dist;
+        let bounds = self.intersect_bounds(origin, dir);
+        let t_end = bounds.t_exit.min(dist);
+        if !bounds.hit || bounds.t_enter >= t_end {
+            return one;
+        }
+        let tan_size = self.light_radius / dist;
+        let mut visibility = one;
+        let mut t = bounds.t_enter;
+        for _ in 0..self.max_steps {
+            let d = self.estimate_distance(origin + dir * t);
+            let t_plain = t + d.max(F::zero());
+            if d < self.epsilon.max(t_plain * F::lit(F::RELATIVE_EPSILON)) {
+                return F::zero();
+            }
+            if t > F::zero() {
+                visibility = visibility.min(F::lit(2.0) * d / (t * tan_size));
+            }
+            t = t_plain;
+            if t > t_end {
+                break;
+            }
+        }
+        visibility
+    }
+
+    /// The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along
+    /// the normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and
+    /// 2 d (the estimate is about half the true distance near the surface) at least h_k; what
+    /// falls short occludes: A = 1 - occlusion (1 / K) sum_k clamp(1 - 2 d(p + h_k n) / h_k, 0, 1).
+    pub fn occlusion(&self, p: Vec3<F>, n: Vec3<F>) -> F {
+        let (zero, one, two) = (F::zero(), F::one(), F::lit(2.0));
+        let mut sum = zero;
+        for k in 1..=OCCLUSION_SAMPLES {
+            let h = F::lit(k as f64) * F::lit(OCCLUSION_STEP);
+            let d = self.estimate_distance(p + n * h);
+            sum = sum + (one - two * d / h).max(zero).min(one);
+        }
+        one - self.occlusion * (sum / F::lit(OCCLUSION_SAMPLES as f64))
+    }
+
+    /// The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |,
+    /// z_0 = q, z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or
+    /// max_iterations (iterate_orbit's count and escape; no derivative is carried, so its limit
+    /// does not apply).
+    pub fn orbit_trap(&self, q: Hyper<F>) -> F {
+        let parts = self.algebra_parts;
+        let mut z = q;
+        let mut trap = (hyper_dot(z, z, parts).sqrt() - self.trap_radius).abs();
+        for _ in 0..self.max_iterations {
+            count(&super::ITERATIONS, 1);
+            z = hyper_add(hyper_sq(z, parts), self.c);
+            let z_norm2 = hyper_dot(z, z, parts);
+            trap = trap.min((z_norm2.sqrt() - self.trap_radius).abs());
+            if z_norm2 > self.escape_radius_squared {
+                break;
+            }
+        }
+        trap
+    }
+
+    /// The palette: 0.5 + 0.5 cos(2 pi x) per channel, x = fract(trap_scale t + palette_phase)
+    /// (the fraction changes nothing but keeps cos's argument small).
+    pub fn palette(&self, t: F) -> Vec3<F> {
+        let half = F::lit(0.5);
+        let channel = |phase: F| {
+            let y = self.trap_scale * t + phase;
+            let x = y - y.floor();
+            half + half * (F::lit(6.2831855) * x).cos()
+        };
+        Vec3::new(
+            channel(self.palette_phase.x),
+            channel(self.palette_phase.y),
+            channel(self.palette_phase.z),
+        )
+    }
+
+    /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
+    /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
+    pub fn shading_features(&self) -> bool {
+        let soft = self.shadows && self.light_radius > F::zero();
+        let trap = self.colouring == Colouring::OrbitTrap;
+        soft || self.occlusion > F::zero() || trap || self.ambient > F::zero()
+    }
+
+    /// The shading with the picture's features, the README's formula: with base colour B
+    /// (diffuse, or the palette's colour of the orbit trap), the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between
+    /// in a penumbra): ambient A B + (shadow_factor + (1 - shadow_factor) V)
+    /// (A (B + normal_tint |n|) max(N.L, 0) + highlight), the highlight as in phong. With
+    /// ambient 0, A 1 and a point light it is phong's colour, shadowed as trace_pixel does.
+    pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>) -> Vec3<F> {
+        let mut base = self.diffuse;
+        if self.colouring == Colouring::OrbitTrap {
+            base = self.palette(self.orbit_trap(self.slice_point(p)));
+        }
+        let mut a = F::one();
+        if self.occlusion > F::zero() {
+            a = self.occlusion(p, n);
+        }
+        let ambient = base * (self.ambient * a);
+        let l = safe_normalize(self.light - p, n);
+        let e = safe_normalize(self.eye - p, n);
+        let n_dot_l = n.dot(l);
+        if n_dot_l <= F::zero() {
+            return ambient;
+        }
+        let r = n * (F::lit(2.0) * n_dot_l) - l;
+        let e_dot_r = e.dot(r);
+        let mut highlight = F::zero();
+        if e_dot_r > F::zero() {
+            highlight = self.specular * e_dot_r.powf(self.shininess);
+        }
+        let mut light = (base + n.abs() * self.normal_tint) * a * n_dot_l + Vec3::splat(highlight);
+        // As in trace_pixel: no shadow ray for an unlit point.
+        let lit = light.x > F::zero() || light.y > F::zero() || light.z > F::zero();
+        if self.shadows && lit {
+            if self.light_radius > F::zero() {
+                let sf = self.shadow_factor;
+                light = light * (sf + (F::one() - sf) * self.soft_shadow(p, n));
+            } else if self.in_shadow(p, n) {
+                light = light * self.shadow_factor;
+            }
+        }
+        ambient + light
+    }
+
     /// The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left
     /// corner.
     pub fn camera_ray_at(&self, x: F, y: F) -> Vec3<F> {
@@ -483,6 +629,14 @@ impl<F: Real> TraceParams<F> {
         }
         let p = self.eye + dir * trace.t;
         let n = self.estimate_normal(p, dir);
+        if self.shading_features() {
+            return Pixel {
+                colour: self.shade_features(p, n),
+                depth: trace.t,
+                steps: trace.steps,
+                hit: true,
+            };
+        }
         let mut colour = self.phong(self.light, self.eye, p, n);
         // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
         let lit = colour.x > F::zero() || colour.y > F::zero() || colour.z > F::zero();

@@ -252,6 +252,25 @@ impl ExplorerApp {
                 }
             });
         ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
+        ui.separator();
+        ui.add(key_slider(&mut self.scene.light.radius, "light.radius").text("light radius"));
+        ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
+        ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
+        egui::ComboBox::from_label("colouring")
+            .selected_text(sh.colouring.name())
+            .show_ui(ui, |ui| {
+                for colouring in crate::scene::Colouring::ALL {
+                    ui.selectable_value(&mut sh.colouring, colouring, colouring.name());
+                }
+            });
+        ui.add(key_slider(&mut sh.trap_radius, "shading.trap_radius").text("trap radius"));
+        ui.add(key_slider(&mut sh.trap_scale, "shading.trap_scale").text("trap scale"));
+        for (k, name) in ["phase red", "phase green", "phase blue"]
+            .iter()
+            .enumerate()
+        {
+            ui.add(key_slider(&mut sh.palette_phase[k], "shading.palette_phase").text(*name));
+        }
     }
 
     /// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.

@@ -275,6 +275,7 @@ scene_schema! {
                 "palette cycles per unit of trap distance, {range}";
             /// The palette's phase per channel: colour = 0.5 + 0.5 cos(2 pi (scale t + phase)).
             palette_phase: [f64; 3] = [0.0, 0.1, 0.2], vector(Range::closed(0.0, 1.0)),
+                slider(0.0, 1.0),
                 "the palette's phase per channel, {range}";
         }
 
