@@ -93,8 +93,9 @@ pub const PRESETS: &[Preset] = &[
         about: "the seed's set at its best: cut open, 16 samples, soft shadows, occlusion, orbit-trap colour",
         toml: "[image]\nsamples = 16\n\
                [camera]\neye = [2.0, 2.2, 1.8]\n\
-               [light]\nposition = [1.0, 3.0, 3.0]\nradius = 0.2\n\
-               [shading]\nambient = 0.25\nocclusion = 0.8\ncolouring = \"orbit_trap\"\n\
+               [light]\nposition = [3.0, 2.0, 1.0]\nradius = 0.2\n\
+               [shading]\nambient = 0.15\nocclusion = 0.8\ncolouring = \"orbit_trap\"\n\
+               normal_tint = 0.0\nspecular = 0.3\n\
                [cut]\nenabled = true\nnormal = [0.2, 1.0, 0.5]\noffset = 0.2\n",
         two_d: false,
     },

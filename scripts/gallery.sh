@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Renders docs/gallery/*.png (docs/gallery.md): the seed's look before and after, and each of
+# issue 11's features on its own, at 384x384. Usage: scripts/gallery.sh [QJULIA_BINARY]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+q=${1:-target/release/qjulia}
+out=docs/gallery
+mkdir -p "$out"
+size=(--width 384 --height 384)
+r() { local name=$1; shift; "$q" render "${size[@]}" "$@" -o "$out/$name.png" --stats "/tmp/gallery-$name.json"; }
+r seed
+r gallery --preset gallery
+r samples --set image.samples=16
+r soft-shadows --set light.radius=0.3
+r occlusion --set shading.ambient=0.3 --set shading.occlusion=1
+r orbit-trap --set 'shading.colouring="orbit_trap"'
+r cut --set cut.enabled=true --set 'cut.normal=[0, 0, 1]' --set cut.offset=0.0
