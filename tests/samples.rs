@@ -213,3 +213,25 @@ fn on_the_unit_ball_a_pixels_grey_is_the_share_of_samples_that_hit() {
         assert!(worst <= 8.0 / n, "{name}: worst coverage error {worst}");
     }
 }
+
+#[test]
+fn every_feature_at_once_agrees_on_gpu_and_cpu() {
+    // The gallery preset turns on samples, soft shadows, ambient and occlusion, orbit-trap
+    // colour and the cut together.
+    let mut scene = qjulia::scene::presets::find("gallery")
+        .expect("the gallery preset")
+        .scene();
+    scene.image.width = 96;
+    scene.image.height = 96;
+    scene.image.samples = 4;
+    let Some(gpu) = common::gpu("every feature at once") else {
+        return;
+    };
+    let expected = render(&scene, Precision::F32);
+    let actual = gpu
+        .render(&TraceParams::<f32>::new(&scene))
+        .expect("GPU render")
+        .frame;
+    assert!(expected.hit_mask().iter().any(|&h| h));
+    common::assert_agree("all-features", &expected, &actual, &CONTRACT_TOLERANCE);
+}
