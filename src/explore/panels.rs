@@ -296,9 +296,13 @@ impl ExplorerApp {
 
     /// The exported image's size, and the view's resolution.
     fn image_controls(&mut self, ui: &mut egui::Ui) {
-        ui.label("Exported image size:");
+        ui.label("Exported image (File > Export):");
         ui.add(key_slider_u32(&mut self.scene.image.width, "image.width").text("width"));
         ui.add(key_slider_u32(&mut self.scene.image.height, "image.height").text("height"));
+        ui.add(
+            key_slider_u32(&mut self.scene.image.samples, "image.samples")
+                .text("samples per pixel (exports)"),
+        );
         ui.add(
             egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
         );

@@ -680,6 +680,10 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
             RGBColor(140, 86, 75),
             RGBColor(227, 119, 194),
             RGBColor(90, 90, 90),
+            RGBColor(188, 189, 34),
+            RGBColor(23, 190, 207),
+            RGBColor(0, 0, 128),
+            RGBColor(255, 187, 120),
         ];
         for (panel, scene) in panels.iter().zip(&scenes) {
             let mine: Vec<&Row> = rows
