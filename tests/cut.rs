@@ -27,18 +27,7 @@ fn check(name: &str, scene: Scene) {
     let Some(gpu) = common::gpu(name) else { return };
     let actual = gpu.render(&params).expect("GPU render").frame;
     common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
-    let same_steps = expected
-        .steps
-        .iter()
-        .zip(&actual.steps)
-        .filter(|(a, b)| a == b)
-        .count();
-    let frac = same_steps as f64 / expected.pixel_count() as f64;
-    assert!(
-        frac >= 0.98,
-        "{name}: steps agree on only {:.2}% of pixels",
-        frac * 100.0
-    );
+    common::assert_steps_mostly_agree(name, &expected, &actual);
 }
 
 /// Hits within 2 epsilon of the cut plane.

@@ -19,19 +19,7 @@ fn check(name: &str, scene: Scene) {
         "{name}: the test scene shows nothing"
     );
     common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
-    // Steps are integers computed by the same loop: they should agree where masks do.
-    let same_steps = expected
-        .steps
-        .iter()
-        .zip(&actual.steps)
-        .filter(|(a, b)| a == b)
-        .count();
-    let frac = same_steps as f64 / expected.pixel_count() as f64;
-    assert!(
-        frac >= 0.98,
-        "{name}: steps agree on only {:.2}% of pixels",
-        frac * 100.0
-    );
+    common::assert_steps_mostly_agree(name, &expected, &actual);
 }
 
 const SMALL: [&str; 2] = ["image.width=128", "image.height=128"];

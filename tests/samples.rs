@@ -22,10 +22,7 @@ fn gpu_and_cpu_agree_with_several_samples() {
         return;
     };
     let expected = render(&scene, Precision::F32);
-    let actual = gpu
-        .render(&TraceParams::<f32>::new(&scene))
-        .expect("GPU render")
-        .frame;
+    let actual = common::gpu_frame(gpu, &scene);
     common::assert_agree("samples-5", &expected, &actual, &CONTRACT_TOLERANCE);
     // Estimates are counted the same way on both: every ray of every sample.
     let (cpu_total, gpu_total) = (expected.estimates as f64, actual.estimates as f64);
@@ -175,10 +172,7 @@ fn on_the_unit_ball_a_pixels_grey_is_the_share_of_samples_that_hit() {
         ("cpu f32", render(&scene, Precision::F32)),
     ];
     if let Some(gpu) = common::gpu("unit ball coverage") {
-        let frame = gpu
-            .render(&TraceParams::<f32>::new(&scene))
-            .expect("GPU render")
-            .frame;
+        let frame = common::gpu_frame(gpu, &scene);
         frames.push(("gpu f32", frame));
     }
     for (name, frame) in frames {
@@ -228,10 +222,7 @@ fn every_feature_at_once_agrees_on_gpu_and_cpu() {
         return;
     };
     let expected = render(&scene, Precision::F32);
-    let actual = gpu
-        .render(&TraceParams::<f32>::new(&scene))
-        .expect("GPU render")
-        .frame;
+    let actual = common::gpu_frame(gpu, &scene);
     assert!(expected.hit_mask().iter().any(|&h| h));
     common::assert_agree("all-features", &expected, &actual, &CONTRACT_TOLERANCE);
 }

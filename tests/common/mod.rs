@@ -74,3 +74,27 @@ pub fn assert_agree(name: &str, expected: &Frame, actual: &Frame, tol: &Toleranc
     }
     agreement
 }
+
+/// Steps are integers computed by the same loop on both tracers: they agree on at least 98% of
+/// pixels where the frames are within tolerance.
+pub fn assert_steps_mostly_agree(name: &str, expected: &Frame, actual: &Frame) {
+    let same_steps = expected
+        .steps
+        .iter()
+        .zip(&actual.steps)
+        .filter(|(a, b)| a == b)
+        .count();
+    let frac = same_steps as f64 / expected.pixel_count() as f64;
+    assert!(
+        frac >= 0.98,
+        "{name}: steps agree on only {:.2}% of pixels",
+        frac * 100.0
+    );
+}
+
+/// The GPU tracer's frame of a scene (f32).
+pub fn gpu_frame(gpu: &GpuTracer, scene: &Scene) -> Frame {
+    gpu.render(&qjulia::TraceParams::<f32>::new(scene))
+        .expect("GPU render")
+        .frame
+}
