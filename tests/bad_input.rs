@@ -135,6 +135,8 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("shading.background=[2, 0, 0]", "shading.background"),
         ("fractal=1", "fractal"),
         ("camera.eye.x=1", "camera.eye"),
+        ("image.samples=0", "image.samples"),
+        ("image.samples=4097", "image.samples"),
         ("cut.normal=[0, 0, 0]", "cut.normal"),
         ("cut.offset=nan", "cut.offset"),
         ("light.radius=-1", "light.radius"),
