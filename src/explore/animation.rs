@@ -16,22 +16,11 @@ pub struct Animation {
 }
 
 impl Animation {
-    /// The point of the closed path at `phase`: every component moves, with different
-    /// frequencies, and the path returns to its start after 2 pi.
+    /// The point of the closed path at `phase` ([`crate::animation::c_path`], the path that
+    /// `qjulia animate` moves c on): every component moves, with different frequencies, and
+    /// the path returns to its start after 2 pi.
     pub fn point(&self, phase: f64) -> Vec<f64> {
-        let r = self.radius;
-        self.center
-            .iter()
-            .enumerate()
-            .map(|(k, &c)| match k {
-                0 => c + r * (phase.cos() - 1.0),
-                1 => c + r * phase.sin(),
-                2 => c + 0.6 * r * (2.0 * phase).sin(),
-                3 => c + 0.6 * r * ((3.0 * phase).cos() - 1.0),
-                // Octonion and sedenion components: smaller, each at its own frequency.
-                _ => c + 0.3 * r * ((k as f64 - 2.0) * phase).sin(),
-            })
-            .collect()
+        crate::animation::c_path(&self.center, self.radius, phase)
     }
 }
 
