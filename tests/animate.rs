@@ -348,3 +348,23 @@ fn gpu_frames_are_the_same_in_any_split_and_render_again() {
             == std::fs::read(dir.path().join("again.png")).unwrap()
     );
 }
+
+#[test]
+fn the_default_animation_starts_at_the_default_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "48", "--height", "32", "--backend", "cpu"];
+    let out = qjulia(
+        dir.path(),
+        &[&["animate", "--frames", "0..1"], &size[..]].concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = qjulia(
+        dir.path(),
+        &[&["render", "-o", "r.png"], &size[..]].concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let render = std::fs::read(dir.path().join("r.png")).unwrap();
+    // c's loop starts exactly at the scene's c: frame 0 is the scene itself, and then c moves.
+    assert!(std::fs::read(dir.path().join("qjulia-frames/frame-00000.png")).unwrap() == render);
+    assert!(std::fs::read(dir.path().join("qjulia-frames/frame-00001.png")).unwrap() != render);
+}
