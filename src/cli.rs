@@ -5,6 +5,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use qjulia::animate::{self, FrameRange, Progress};
+use qjulia::animation::Animation;
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
 use qjulia::scene::{SceneLoader, View};
 use qjulia::{Backend, Picture, Precision, Renderer, Scene};
@@ -24,6 +26,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG (and optionally depth, steps and stats).
     Render(RenderArgs),
+    /// Render the frames of the scene's [animation] to DIR/frame-NNNNN.png, each a full qjulia
+    /// PNG carrying its frame's scene.
+    Animate(AnimateArgs),
     /// Render the 2D Julia set of c = c[0] + c[1] i (the scene's [view2d]) to a grey PNG.
     #[command(name = "render2d")]
     Render2d(Render2dArgs),
@@ -76,6 +81,32 @@ pub struct RenderArgs {
     pub stats: Option<PathBuf>,
     /// Shorthand for image.view: the shaded picture, or a heat map of the steps per ray or of
     /// the wasted steps in 8x8 tiles (with a legend strip below).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    pub precision: PrecisionArg,
+}
+
+#[derive(Args, Debug)]
+pub struct AnimateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The frames to render, A..B: 0-based and inclusive, A <= B < the frame count (default:
+    /// every frame). Split a long animation into ranges to render them anywhere.
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
+    /// The folder for the frames (created if missing).
+    #[arg(long, value_name = "DIR", default_value = qjulia::animate::DEFAULT_DIR)]
+    pub out: PathBuf,
+    /// Skip frames whose PNG is already complete (written whole, with this frame's scene).
+    #[arg(long)]
+    pub resume: bool,
+    /// Write the run's statistics as JSON: frames, seconds, frames per second, backend.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    /// Shorthand for image.view (as for `render`).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
@@ -205,6 +236,19 @@ impl SceneArgs {
 
     /// As [`Self::load`], with `--view` (a shorthand flag of `render` and `explore`).
     pub fn load_with_view(&self, view: Option<ViewArg>) -> Result<Scene, qjulia::Error> {
+        Ok(self.loader(view)?.build()?)
+    }
+
+    /// The scene and its `[animation]` table (`animate`), with `--view`.
+    pub fn load_animated(
+        &self,
+        view: Option<ViewArg>,
+    ) -> Result<(Scene, Animation), qjulia::Error> {
+        Ok(self.loader(view)?.build_animated()?)
+    }
+
+    /// Every layer of these options, in order, not yet built.
+    fn loader(&self, view: Option<ViewArg>) -> Result<SceneLoader, qjulia::Error> {
         let mut loader = SceneLoader::new();
         if let Some(name) = &self.preset {
             loader.preset(name)?;
@@ -231,7 +275,7 @@ impl SceneArgs {
         for raw in &self.sets {
             loader.set(raw)?;
         }
-        Ok(loader.build()?)
+        Ok(loader)
     }
 }
 
@@ -305,6 +349,76 @@ fn report_render(stats: &qjulia::RenderStats) {
         stats.summary.steps_mean,
         stats.summary.tile_efficiency * 100.0
     );
+}
+
+pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
+    // Everything is checked before anything is written: the scene, then the range.
+    let (base, animation) = args.scene.load_animated(args.view)?;
+    let range = match &args.frames {
+        Some(text) => FrameRange::parse(text, animation.frames).map_err(qjulia::Error::from)?,
+        None => FrameRange::all(animation.frames),
+    };
+    let (backend, precision) = (args.backend.backend(), args.precision.precision());
+    for warning in qjulia::precision_warnings(&animation.scene_at(&base, range.first), precision) {
+        eprintln!("qjulia: warning: {warning}");
+    }
+    let picture = Picture::Slice {
+        shade: base.image.view == View::Shaded,
+    };
+    let bar = indicatif::ProgressBar::new(range.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} frames, {per_sec}, {eta} left",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    let renderer = Renderer::choose(backend, precision, picture, &mut |n: &str| {
+        bar.suspend(|| eprintln!("qjulia: {n}"))
+    })?;
+    let stats = animate::run(
+        &renderer,
+        &base,
+        &animation,
+        range,
+        &args.out,
+        args.resume,
+        &mut |p| match p {
+            Progress::Start { to_render, skipped } => {
+                if skipped > 0 {
+                    bar.suspend(|| {
+                        eprintln!(
+                            "qjulia: {skipped} frames already complete, {to_render} to render"
+                        )
+                    });
+                }
+                bar.set_length(to_render as u64);
+                bar.reset();
+            }
+            Progress::Frame { .. } => bar.inc(1),
+        },
+    );
+    bar.finish_and_clear();
+    let stats = stats?;
+    if let Some(path) = &args.stats {
+        qjulia::output::write_json(path, &stats)?;
+    }
+    eprintln!(
+        "qjulia: frames {}..{} of {} to {}: {} rendered ({} skipped), {}x{} on {} ({}) in {:.3} s, {:.2} frames/s",
+        range.first,
+        range.last,
+        animation.frames,
+        args.out.display(),
+        stats.frames,
+        stats.skipped,
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.seconds,
+        stats.frames_per_second
+    );
+    Ok(())
 }
 
 pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {

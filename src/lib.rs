@@ -6,6 +6,7 @@
 //! [`output`] writes them.
 
 pub mod algebra;
+pub mod animate;
 pub mod animation;
 pub mod compare;
 pub mod cpu;

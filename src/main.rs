@@ -21,6 +21,7 @@ fn main() -> ExitCode {
     };
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
+        Some(cli::Command::Animate(args)) => cli::animate(args),
         Some(cli::Command::Render2d(args)) => cli::render2d(args),
         Some(cli::Command::Info) => cli::info(),
         Some(cli::Command::Report(args)) => cli::report(args),

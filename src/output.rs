@@ -58,6 +58,16 @@ pub fn write_view_outputs(
     outputs.finish(stats)
 }
 
+/// Writes `value` as pretty JSON (and a newline) to `path`, whole or not at all.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    let temp = stage(path, |w| {
+        serde_json::to_writer_pretty(&mut *w, value)?;
+        w.write_all(b"\n")
+    })?;
+    temp.persist(path).map_err(|e| io_error(path, e.error))?;
+    Ok(())
+}
+
 /// Writes one output to a temporary file in its target's directory.
 fn stage(
     path: &Path,
