@@ -83,6 +83,13 @@ pub struct RenderArgs {
     /// the wasted steps in 8x8 tiles (with a legend strip below).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
+/// Which tracer renders, and in which precision (`render`, `render2d`, `animate`).
+#[derive(Args, Debug)]
+pub struct TracerArgs {
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     pub backend: BackendArg,
     #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
@@ -109,10 +116,8 @@ pub struct AnimateArgs {
     /// Shorthand for image.view (as for `render`).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
-    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
-    pub backend: BackendArg,
-    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
-    pub precision: PrecisionArg,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
 }
 
 #[derive(Args, Debug)]
@@ -130,10 +135,8 @@ pub struct Render2dArgs {
     /// Write render statistics as JSON (hits: points in the set; steps: iterations).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
-    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
-    pub backend: BackendArg,
-    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
-    pub precision: PrecisionArg,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
 }
 
 #[derive(Args, Debug, Clone, Default)]
@@ -289,7 +292,10 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         steps: args.steps.clone(),
         stats: args.stats.clone(),
     };
-    let (backend, precision) = (args.backend.backend(), args.precision.precision());
+    let (backend, precision) = (
+        args.tracer.backend.backend(),
+        args.tracer.precision.precision(),
+    );
     for warning in qjulia::precision_warnings(&scene, precision) {
         eprintln!("qjulia: warning: {warning}");
     }
@@ -358,7 +364,10 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         Some(text) => FrameRange::parse(text, animation.frames).map_err(qjulia::Error::from)?,
         None => FrameRange::all(animation.frames),
     };
-    let (backend, precision) = (args.backend.backend(), args.precision.precision());
+    let (backend, precision) = (
+        args.tracer.backend.backend(),
+        args.tracer.precision.precision(),
+    );
     for warning in qjulia::precision_warnings(&animation.scene_at(&base, range.first), precision) {
         eprintln!("qjulia: warning: {warning}");
     }
@@ -430,8 +439,8 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
     };
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
     let renderer = Renderer::choose(
-        args.backend.backend(),
-        args.precision.precision(),
+        args.tracer.backend.backend(),
+        args.tracer.precision.precision(),
         Picture::Julia2d,
         &mut |n| eprintln!("qjulia: {n}"),
     )?;

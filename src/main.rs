@@ -54,8 +54,8 @@ fn give_a_runtime_dir() {
     #[cfg(unix)]
     {
         use std::os::unix::fs::DirBuilderExt;
-        let valid = std::env::var_os("XDG_RUNTIME_DIR")
-            .is_some_and(|d| std::path::Path::new(&d).is_dir());
+        let valid =
+            std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
         if valid {
             return;
         }

@@ -7,22 +7,12 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// The test animation: six frames of 48x32 (c on its closed loop: no keyframe sets it).
 const SCENE: &str = "[image]\nwidth = 48\nheight = 32\n\n[animation]\nframes = 6\n";
 
-fn qjulia(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run qjulia")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use common::{qjulia, stderr};
 
 /// A temporary folder holding the test animation as `anim.toml`.
 fn with_scene() -> tempfile::TempDir {

@@ -1,20 +1,12 @@
 //! The command line as a user meets it (CONTRACT.md): default output, bad input, atomic writes,
 //! re-rendering from a PNG, the .npy and JSON outputs.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn qjulia(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run qjulia")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use common::{qjulia, stderr};
 
 /// The one `error:` line of a failed run.
 fn error_line(out: &Output) -> String {

@@ -98,3 +98,17 @@ pub fn gpu_frame(gpu: &GpuTracer, scene: &Scene) -> Frame {
         .expect("GPU render")
         .frame
 }
+
+/// Runs the qjulia binary in `dir` with `args`.
+pub fn qjulia(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run qjulia")
+}
+
+/// A run's standard error as text.
+pub fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
