@@ -103,6 +103,14 @@ fn write_stats(w: &mut dyn Write, stats: &RenderStats) -> std::io::Result<()> {
     w.write_all(b"\n")
 }
 
+/// The PNG encoder's level. Measured with png 0.18 on this machine (median of 9 encodes of a
+/// 512x512 frame, file included): the seed's look 1.65 ms / 179,821 bytes (Fastest), 2.11 ms /
+/// 166,223 (Fast), 31.5 ms / 155,822 (Balanced, the crate's default), 78.4 ms / 154,497 (High);
+/// the gallery preset 1.87 / 2.27 / 27.3 / 60.9 ms for 214,583 / 187,134 / 169,017 / 168,189
+/// bytes. Fast costs 7-11% more bytes than Balanced for a fourteenth of the time: an animation
+/// frame or a render's PNG no longer waits ~30 ms on the encoder.
+pub const PNG_COMPRESSION: png::Compression = png::Compression::Fast;
+
 /// Outputs written band by band while the render goes (any image size in bounded memory):
 /// headers first, rows as they come, the stats last; then every file renamed into place, or none.
 /// The PNG is 8-bit RGB with no gamma curve and the scene in an iTXt chunk; depth and steps are
@@ -155,6 +163,7 @@ impl StreamingOutputs {
                 let mut encoder = png::Encoder::new(file, png_size[0], png_size[1]);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
+                encoder.set_compression(PNG_COMPRESSION);
                 let to_io = |e: png::EncodingError| io_error(&path, std::io::Error::other(e));
                 encoder
                     .add_itxt_chunk(SCENE_PNG_KEYWORD.to_string(), scene.to_toml())
