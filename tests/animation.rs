@@ -3,7 +3,7 @@
 //! input (one line naming the file or flag and the key; exit 2 and nothing written through the
 //! binary).
 
-use std::process::Command;
+mod common;
 
 use qjulia::animation::{Animation, Keyframe};
 use qjulia::scene::{Algebra, Scene, SceneError, SceneLoader, SceneSource, dot};
@@ -335,31 +335,15 @@ fn render_rejects_a_bad_animation_and_writes_nothing() {
         ),
     ] {
         std::fs::write(dir.path().join("bad.toml"), toml).unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-            .args([
-                "render",
-                "--backend",
-                "cpu",
-                "--scene",
-                "bad.toml",
-                "-o",
-                "x.png",
-            ])
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{toml}: {stderr}");
-        let lines: Vec<&str> = stderr.lines().collect();
-        assert_eq!(lines.len(), 1, "{toml}: {stderr}");
-        assert!(
-            lines[0].starts_with("error: bad.toml: ") && lines[0].contains(key),
-            "{toml}: {stderr}"
-        );
-        let files: Vec<_> = std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
-        assert_eq!(files, ["bad.toml"], "{toml} wrote a file");
+        let args = [
+            "render",
+            "--backend",
+            "cpu",
+            "--scene",
+            "bad.toml",
+            "-o",
+            "x.png",
+        ];
+        common::assert_refused(dir.path(), &args, "error: bad.toml: ", key);
     }
 }

@@ -3,7 +3,7 @@
 //! Never a panic; a one-line error naming the key; exit 2; nothing written; in the explorer the
 //! previous scene kept.
 
-use std::process::Command;
+mod common;
 
 use proptest::prelude::*;
 use qjulia::scene::{KEYS, Scene, SceneLoader, SceneSource};
@@ -147,34 +147,18 @@ fn the_binary_refuses_bad_scenes_cleanly() {
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {
-        let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-            .args([
-                "render",
-                "--backend",
-                "cpu",
-                "--set",
-                set,
-                "-o",
-                "x.png",
-                "--depth",
-                "d.npy",
-            ])
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{set}: {stderr}");
-        let lines: Vec<&str> = stderr.lines().collect();
-        assert_eq!(lines.len(), 1, "{set}: {stderr}");
-        assert!(
-            lines[0].starts_with("error: --set ") && lines[0].contains(key),
-            "{set}: {stderr}"
-        );
-        assert_eq!(
-            std::fs::read_dir(dir.path()).unwrap().count(),
-            0,
-            "{set} wrote a file"
-        );
+        let args = [
+            "render",
+            "--backend",
+            "cpu",
+            "--set",
+            set,
+            "-o",
+            "x.png",
+            "--depth",
+            "d.npy",
+        ];
+        common::assert_refused(dir.path(), &args, "error: --set ", key);
     }
 }
 

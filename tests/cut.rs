@@ -7,8 +7,6 @@
 
 mod common;
 
-use std::process::Command;
-
 use qjulia::algebra::{Real, Vec3};
 use qjulia::compare::CONTRACT_TOLERANCE;
 use qjulia::frame::unpack_rgb;
@@ -278,26 +276,14 @@ fn the_uncut_half_of_the_ball_is_untouched() {
 #[test]
 fn a_zero_cut_normal_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args([
-            "render",
-            "--backend",
-            "cpu",
-            "--set",
-            "cut.normal=[0,0,0]",
-            "-o",
-            "x.png",
-        ])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{stderr}");
-    assert!(
-        lines[0].starts_with("error: --set ") && lines[0].contains("cut.normal"),
-        "{stderr}"
-    );
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    let args = [
+        "render",
+        "--backend",
+        "cpu",
+        "--set",
+        "cut.normal=[0,0,0]",
+        "-o",
+        "x.png",
+    ];
+    common::assert_refused(dir.path(), &args, "error: --set ", "cut.normal");
 }

@@ -112,3 +112,30 @@ pub fn qjulia(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
 pub fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<std::ffi::OsString> {
+    let mut names: Vec<_> = std::fs::read_dir(dir)
+        .expect("read the test folder")
+        .map(|e| e.expect("a folder entry").file_name())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Runs qjulia in `dir` on bad input: it must exit 2 with one line on stderr that starts with
+/// `prefix` and names `key`, and leave `dir` as it was (nothing written).
+pub fn assert_refused(dir: &std::path::Path, args: &[&str], prefix: &str, key: &str) {
+    let before = listing(dir);
+    let out = qjulia(dir, args);
+    let stderr = stderr(&out);
+    let context = args.join(" ");
+    assert_eq!(out.status.code(), Some(2), "{context}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{context}: {stderr}");
+    assert!(
+        lines[0].starts_with(prefix) && lines[0].contains(key),
+        "{context}: {stderr}"
+    );
+    assert_eq!(listing(dir), before, "{context} wrote a file");
+}
