@@ -80,7 +80,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
     /// Shorthand for image.view: the shaded picture, or a heat map of the steps per ray or of
-    /// the wasted steps in 8x8 tiles (with a legend strip below).
+    /// the wasted steps in 8x8 blocks (with a legend strip below).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
     #[command(flatten)]

@@ -12,7 +12,7 @@ use std::process::Output;
 /// The test animation: six frames of 48x32 (c on its closed loop: no keyframe sets it).
 const SCENE: &str = "[image]\nwidth = 48\nheight = 32\n\n[animation]\nframes = 6\n";
 
-use common::{qjulia, stderr};
+use common::{files_in, qjulia, stderr};
 
 /// A temporary folder holding the test animation as `anim.toml`.
 fn with_scene() -> tempfile::TempDir {
@@ -33,16 +33,6 @@ fn animate_cpu(dir: &Path, args: &[&str]) -> Output {
     );
     assert!(out.status.success(), "animate {args:?}: {}", stderr(&out));
     out
-}
-
-/// The names in a folder, sorted.
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 fn frame_names(frames: std::ops::RangeInclusive<u32>) -> Vec<String> {

@@ -6,7 +6,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::{qjulia, stderr};
+use common::{files_in, qjulia, stderr};
 
 /// The one `error:` line of a failed run.
 fn error_line(out: &Output) -> String {
@@ -14,15 +14,6 @@ fn error_line(out: &Output) -> String {
     let errors: Vec<&str> = text.lines().filter(|l| l.starts_with("error: ")).collect();
     assert_eq!(errors.len(), 1, "expected one error line, got:\n{text}");
     errors[0].to_string()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 #[test]

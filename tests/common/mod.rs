@@ -114,10 +114,13 @@ pub fn stderr(out: &std::process::Output) -> String {
 }
 
 /// The names of the files in `dir`, sorted.
-fn listing(dir: &std::path::Path) -> Vec<std::ffi::OsString> {
-    let mut names: Vec<_> = std::fs::read_dir(dir)
+pub fn files_in(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
         .expect("read the test folder")
-        .map(|e| e.expect("a folder entry").file_name())
+        .map(|e| {
+            let name = e.expect("a folder entry").file_name();
+            name.to_string_lossy().into_owned()
+        })
         .collect();
     names.sort();
     names
@@ -126,7 +129,7 @@ fn listing(dir: &std::path::Path) -> Vec<std::ffi::OsString> {
 /// Runs qjulia in `dir` on bad input: it must exit 2 with one line on stderr that starts with
 /// `prefix` and names `key`, and leave `dir` as it was (nothing written).
 pub fn assert_refused(dir: &std::path::Path, args: &[&str], prefix: &str, key: &str) {
-    let before = listing(dir);
+    let before = files_in(dir);
     let out = qjulia(dir, args);
     let stderr = stderr(&out);
     let context = args.join(" ");
@@ -137,5 +140,5 @@ pub fn assert_refused(dir: &std::path::Path, args: &[&str], prefix: &str, key: &
         lines[0].starts_with(prefix) && lines[0].contains(key),
         "{context}: {stderr}"
     );
-    assert_eq!(listing(dir), before, "{context} wrote a file");
+    assert_eq!(files_in(dir), before, "{context} wrote a file");
 }
