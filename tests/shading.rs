@@ -57,6 +57,30 @@ fn radius_zero_is_the_hard_shadow_bit_for_bit() {
     assert_identical("gpu", &a, &b);
 }
 
+/// The primary hits of every `step`-th pixel of a 128x128 scene, each with its pixel, the hit
+/// point and the shading normal there (the CPU twin's own functions, in its precision).
+fn hits_every<F: qjulia::algebra::Real>(
+    p: &TraceParams<F>,
+    step: usize,
+) -> Vec<(u32, u32, Vec3<F>, Vec3<F>)> {
+    let mut out = Vec::new();
+    for j in (0..128).step_by(step) {
+        for i in (0..128).step_by(step) {
+            let dir = p.camera_ray(i, j, 0);
+            let bounds = p.intersect_bounds(p.eye, dir);
+            if !bounds.hit {
+                continue;
+            }
+            let trace = p.sphere_trace(p.eye, dir, bounds.t_enter, bounds.t_exit, F::zero());
+            if trace.hit {
+                let x = p.eye + dir * trace.t;
+                out.push((i, j, x, p.estimate_normal(x, dir)));
+            }
+        }
+    }
+    out
+}
+
 /// Colour, steps and depth (its bits: a miss is NaN) the same at every pixel.
 fn assert_identical(name: &str, a: &Frame, b: &Frame) {
     let bits = |f: &Frame| f.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
@@ -74,27 +98,14 @@ fn soft_shadow_is_zero_exactly_where_the_hard_ray_hits() {
     let scene = with(&["light.radius=0.2"]);
     let p = TraceParams::<f32>::new(&scene);
     let (mut hidden, mut seen) = (0, 0);
-    for j in (0..128).step_by(3) {
-        for i in (0..128).step_by(3) {
-            let dir = p.camera_ray(i, j, 0);
-            let bounds = p.intersect_bounds(p.eye, dir);
-            if !bounds.hit {
-                continue;
-            }
-            let trace = p.sphere_trace(p.eye, dir, bounds.t_enter, bounds.t_exit, 0.0);
-            if !trace.hit {
-                continue;
-            }
-            let x = p.eye + dir * trace.t;
-            let n = p.estimate_normal(x, dir);
-            let v = p.soft_shadow(x, n);
-            if p.in_shadow(x, n) {
-                hidden += 1;
-                assert_eq!(v, 0.0, "pixel ({i}, {j})");
-            } else {
-                seen += 1;
-                assert!(v > 0.0 && v <= 1.0, "pixel ({i}, {j}): visibility {v}");
-            }
+    for (i, j, x, n) in hits_every(&p, 3) {
+        let v = p.soft_shadow(x, n);
+        if p.in_shadow(x, n) {
+            hidden += 1;
+            assert_eq!(v, 0.0, "pixel ({i}, {j})");
+        } else {
+            seen += 1;
+            assert!(v > 0.0 && v <= 1.0, "pixel ({i}, {j}): visibility {v}");
         }
     }
     assert!(hidden > 20 && seen > 20, "{hidden} hidden, {seen} seen");
@@ -221,29 +232,16 @@ fn occlusion_follows_the_formula_and_darkens_folds() {
     let scene = with(&["shading.occlusion=1"]);
     let p = TraceParams::<f64>::new(&scene);
     let (mut hits, mut lowest) = (0, 1.0f64);
-    for j in (0..128).step_by(4) {
-        for i in (0..128).step_by(4) {
-            let dir = p.camera_ray(i, j, 0);
-            let bounds = p.intersect_bounds(p.eye, dir);
-            if !bounds.hit {
-                continue;
-            }
-            let trace = p.sphere_trace(p.eye, dir, bounds.t_enter, bounds.t_exit, 0.0);
-            if !trace.hit {
-                continue;
-            }
-            hits += 1;
-            let x = p.eye + dir * trace.t;
-            let n = p.estimate_normal(x, dir);
-            let a = p.occlusion(x, n);
-            let expected = occlusion_formula(&p, x, n);
-            assert!(
-                (a - expected).abs() < 1e-12,
-                "({i}, {j}): {a} vs {expected}"
-            );
-            assert!((0.0..=1.0).contains(&a), "({i}, {j}): {a}");
-            lowest = lowest.min(a);
-        }
+    for (i, j, x, n) in hits_every(&p, 4) {
+        hits += 1;
+        let a = p.occlusion(x, n);
+        let expected = occlusion_formula(&p, x, n);
+        assert!(
+            (a - expected).abs() < 1e-12,
+            "({i}, {j}): {a} vs {expected}"
+        );
+        assert!((0.0..=1.0).contains(&a), "({i}, {j}): {a}");
+        lowest = lowest.min(a);
     }
     assert!(hits > 100, "{hits} hits");
     assert!(lowest < 0.8, "no fold: the lowest factor is {lowest}");
