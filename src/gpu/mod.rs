@@ -157,6 +157,10 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     },
 ];
 
+/// Where the tracer's estimates are among its outputs (after the image's three); the outputs
+/// after it stay on the device.
+const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
+
 /// The tracer's outputs: the image's three, the estimates made per pixel (u32), and the running
 /// mean of the samples' colours (vec4<f32>).
 pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
@@ -183,7 +187,9 @@ pub(crate) fn render_image_bands(
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
     // Colour, depth, steps and (where the kernel has it) the estimates; not the accumulator.
-    let read: Vec<bool> = (0..kernel.spec().outputs.len()).map(|k| k < 4).collect();
+    let read: Vec<bool> = (0..kernel.spec().outputs.len())
+        .map(|k| k <= ESTIMATES_OUTPUT)
+        .collect();
     let run = kernel::Run {
         constants,
         size: (width, height),
@@ -201,7 +207,12 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
     let [Some(colour), Some(depth), Some(steps), ..] = band.outputs else {
         panic!("an image band reads back colour, depth and steps");
     };
-    let estimates = band.outputs.get(3).copied().flatten().unwrap_or(steps);
+    let estimates = band
+        .outputs
+        .get(ESTIMATES_OUTPUT)
+        .copied()
+        .flatten()
+        .unwrap_or(steps);
     let depths = bytemuck::cast_slice::<u8, f32>(depth);
     Frame {
         width,
