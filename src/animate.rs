@@ -244,66 +244,75 @@ pub fn run(
 
         // Renders and hands out every frame in order; stops at the first error (its own, an
         // encoder's or the video's).
+        // Renders the frames to render as one stream and hands each out in order, the complete
+        // frames a video needs read back from disk between them; stops at the first error (its
+        // own, or an encoder's or the video's: then a queue is closed).
         let mut hand_out = || -> Result<()> {
-            for (k, scene, path, complete) in &frames {
-                let picture = if *complete {
-                    if job.video.is_none() {
-                        continue;
-                    }
+            let to_video = |picture: Arc<Picture8>| match job.video {
+                Some(_) => to_video.send(picture).map_err(|_| stopped()),
+                None => Ok(()),
+            };
+            let mut complete = frames
+                .iter()
+                .filter(|f| f.3 && job.video.is_some())
+                .peekable();
+            let mut from_disk = |until: u32| -> Result<()> {
+                while let Some((_, _, path, _)) = complete.next_if(|f| f.0 < until) {
                     let (size, rgb) = read_png_rgb(path.as_deref().expect("complete in out"))?;
-                    Arc::new(Picture8 { size, rgb })
-                } else {
-                    let (picture, seconds) = render_picture(renderer, scene)?;
-                    render_seconds += seconds;
-                    rendered += 1;
-                    let picture = Arc::new(picture);
-                    match path {
-                        Some(path) => {
-                            let job = PngJob {
-                                frame: *k,
-                                scene: scene.clone(),
-                                path: path.clone(),
-                                picture: picture.clone(),
-                                render_seconds: seconds,
-                            };
-                            // A closed queue: every encoder stopped, on an error reported below.
-                            if to_encoders.send(job).is_err() {
-                                break;
-                            }
-                        }
-                        None => progress(Progress::Frame {
-                            frame: *k,
-                            path: None,
-                            render_seconds: seconds,
-                        }),
-                    }
-                    picture
-                };
-                if job.video.is_some() && to_video.send(picture).is_err() {
-                    // The video thread stopped: its error comes out when it is joined.
-                    break;
+                    to_video(Arc::new(Picture8 { size, rgb }))?;
                 }
-                report_written(&written, false, progress)?;
-            }
-            Ok(())
+                Ok(())
+            };
+            let mut to_render = frames.iter().filter(|f| !f.3);
+            let mut scenes = to_render.clone().map(|f| f.1.clone());
+            let (picture, readback) = match job.base.image.view {
+                View::Shaded => (Picture::SHADED, Readback::Colour),
+                _ => (Picture::Slice { shade: false }, Readback::All),
+            };
+            renderer.render_frames(&mut scenes, picture, readback, &mut |frame, stats| {
+                let (k, scene, path, _) = to_render.next().expect("one frame per scene");
+                from_disk(*k)?;
+                let seconds = stats.render_seconds;
+                render_seconds += seconds;
+                rendered += 1;
+                let picture = Arc::new(picture_of(scene, &frame));
+                match path {
+                    Some(path) => {
+                        let job = PngJob {
+                            frame: *k,
+                            scene: scene.clone(),
+                            path: path.clone(),
+                            picture: picture.clone(),
+                            render_seconds: seconds,
+                        };
+                        to_encoders.send(job).map_err(|_| stopped())?;
+                    }
+                    None => progress(Progress::Frame {
+                        frame: *k,
+                        path: None,
+                        render_seconds: seconds,
+                    }),
+                }
+                to_video(picture)?;
+                report_written(&written, false, progress)
+            })?;
+            from_disk(u32::MAX)
         };
         let handed_out = hand_out();
         drop(to_encoders);
         drop(to_video);
-        // Every PNG finishes (or fails) before the video is kept.
+        // Every PNG finishes (or fails) before the video is kept; an encoder's or the video's
+        // error is the reason a queue closed, so it comes out first.
         let encoded = report_written(&written, true, progress);
         let video = video.map(|thread| thread.join().expect("the video thread"));
-        handed_out?;
         encoded?;
-        if let Some(video) = video {
-            let writer = video?;
-            let frames = writer.as_ref().map_or(0, |w| w.frames() as u32);
-            if let Some(writer) = writer {
-                writer.finish()?;
-            }
-            return Ok(frames);
+        let writer = video.transpose()?.flatten();
+        handed_out?;
+        let video_frames = writer.as_ref().map_or(0, |w| w.frames() as u32);
+        if let Some(writer) = writer {
+            writer.finish()?;
         }
-        Ok(0)
+        Ok(video_frames)
     });
     let video_frames = outcome?;
     let seconds = start.elapsed().as_secs_f64();
@@ -388,25 +397,23 @@ fn feed_video(
     Ok(writer)
 }
 
-/// Renders one frame's scene into the picture its PNG shows, and the renderer's seconds: the
-/// shaded image (only the colour read back), or a heat map of `image.view` with its legend.
-fn render_picture(renderer: &Renderer, scene: &Scene) -> Result<(Picture8, f64)> {
-    let (width, height) = (scene.image.width, scene.image.height);
-    if scene.image.view != View::Shaded {
-        let (frame, stats) = renderer.render_frame(scene, Picture::Slice { shade: false })?;
-        let (w, h, rgb) = crate::heatmap::view_image(&frame, scene.image.view);
-        return Ok((Picture8 { size: [w, h], rgb }, stats.render_seconds));
-    }
-    let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
-    let stats = renderer.render_with(scene, Picture::SHADED, Readback::Colour, &mut |band| {
-        rgb.extend_from_slice(&band.rgb8());
-        Ok(())
-    })?;
-    Ok((
-        Picture8 {
-            size: [width, height],
-            rgb,
+/// The error of a queue found closed: the thread at its end stopped on an error of its own,
+/// which is the one reported.
+fn stopped() -> Error {
+    Error::Video("a frame writer stopped".into())
+}
+
+/// The picture a frame's PNG shows: the shaded image, or a heat map of `image.view` with its
+/// legend.
+fn picture_of(scene: &Scene, frame: &crate::frame::Frame) -> Picture8 {
+    match scene.image.view {
+        View::Shaded => Picture8 {
+            size: [frame.width, frame.height],
+            rgb: frame.rgb8(),
         },
-        stats.render_seconds,
-    ))
+        view => {
+            let (w, h, rgb) = crate::heatmap::view_image(frame, view);
+            Picture8 { size: [w, h], rgb }
+        }
+    }
 }

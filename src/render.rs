@@ -279,6 +279,51 @@ impl Renderer {
         })
     }
 
+    /// Renders a picture of each of `scenes` (validated, of one size) one after another and
+    /// hands each whole to `sink` with its stats, in order. On the GPU the frames stream: the
+    /// device renders the next while the host reads back and hands out this one
+    /// ([`crate::gpu::Kernel::run_stream`]); a frame's `render_seconds` then runs from its
+    /// submission to its decoding, and may overlap the one before.
+    pub fn render_frames(
+        &self,
+        scenes: &mut dyn Iterator<Item = Scene>,
+        picture: Picture,
+        readback: Readback,
+        sink: &mut dyn FnMut(Frame, RenderStats) -> Result<()>,
+    ) -> Result<()> {
+        let (Some(kernels), Picture::Slice { shade }) = (&self.gpu, picture) else {
+            for scene in scenes {
+                let mut frame = Frame::empty(scene.image.width);
+                let stats = self.render_with(&scene, picture, readback, &mut |band| {
+                    frame.append(band);
+                    Ok(())
+                })?;
+                sink(frame, stats)?;
+            }
+            return Ok(());
+        };
+        let mut params = scenes.map(|scene| (TraceParams::<f32>::new(&scene), shade));
+        kernels
+            .tracer()?
+            .render_frames(&mut params, readback, &mut |frame, times| {
+                let summary = match readback {
+                    Readback::All => crate::stats::Summary::of(&frame),
+                    Readback::Colour => SummaryBuilder::new(frame.width).finish(),
+                };
+                let stats = RenderStats {
+                    backend: self.backend_name().into(),
+                    adapter: self.adapter(),
+                    precision: self.precision.name().into(),
+                    width: frame.width,
+                    height: frame.height,
+                    render_seconds: times.seconds,
+                    gpu_seconds: times.gpu_seconds,
+                    summary,
+                };
+                sink(frame, stats)
+            })
+    }
+
     /// As [`Self::render`], the whole image in host memory.
     pub fn render_frame(&self, scene: &Scene, picture: Picture) -> Result<(Frame, RenderStats)> {
         let mut frame = Frame::empty(scene.image.width);

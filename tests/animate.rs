@@ -308,6 +308,17 @@ fn gpu_frames_are_the_same_in_any_split_and_render_again() {
     gpu(&["--frames", "2..2", "--out", "split"]);
     gpu(&["--frames", "0..1", "--out", "split"]);
     assert_same_files(&dir.path().join("whole"), &dir.path().join("split"));
+    // Frames of four bands each (8 rows of 48 pixels): the stream keeps two bands on the
+    // device, across frames, and must put each back in its own frame.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["animate", "--scene", "anim.toml", "--backend", "gpu"])
+        .args(["--frames", "0..2", "--out", "banded"])
+        .env("QJULIA_BAND_PIXELS", "400")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "banded: {}", stderr(&out));
+    assert_same_files(&dir.path().join("whole"), &dir.path().join("banded"));
     let stats = std::fs::read_to_string(dir.path().join("s.json")).unwrap();
     assert!(stats.contains("\"backend\": \"gpu\""), "{stats}");
     let out = qjulia(

@@ -105,14 +105,55 @@ pub struct Kernel {
     /// The last run's buffers, kept for the next run of the same band size and readback (an
     /// animation's frames, the explorer's views): allocating and clearing them anew each time
     /// costs more than a fast GPU's whole render (a 4 Mpixel band is 128 MiB of outputs).
-    spare: Mutex<Option<(BuffersKey, RunBuffers)>>,
+    spare: Mutex<Vec<RunBuffers>>,
 }
 
-/// What a run's buffers fit: items per band and the outputs read back.
-type BuffersKey = (u64, Vec<bool>);
+/// Steps a stream keeps on the device at once: one being read back, one running.
+const STEPS_IN_FLIGHT: usize = 2;
 
-/// Device-side buffers of one run, reused across its bands.
+/// One band of a stream ([`Kernel::run_stream`]): its pipeline's constants, the grid's width,
+/// its rows, the uniform of each of its dispatches, the outputs to read back, and a tag for the
+/// caller (which frame it belongs to).
+pub struct Step {
+    pub tag: usize,
+    pub constants: Vec<(&'static str, f64)>,
+    pub width: u32,
+    /// The grid's rows: the step with `row + rows == height` is its last band.
+    pub height: u32,
+    pub row: u32,
+    pub rows: u32,
+    /// The grid's rows per band (the buffers are sized for it; the last band may be shorter).
+    pub band_rows: u32,
+    pub uniforms: Vec<Vec<u8>>,
+    pub read: Vec<bool>,
+}
+
+/// A step done: what `decode` made of it, when it was submitted and decoded, and its GPU time
+/// (timestamp queries, where the device has them).
+pub struct StepDone<T> {
+    pub made: T,
+    pub submitted: Instant,
+    pub decoded: Instant,
+    pub gpu_seconds: Option<f64>,
+}
+
+type MapResult = std::result::Result<(), wgpu::BufferAsyncError>;
+
+/// A step submitted and not yet read back.
+struct InFlight {
+    step: Step,
+    buffers: RunBuffers,
+    submitted: Instant,
+    index: wgpu::SubmissionIndex,
+    mapped: Vec<mpsc::Receiver<MapResult>>,
+}
+
+/// Device-side buffers of one band, reused across bands, runs and frames.
 struct RunBuffers {
+    /// Items they hold.
+    items: u64,
+    /// Which outputs have readback buffers.
+    read: Vec<bool>,
     uniform: wgpu::Buffer,
     storage: Vec<wgpu::Buffer>,
     /// Readback copies of the outputs asked for.
@@ -125,6 +166,14 @@ struct Timestamps {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
+}
+
+impl RunBuffers {
+    /// Whether these buffers serve a band of `items` reading back `read` (larger ones would
+    /// do, but a step of another size is another grid: allocate it its own).
+    fn fits(&self, items: u64, read: &[bool]) -> bool {
+        self.items == items && self.read == read
+    }
 }
 
 /// Bytes of the two timestamps a band writes.
@@ -192,7 +241,7 @@ impl Kernel {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(HashMap::new()),
-            spare: Mutex::new(None),
+            spare: Mutex::new(Vec::new()),
         })
     }
 
@@ -334,7 +383,8 @@ impl Kernel {
     /// Runs the kernel over the whole grid, band by band, top to bottom. Each band's outputs
     /// are handed to `decode` (timed) and what it makes to `sink` (not timed). The first use of
     /// a pipeline is preceded by an untimed warm-up dispatch of one workgroup (lavapipe compiles
-    /// a kernel at its first dispatch, not at pipeline creation).
+    /// a kernel at its first dispatch, not at pipeline creation). The bands are pipelined as in
+    /// [`Self::run_stream`].
     pub fn run<T>(
         &self,
         run: &Run<'_>,
@@ -346,85 +396,204 @@ impl Kernel {
             self.spec.outputs.len(),
             "read: one flag per output"
         );
-        let pipeline = self.pipeline(run.constants)?;
-        let (width, height) = run.size;
-        let band_rows = self.band_rows(width, height);
-        let key: BuffersKey = (band_rows as u64 * width as u64, run.read.to_vec());
-        let spare = self.spare.lock().expect("spare buffers").take();
-        let buffers = match spare {
-            Some((k, buffers)) if k == key => buffers,
-            _ => self.run_buffers(key.0, run.read),
-        };
-        let dispatches = run.dispatches_per_band.max(1);
+        let mut steps = self.steps(run, 0);
+        let mut times = RunTimes::default();
+        let mut first_submitted = None;
+        self.run_stream(
+            &mut steps,
+            |_, out| decode(out),
+            |_, done| {
+                let start = *first_submitted.get_or_insert(done.submitted);
+                times.seconds = (done.decoded - start).as_secs_f64();
+                times.gpu_seconds = done
+                    .gpu_seconds
+                    .map(|s| s + times.gpu_seconds.unwrap_or(0.0));
+                sink(done.made)
+            },
+        )?;
+        Ok(times)
+    }
 
-        if !self.warmed(run.constants) {
-            let rows = band_rows.min(WORKGROUP_SIZE.1);
-            for dispatch in 0..dispatches {
-                let band = Band {
-                    row: 0,
-                    rows,
-                    dispatch,
-                };
-                let size = (width.min(WORKGROUP_SIZE.0), rows);
-                self.dispatch(&pipeline, &buffers, &(run.params)(band), size, None)?;
+    /// The bands of a run as [`Step`]s tagged `tag`, each with its dispatches' uniforms.
+    pub fn steps<'r>(&self, run: &'r Run<'_>, tag: usize) -> impl Iterator<Item = Step> + 'r {
+        let (width, height) = run.size;
+        let band_rows = self.band_rows(width, height).max(1);
+        let dispatches = run.dispatches_per_band.max(1);
+        let constants = run.constants.to_vec();
+        let read = run.read.to_vec();
+        (0..height).step_by(band_rows as usize).map(move |row| {
+            let rows = band_rows.min(height - row);
+            Step {
+                tag,
+                constants: constants.clone(),
+                width,
+                height,
+                row,
+                rows,
+                band_rows,
+                read: read.clone(),
+                uniforms: (0..dispatches)
+                    .map(|dispatch| {
+                        (run.params)(Band {
+                            row,
+                            rows,
+                            dispatch,
+                        })
+                    })
+                    .collect(),
+            }
+        })
+    }
+
+    /// Runs a stream of bands (of one grid or of many: an animation's frames), two at a time:
+    /// while the host waits for, reads back and decodes one band, the device already runs the
+    /// next, so a fast GPU is not left idle between frames. Each step's outputs go to `decode`
+    /// and then, with its times, to `sink`, in the order of the steps. Memory stays bounded:
+    /// two sets of buffers, each of one band.
+    pub fn run_stream<T>(
+        &self,
+        steps: &mut dyn Iterator<Item = Step>,
+        mut decode: impl FnMut(&Step, BandOutput<'_>) -> T,
+        mut sink: impl FnMut(Step, StepDone<T>) -> Result<()>,
+    ) -> Result<()> {
+        let mut free: Vec<RunBuffers> = self
+            .spare
+            .lock()
+            .expect("spare buffers")
+            .drain(..)
+            .collect();
+        let mut in_flight: std::collections::VecDeque<InFlight> = Default::default();
+        let mut finish_oldest = |in_flight: &mut std::collections::VecDeque<InFlight>,
+                                 free: &mut Vec<RunBuffers>|
+         -> Result<()> {
+            let flight = in_flight.pop_front().expect("a step in flight");
+            let (done, buffers) = self.finish(flight, &mut decode)?;
+            free.push(buffers);
+            let (step, done) = done;
+            sink(step, done)
+        };
+        for step in steps {
+            assert_eq!(
+                step.read.len(),
+                self.spec.outputs.len(),
+                "one flag per output"
+            );
+            if in_flight.len() == STEPS_IN_FLIGHT {
+                finish_oldest(&mut in_flight, &mut free)?;
+            }
+            let items = step.band_rows as u64 * step.width as u64;
+            let buffers = match free.iter().position(|b| b.fits(items, &step.read)) {
+                Some(k) => free.swap_remove(k),
+                None => self.run_buffers(items, &step.read),
+            };
+            in_flight.push_back(self.submit(step, buffers)?);
+        }
+        while !in_flight.is_empty() {
+            finish_oldest(&mut in_flight, &mut free)?;
+        }
+        free.truncate(STEPS_IN_FLIGHT);
+        *self.spare.lock().expect("spare buffers") = free;
+        Ok(())
+    }
+
+    /// Submits a step's dispatches and the copies of its outputs, and asks for them to be
+    /// mapped; does not wait. A pipeline's first use is warmed up first, untimed.
+    fn submit(&self, step: Step, buffers: RunBuffers) -> Result<InFlight> {
+        let pipeline = self.pipeline(&step.constants)?;
+        if !self.warmed(&step.constants) {
+            let rows = step.rows.min(WORKGROUP_SIZE.1);
+            let size = (step.width.min(WORKGROUP_SIZE.0), rows);
+            for uniform in &step.uniforms {
+                // The warm-up's uniform is the band's own: only its first rows run.
+                self.dispatch(&pipeline, &buffers, uniform, size, None)?;
             }
             self.ctx
                 .device
                 .poll(wgpu::PollType::wait_indefinitely())
                 .map_err(|e| Error::Gpu(format!("waiting for the GPU: {e}")))?;
         }
-
-        let mut times = RunTimes {
-            seconds: 0.0,
-            gpu_seconds: buffers.timestamps.as_ref().map(|_| 0.0),
-        };
-        let mut row = 0;
-        while row < height {
-            let start = Instant::now();
-            let rows = band_rows.min(height - row);
-            for dispatch in 0..dispatches {
-                let band = Band {
-                    row,
-                    rows,
-                    dispatch,
-                };
-                // The band's time: from the start of its first dispatch to the end of its last.
-                let (first, last) = (dispatch == 0, dispatch + 1 == dispatches);
-                let timestamps = buffers
-                    .timestamps
-                    .as_ref()
-                    .filter(|_| first || last)
-                    .map(|t| wgpu::ComputePassTimestampWrites {
-                        query_set: &t.queries,
-                        beginning_of_pass_write_index: first.then_some(0),
-                        end_of_pass_write_index: last.then_some(1),
-                    });
-                let params = (run.params)(band);
-                self.dispatch(&pipeline, &buffers, &params, (width, rows), timestamps)?;
-                if last {
-                    self.copy_out(&buffers, rows as u64 * width as u64)?;
-                }
-            }
-            let items = rows as u64 * width as u64;
-            let made = {
-                let mapped = self.read_mapped(&buffers, items)?;
-                let slices: Vec<Option<&[u8]>> = mapped.iter().map(|m| m.as_deref()).collect();
-                decode(BandOutput {
-                    row,
-                    rows,
-                    outputs: &slices,
-                })
-            };
-            if let (Some(total), Some(t)) = (times.gpu_seconds.as_mut(), &buffers.timestamps) {
-                *total += self.read_timestamps(t)?;
-            }
-            self.unmap(&buffers);
-            times.seconds += start.elapsed().as_secs_f64();
-            sink(made)?;
-            row += rows;
+        let submitted = Instant::now();
+        let dispatches = step.uniforms.len();
+        for (dispatch, uniform) in step.uniforms.iter().enumerate() {
+            // The band's time: from the start of its first dispatch to the end of its last.
+            let (first, last) = (dispatch == 0, dispatch + 1 == dispatches);
+            let timestamps = buffers
+                .timestamps
+                .as_ref()
+                .filter(|_| first || last)
+                .map(|t| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.queries,
+                    beginning_of_pass_write_index: first.then_some(0),
+                    end_of_pass_write_index: last.then_some(1),
+                });
+            self.dispatch(
+                &pipeline,
+                &buffers,
+                uniform,
+                (step.width, step.rows),
+                timestamps,
+            )?;
         }
-        *self.spare.lock().expect("spare buffers") = Some((key, buffers));
-        Ok(times)
+        let items = step.rows as u64 * step.width as u64;
+        let (index, mapped) = self.copy_out(&buffers, items);
+        Ok(InFlight {
+            step,
+            buffers,
+            submitted,
+            index,
+            mapped,
+        })
+    }
+
+    /// Waits for a step's outputs, decodes them and frees its buffers for the next step.
+    fn finish<T>(
+        &self,
+        flight: InFlight,
+        decode: &mut impl FnMut(&Step, BandOutput<'_>) -> T,
+    ) -> Result<((Step, StepDone<T>), RunBuffers)> {
+        let InFlight {
+            step,
+            buffers,
+            submitted,
+            index,
+            mapped,
+        } = flight;
+        self.ctx
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map_err(|e| Error::Gpu(format!("waiting for the GPU: {e}")))?;
+        for result in mapped {
+            result
+                .recv()
+                .map_err(|_| Error::Gpu("the device was lost".into()))?
+                .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
+        }
+        let items = step.rows as u64 * step.width as u64;
+        let made = {
+            let views = self.read_mapped(&buffers, items)?;
+            let slices: Vec<Option<&[u8]>> = views.iter().map(|m| m.as_deref()).collect();
+            let output = BandOutput {
+                row: step.row,
+                rows: step.rows,
+                outputs: &slices,
+            };
+            decode(&step, output)
+        };
+        let gpu_seconds = match &buffers.timestamps {
+            Some(t) => Some(self.read_timestamps(t)?),
+            None => None,
+        };
+        self.unmap(&buffers);
+        let done = StepDone {
+            made,
+            submitted,
+            decoded: Instant::now(),
+            gpu_seconds,
+        };
+        Ok(((step, done), buffers))
     }
 
     /// Whether the pipeline of these constants has run once; marks it so.
@@ -466,6 +635,8 @@ impl Kernel {
             readback: buffer(device, "timestamps readback", TIMESTAMP_BYTES, read_usage),
         });
         RunBuffers {
+            items,
+            read: read.to_vec(),
             uniform,
             storage,
             readback,
@@ -497,9 +668,13 @@ impl Kernel {
         Ok(())
     }
 
-    /// Copies the band's outputs asked for (and its timestamps) to the readback buffers, and
-    /// waits until they are mapped.
-    fn copy_out(&self, buffers: &RunBuffers, items: u64) -> Result<()> {
+    /// Copies the band's outputs asked for (and its timestamps) to the readback buffers and asks
+    /// for them to be mapped: the submission to wait for, and one report per buffer mapped.
+    fn copy_out(
+        &self,
+        buffers: &RunBuffers,
+        items: u64,
+    ) -> (wgpu::SubmissionIndex, Vec<mpsc::Receiver<MapResult>>) {
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         let mut encoder = device.create_command_encoder(&Default::default());
         let mut to_map: Vec<(&wgpu::Buffer, u64)> = Vec::new();
@@ -522,30 +697,18 @@ impl Kernel {
             encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, TIMESTAMP_BYTES);
             to_map.push((&t.readback, TIMESTAMP_BYTES));
         }
-        queue.submit([encoder.finish()]);
-        self.map_all(&to_map)
-    }
-
-    /// Maps the buffers for reading and waits until all are mapped.
-    fn map_all(&self, buffers: &[(&wgpu::Buffer, u64)]) -> Result<()> {
-        let (sender, receiver) = mpsc::channel();
-        for (buffer, bytes) in buffers {
-            let sender = sender.clone();
-            buffer
-                .slice(..*bytes)
-                .map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
-        }
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Gpu(format!("waiting for the GPU: {e}")))?;
-        for _ in buffers {
-            receiver
-                .recv()
-                .map_err(|_| Error::Gpu("the device was lost".into()))?
-                .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
-        }
-        Ok(())
+        let index = queue.submit([encoder.finish()]);
+        let mapped = to_map
+            .into_iter()
+            .map(|(buffer, bytes)| {
+                let (sender, receiver) = mpsc::channel();
+                buffer
+                    .slice(..bytes)
+                    .map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
+                receiver
+            })
+            .collect();
+        (index, mapped)
     }
 
     /// The mapped bytes of each output asked for.

@@ -194,15 +194,7 @@ pub(crate) fn render_image_bands(
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
-    // All: colour, depth, steps and (where the kernel has it) the estimates, not the
-    // accumulator. Colour: the colour alone.
-    let last = match readback {
-        Readback::All => ESTIMATES_OUTPUT,
-        Readback::Colour => COLOUR_OUTPUT,
-    };
-    let read: Vec<bool> = (0..kernel.spec().outputs.len())
-        .map(|k| k <= last)
-        .collect();
+    let read = image_readback(kernel, readback);
     let run = kernel::Run {
         constants,
         size: (width, height),
@@ -211,6 +203,54 @@ pub(crate) fn render_image_bands(
         params: uniform,
     };
     kernel.run(&run, |out| decode_frame(width, &out), sink)
+}
+
+/// Which outputs of an image kernel come back for `readback`. All: colour, depth, steps and
+/// (where the kernel has it) the estimates, not the accumulator. Colour: the colour alone.
+pub(crate) fn image_readback(kernel: &Kernel, readback: Readback) -> Vec<bool> {
+    let last = match readback {
+        Readback::All => ESTIMATES_OUTPUT,
+        Readback::Colour => COLOUR_OUTPUT,
+    };
+    (0..kernel.spec().outputs.len())
+        .map(|k| k <= last)
+        .collect()
+}
+
+/// Runs the bands of many frames of an image kernel as one stream, handing each frame whole to
+/// `sink`, in order, with its times: from its first band's submission to its last band decoded,
+/// and the GPU time of its bands.
+pub(crate) fn stream_frames(
+    kernel: &Kernel,
+    steps: &mut dyn Iterator<Item = kernel::Step>,
+    sink: &mut dyn FnMut(Frame, kernel::RunTimes) -> Result<()>,
+) -> Result<()> {
+    let mut frame: Option<(usize, Frame, std::time::Instant, Option<f64>)> = None;
+    kernel.run_stream(
+        steps,
+        |step, out| decode_frame(step.width, &out),
+        |step, done| {
+            let (_, whole, submitted, gpu) = frame.get_or_insert_with(|| {
+                (
+                    step.tag,
+                    Frame::empty(step.width),
+                    done.submitted,
+                    Some(0.0),
+                )
+            });
+            whole.append(&done.made);
+            *gpu = gpu.zip(done.gpu_seconds).map(|(a, b)| a + b);
+            if step.row + step.rows == step.height {
+                let times = kernel::RunTimes {
+                    seconds: (done.decoded - *submitted).as_secs_f64(),
+                    gpu_seconds: *gpu,
+                };
+                let (_, whole, _, _) = frame.take().expect("a frame");
+                sink(whole, times)?;
+            }
+            Ok(())
+        },
+    )
 }
 
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,

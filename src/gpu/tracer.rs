@@ -1,11 +1,11 @@
 //! The tracer kernel (shaders/trace.wgsl) on the [`Kernel`] runner: its spec, its pipelines per
 //! scene [`Variant`], and renders into host memory band by band.
 
-use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
+use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
 use super::params::GpuParams;
 use super::shaders::TRACE_MODULE;
 use super::variant::Variant;
-use super::{GpuContext, TRACE_OUTPUTS, render_image_bands};
+use super::{GpuContext, TRACE_OUTPUTS, image_readback, render_image_bands, stream_frames};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
@@ -119,21 +119,62 @@ impl GpuTracer {
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
-        let constants = self
-            .variant_for(params, shade)
-            .map(|v| v.constants())
-            .unwrap_or_default();
+        let constants = self.constants(params, shade);
         let size = (params.width, params.height);
+        let uniform = self.uniforms(params);
+        let shape = (size, self.dispatches(params));
+        render_image_bands(&self.kernel, &constants, shape, readback, &uniform, sink)
+    }
+
+    /// Renders many frames one after another, each handed whole to `sink` with its times, in
+    /// order: the device runs a frame's first band while the host reads back the frame before
+    /// ([`Kernel::run_stream`]).
+    pub fn render_frames(
+        &self,
+        frames: &mut dyn Iterator<Item = (TraceParams<f32>, bool)>,
+        readback: Readback,
+        sink: &mut dyn FnMut(Frame, RunTimes) -> Result<()>,
+    ) -> Result<()> {
+        let mut steps = frames.enumerate().flat_map(|(tag, (params, shade))| {
+            let constants = self.constants(&params, shade);
+            let uniform = self.uniforms(&params);
+            let read = image_readback(&self.kernel, readback);
+            let run = Run {
+                constants: &constants,
+                size: (params.width, params.height),
+                read: &read,
+                dispatches_per_band: self.dispatches(&params),
+                params: &uniform,
+            };
+            self.kernel.steps(&run, tag).collect::<Vec<_>>()
+        });
+        stream_frames(&self.kernel, &mut steps, sink)
+    }
+
+    /// The override constants of a scene's pipeline here.
+    fn constants(&self, params: &TraceParams<f32>, shade: bool) -> Vec<(&'static str, f64)> {
+        self.variant_for(params, shade)
+            .map(|v| v.constants())
+            .unwrap_or_default()
+    }
+
+    /// Dispatches per band: the samples, [`Self::samples_per_dispatch`] at a time.
+    fn dispatches(&self, params: &TraceParams<f32>) -> u32 {
+        params
+            .samples
+            .max(1)
+            .div_ceil(self.samples_per_dispatch(params))
+    }
+
+    /// The uniform of each dispatch: the band's rows and the samples it adds.
+    fn uniforms<'p>(&self, params: &'p TraceParams<f32>) -> impl Fn(Band) -> Vec<u8> + 'p {
         let per_dispatch = self.samples_per_dispatch(params);
-        let uniform = |band: Band| {
+        move |band: Band| {
             let start = band.dispatch * per_dispatch;
             let end = (start + per_dispatch).min(params.samples.max(1));
             let gpu = GpuParams::new(params, band.row, band.rows).with_samples(start, end);
             bytemuck::bytes_of(&gpu).to_vec()
-        };
-        let dispatches = params.samples.max(1).div_ceil(per_dispatch);
-        let shape = (size, dispatches);
-        render_image_bands(&self.kernel, &constants, shape, readback, &uniform, sink)
+        }
     }
 
     /// Samples each dispatch adds: as many as keep a dispatch within `band_pixels()` rays, so
