@@ -91,8 +91,11 @@ cleanup() {
     local rc=$? pid gone stale leftover=()
     trap - EXIT INT TERM
     set +e
-    if ((${#jobs[@]} > 0)); then
-        timeout 10 scancel "${jobs[@]}" >/dev/null 2>&1
+    if ((${#jobs[@]} > 0)) && timeout 10 scancel "${jobs[@]}" >/dev/null 2>&1; then
+        for _ in $(seq 20); do # up to 10 s for the jobs to end, so that slurmd stops at once
+            [[ -z $(timeout 5 squeue -h -o %i 2>/dev/null) ]] && break
+            sleep 0.5
+        done
     fi
     for pid in "${pids[@]}"; do
         kill -TERM "$pid" 2>/dev/null
