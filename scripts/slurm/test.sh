@@ -91,6 +91,12 @@ cleanup() {
     local rc=$? pid gone stale leftover=()
     trap - EXIT INT TERM
     set +e
+    if ((rc != 0 && ${#jobs[@]} > 0)); then
+        echo "==== the jobs" >&2
+        timeout 10 scontrol -o show job 2>&1 |
+            grep -oE '^JobId=[0-9]+|ArrayTaskId=[^ ]+|JobState=[^ ]+|Reason=[^ ]+|ExitCode=[^ ]+' |
+            paste -sd ' ' | sed 's/ JobId=/\nJobId=/g' >&2
+    fi
     if ((${#jobs[@]} > 0)) && timeout 10 scancel "${jobs[@]}" >/dev/null 2>&1; then
         for _ in $(seq 20); do # up to 10 s for the jobs to end, so that slurmd stops at once
             [[ -z $(timeout 5 squeue -h -o %i 2>/dev/null) ]] && break
@@ -288,7 +294,7 @@ finished() { # the video job has ended, or an array task has failed
 wait_until "the jobs to finish" finished
 echo "slurm test: the jobs finished ($(($(date +%s) - started)) s)"
 
-array_states=$(states "$array" | sort | uniq -c | sed 's/^ *//')
+array_states=$(states "$array" | sort | uniq -c | sed "s/^ *//" | paste -sd, -)
 [[ $array_states == "$tasks COMPLETED" ]] || fail "array job $array: $array_states (wanted $tasks COMPLETED)"
 want_video=COMPLETED
 ((video_checked)) || want_video=FAILED
