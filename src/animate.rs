@@ -1,22 +1,29 @@
 //! `qjulia animate`: the frames of a scene's animation, each a full qjulia PNG
-//! (`DIR/frame-NNNNN.png`) carrying its own frame's resolved scene, written whole or not at all.
+//! (`DIR/frame-NNNNN.png`) carrying its own frame's resolved scene, written whole or not at all,
+//! and optionally a video of them through ffmpeg ([`crate::video`]).
 //!
 //! Frame k's bytes depend only on the scene options and k (on one backend and adapter): every
 //! frame is rendered alone by the same [`Renderer`], chosen once by the caller, on the same path
 //! as `qjulia render`, so any split of the frames (`--frames A..B`) gives byte-identical files and
 //! `render --scene DIR/frame-NNNNN.png` writes that frame again, byte for byte.
+//!
+//! The frames are pipelined: this thread renders them one after another, reading back only the
+//! colour; a pool of threads encodes and writes the PNGs, and one more feeds ffmpeg in order.
+//! At most [`frames_in_flight`] rendered frames wait for them, so memory stays bounded.
 
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, channel, sync_channel};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use serde::Serialize;
 
 use crate::animation::Animation;
 use crate::error::{Error, Result};
-use crate::output::{OutputPaths, StreamingOutputs, write_view_outputs};
-use crate::render::{Picture, Renderer};
+use crate::output::{read_png_rgb, write_png};
+use crate::render::{Picture, Readback, Renderer};
 use crate::scene::{Scene, SceneError, SceneSource, View};
-use crate::stats::RenderStats;
+use crate::video::VideoWriter;
 
 /// The folder frames go to when none is given.
 pub const DEFAULT_DIR: &str = "qjulia-frames";
@@ -106,6 +113,9 @@ pub fn frame_complete(path: &Path, scene: &Scene) -> bool {
 pub struct AnimateStats {
     /// The frames rendered and written in this run.
     pub frames: u32,
+    /// The video written, if any, and the frames it holds (those rendered and those skipped).
+    pub video: Option<PathBuf>,
+    pub video_frames: u32,
     /// Frames of the range skipped as already complete (`--resume`).
     pub skipped: u32,
     /// The range asked for, inclusive.
@@ -129,64 +139,184 @@ pub struct AnimateStats {
 pub enum Progress<'a> {
     /// The frames to render, after those already complete were counted out.
     Start { to_render: u32, skipped: u32 },
-    /// Frame `frame` was written to `path`.
+    /// Frame `frame` was rendered and written: its PNG at `path` where PNGs are written (else
+    /// it went to the video alone), in `render_seconds`.
     Frame {
         frame: u32,
-        path: &'a Path,
-        stats: &'a RenderStats,
+        path: Option<&'a Path>,
+        render_seconds: f64,
     },
 }
 
-/// Renders frames `range` of `animation` over `base` into `dir` (created if missing), each with
-/// `renderer`, skipping complete frames when `resume` is set. Frames already written stay when a
-/// later one fails.
+/// One `animate` run: which frames of which animation go where.
+#[derive(Clone, Copy, Debug)]
+pub struct Job<'a> {
+    pub base: &'a Scene,
+    pub animation: &'a Animation,
+    pub range: FrameRange,
+    /// The folder of the PNG frames (created if missing); None writes none (a video alone).
+    pub out: Option<&'a Path>,
+    /// Skip frames whose PNG in `out` is complete (a video then reads them from there).
+    pub resume: bool,
+    /// The video to write (`.mp4` or `.webm`), of every frame of the range.
+    pub video: Option<&'a Path>,
+}
+
+/// How many rendered frames may wait for the encoders at once: one per encoder thread, and as
+/// many again in the queue, so that the renderer never waits on one slow frame.
+pub fn frames_in_flight() -> usize {
+    2 * encoder_threads()
+}
+
+/// The threads that encode and write PNG frames: the machine's cores, at most 8.
+fn encoder_threads() -> usize {
+    std::thread::available_parallelism().map_or(2, |n| n.get().clamp(1, 8))
+}
+
+/// A rendered frame's image, as written: `[width, height]` RGB8 pixels.
+struct Picture8 {
+    size: [u32; 2],
+    rgb: Vec<u8>,
+}
+
+/// A frame for the PNG encoders.
+struct PngJob {
+    frame: u32,
+    scene: Scene,
+    path: PathBuf,
+    picture: Arc<Picture8>,
+    render_seconds: f64,
+}
+
+/// What an encoder reports of a frame.
+type Written = (u32, PathBuf, f64, Result<()>);
+
+/// Renders frames `job.range` of `job.animation` over `job.base` with `renderer`: PNGs into
+/// `job.out`, skipping complete frames when `job.resume` is set, and the video. Frames already
+/// written stay when a later one fails; the video is written whole or not at all.
 pub fn run(
     renderer: &Renderer,
-    base: &Scene,
-    animation: &Animation,
-    range: FrameRange,
-    dir: &Path,
-    resume: bool,
+    job: &Job,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<AnimateStats> {
-    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let mut todo = Vec::new();
-    for k in range.iter() {
-        let scene = animation.scene_at(base, k);
-        let path = frame_path(dir, k);
-        if !(resume && frame_complete(&path, &scene)) {
-            todo.push((k, scene, path));
-        }
+    if let Some(dir) = job.out {
+        std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
     }
-    let skipped = range.len() - todo.len() as u32;
+    // Every frame of the range, and whether it is complete already (then not rendered).
+    let frames: Vec<(u32, Scene, Option<PathBuf>, bool)> = job
+        .range
+        .iter()
+        .map(|k| {
+            let scene = job.animation.scene_at(job.base, k);
+            let path = job.out.map(|dir| frame_path(dir, k));
+            let complete = job.resume && path.as_deref().is_some_and(|p| frame_complete(p, &scene));
+            (k, scene, path, complete)
+        })
+        .collect();
+    let skipped = frames.iter().filter(|f| f.3).count() as u32;
     progress(Progress::Start {
-        to_render: todo.len() as u32,
+        to_render: job.range.len() - skipped,
         skipped,
     });
     let start = Instant::now();
     let mut render_seconds = 0.0;
-    for (k, scene, path) in &todo {
-        let stats = render_frame(renderer, scene, path)?;
-        render_seconds += stats.render_seconds;
-        progress(Progress::Frame {
-            frame: *k,
-            path,
-            stats: &stats,
-        });
-    }
+    let mut rendered = 0;
+    let fps = job.animation.fps;
+
+    let outcome = std::thread::scope(|s| -> Result<u32> {
+        let (to_encoders, jobs) = sync_channel::<PngJob>(encoder_threads());
+        let (report, written) = channel::<Written>();
+        // The encoders hold the only handles on the queue's end and on the reports' start: when
+        // all have stopped, sending fails, and the reports end when all are done.
+        let jobs = Arc::new(Mutex::new(jobs));
+        for _ in 0..encoder_threads() {
+            let (jobs, report) = (jobs.clone(), report.clone());
+            s.spawn(move || encode_pngs(&jobs, &report));
+        }
+        drop((jobs, report));
+        let (to_video, pictures) = sync_channel::<Arc<Picture8>>(encoder_threads());
+        let video = job
+            .video
+            .map(|path| s.spawn(move || feed_video(path, fps, pictures)));
+
+        // Renders and hands out every frame in order; stops at the first error (its own, an
+        // encoder's or the video's).
+        let mut hand_out = || -> Result<()> {
+            for (k, scene, path, complete) in &frames {
+                let picture = if *complete {
+                    if job.video.is_none() {
+                        continue;
+                    }
+                    let (size, rgb) = read_png_rgb(path.as_deref().expect("complete in out"))?;
+                    Arc::new(Picture8 { size, rgb })
+                } else {
+                    let (picture, seconds) = render_picture(renderer, scene)?;
+                    render_seconds += seconds;
+                    rendered += 1;
+                    let picture = Arc::new(picture);
+                    match path {
+                        Some(path) => {
+                            let job = PngJob {
+                                frame: *k,
+                                scene: scene.clone(),
+                                path: path.clone(),
+                                picture: picture.clone(),
+                                render_seconds: seconds,
+                            };
+                            // A closed queue: every encoder stopped, on an error reported below.
+                            if to_encoders.send(job).is_err() {
+                                break;
+                            }
+                        }
+                        None => progress(Progress::Frame {
+                            frame: *k,
+                            path: None,
+                            render_seconds: seconds,
+                        }),
+                    }
+                    picture
+                };
+                if job.video.is_some() && to_video.send(picture).is_err() {
+                    // The video thread stopped: its error comes out when it is joined.
+                    break;
+                }
+                report_written(&written, false, progress)?;
+            }
+            Ok(())
+        };
+        let handed_out = hand_out();
+        drop(to_encoders);
+        drop(to_video);
+        // Every PNG finishes (or fails) before the video is kept.
+        let encoded = report_written(&written, true, progress);
+        let video = video.map(|thread| thread.join().expect("the video thread"));
+        handed_out?;
+        encoded?;
+        if let Some(video) = video {
+            let writer = video?;
+            let frames = writer.as_ref().map_or(0, |w| w.frames() as u32);
+            if let Some(writer) = writer {
+                writer.finish()?;
+            }
+            return Ok(frames);
+        }
+        Ok(0)
+    });
+    let video_frames = outcome?;
     let seconds = start.elapsed().as_secs_f64();
-    let frames = todo.len() as u32;
     Ok(AnimateStats {
-        frames,
+        frames: rendered,
+        video: job.video.map(Path::to_path_buf),
+        video_frames,
         skipped,
-        first: range.first,
-        last: range.last,
+        first: job.range.first,
+        last: job.range.last,
         seconds,
-        frames_per_second: if frames > 0 {
-            frames as f64 / seconds
+        frames_per_second: if rendered > 0 {
+            rendered as f64 / seconds
         } else {
             0.0
         },
@@ -194,27 +324,89 @@ pub fn run(
         backend: renderer.backend_name().into(),
         adapter: renderer.adapter(),
         precision: renderer.precision().name().into(),
-        width: base.image.width,
-        height: base.image.height,
+        width: job.base.image.width,
+        height: job.base.image.height,
     })
 }
 
-/// Renders one frame's scene to its PNG as `qjulia render -o PATH` does (so that rendering the
-/// PNG's scene again gives the same bytes): the shaded picture streamed band by band, or a heat
-/// map of `image.view` rendered whole; written to a temporary file and renamed into place.
-pub fn render_frame(renderer: &Renderer, scene: &Scene, path: &Path) -> Result<RenderStats> {
-    let paths = OutputPaths {
-        png: Some(path.to_path_buf()),
-        ..Default::default()
+/// Hands the encoders' reports to `progress`: those in already, or (`all`) every one until the
+/// encoders are done. The first failed frame's error comes out after the others are reported.
+fn report_written(
+    written: &Receiver<Written>,
+    all: bool,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<()> {
+    let mut first_error = None;
+    let mut take = |(frame, path, render_seconds, result): Written| match result {
+        Ok(()) => progress(Progress::Frame {
+            frame,
+            path: Some(&path),
+            render_seconds,
+        }),
+        Err(e) => {
+            first_error.get_or_insert(e);
+        }
     };
-    if scene.image.view != View::Shaded {
-        let picture = Picture::Slice { shade: false };
-        let (frame, stats) = renderer.render_frame(scene, picture)?;
-        write_view_outputs(&paths, &frame, &stats, scene)?;
-        return Ok(stats);
+    if all {
+        written.iter().for_each(&mut take);
+    } else {
+        written.try_iter().for_each(&mut take);
     }
-    let mut outputs = StreamingOutputs::create(&paths, scene)?;
-    let stats = renderer.render(scene, Picture::SHADED, &mut |band| outputs.write_band(band))?;
-    outputs.finish(&stats)?;
-    Ok(stats)
+    first_error.map_or(Ok(()), Err)
+}
+
+/// An encoder thread: writes the PNG of each frame it takes from the queue until the queue
+/// closes, or until a frame fails (then it stops, and with it, once all have, the queue).
+fn encode_pngs(jobs: &Mutex<Receiver<PngJob>>, report: &std::sync::mpsc::Sender<Written>) {
+    loop {
+        let next = jobs.lock().expect("the frame queue").recv();
+        let Ok(job) = next else { return };
+        let result = write_png(&job.path, &job.scene, job.picture.size, &job.picture.rgb);
+        let failed = result.is_err();
+        let _ = report.send((job.frame, job.path, job.render_seconds, result));
+        if failed {
+            return;
+        }
+    }
+}
+
+/// The video thread: starts ffmpeg at the first frame (its size is the video's) and feeds it
+/// every frame in order; returns the writer, unfinished, for the caller to keep or drop.
+fn feed_video(
+    path: &Path,
+    fps: f64,
+    pictures: Receiver<Arc<Picture8>>,
+) -> Result<Option<VideoWriter>> {
+    let mut writer: Option<VideoWriter> = None;
+    for picture in pictures {
+        let w = match &mut writer {
+            Some(w) => w,
+            None => writer.insert(VideoWriter::start(path, picture.size, fps)?),
+        };
+        w.push(&picture.rgb)?;
+    }
+    Ok(writer)
+}
+
+/// Renders one frame's scene into the picture its PNG shows, and the renderer's seconds: the
+/// shaded image (only the colour read back), or a heat map of `image.view` with its legend.
+fn render_picture(renderer: &Renderer, scene: &Scene) -> Result<(Picture8, f64)> {
+    let (width, height) = (scene.image.width, scene.image.height);
+    if scene.image.view != View::Shaded {
+        let (frame, stats) = renderer.render_frame(scene, Picture::Slice { shade: false })?;
+        let (w, h, rgb) = crate::heatmap::view_image(&frame, scene.image.view);
+        return Ok((Picture8 { size: [w, h], rgb }, stats.render_seconds));
+    }
+    let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
+    let stats = renderer.render_with(scene, Picture::SHADED, Readback::Colour, &mut |band| {
+        rgb.extend_from_slice(&band.rgb8());
+        Ok(())
+    })?;
+    Ok((
+        Picture8 {
+            size: [width, height],
+            rgb,
+        },
+        stats.render_seconds,
+    ))
 }

@@ -104,9 +104,14 @@ pub struct AnimateArgs {
     /// every frame). Split a long animation into ranges to render them anywhere.
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// The folder for the frames (created if missing).
-    #[arg(long, value_name = "DIR", default_value = qjulia::animate::DEFAULT_DIR)]
-    pub out: PathBuf,
+    /// The folder for the PNG frames, created if missing (default qjulia-frames; with --video,
+    /// PNG frames are written only when --out is given).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Also write a video of the frames through ffmpeg: FILE.mp4 (H.264, yuv420p) or FILE.webm
+    /// (VP9); odd sizes are padded to even. With --resume, complete frames are read from --out.
+    #[arg(long, value_name = "FILE.mp4|FILE.webm")]
+    pub video: Option<PathBuf>,
     /// Skip frames whose PNG is already complete (written whole, with this frame's scene).
     #[arg(long)]
     pub resume: bool,
@@ -358,11 +363,22 @@ fn report_render(stats: &qjulia::RenderStats) {
 }
 
 pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
-    // Everything is checked before anything is written: the scene, then the range.
+    // Everything is checked before anything is written: the scene, the range, the video's
+    // kind; then ffmpeg is looked for, before anything is rendered.
     let (base, animation) = args.scene.load_animated(args.view)?;
     let range = match &args.frames {
         Some(text) => FrameRange::parse(text, animation.frames).map_err(qjulia::Error::from)?,
         None => FrameRange::all(animation.frames),
+    };
+    if let Some(video) = &args.video {
+        qjulia::video::Codec::for_path(video).map_err(qjulia::Error::from)?;
+        qjulia::video::find_ffmpeg()?;
+    }
+    // PNG frames: into --out, or the default folder unless a video alone was asked for.
+    let out = match (&args.out, &args.video) {
+        (Some(dir), _) => Some(dir.clone()),
+        (None, Some(_)) => None,
+        (None, None) => Some(PathBuf::from(animate::DEFAULT_DIR)),
     };
     let (backend, precision) = (
         args.tracer.backend.backend(),
@@ -385,39 +401,48 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
     let renderer = Renderer::choose(backend, precision, picture, &mut |n: &str| {
         bar.suspend(|| eprintln!("qjulia: {n}"))
     })?;
-    let stats = animate::run(
-        &renderer,
-        &base,
-        &animation,
+    let job = animate::Job {
+        base: &base,
+        animation: &animation,
         range,
-        &args.out,
-        args.resume,
-        &mut |p| match p {
-            Progress::Start { to_render, skipped } => {
-                if skipped > 0 {
-                    bar.suspend(|| {
-                        eprintln!(
-                            "qjulia: {skipped} frames already complete, {to_render} to render"
-                        )
-                    });
-                }
-                bar.set_length(to_render as u64);
-                bar.reset();
+        out: out.as_deref(),
+        resume: args.resume,
+        video: args.video.as_deref(),
+    };
+    let stats = animate::run(&renderer, &job, &mut |p| match p {
+        Progress::Start { to_render, skipped } => {
+            if skipped > 0 {
+                bar.suspend(|| {
+                    eprintln!("qjulia: {skipped} frames already complete, {to_render} to render")
+                });
             }
-            Progress::Frame { .. } => bar.inc(1),
-        },
-    );
+            bar.set_length(to_render as u64);
+            bar.reset();
+        }
+        Progress::Frame { .. } => bar.inc(1),
+    });
     bar.finish_and_clear();
     let stats = stats?;
     if let Some(path) = &args.stats {
         qjulia::output::write_json(path, &stats)?;
+    }
+    let mut wrote: Vec<String> = Vec::new();
+    if let Some(dir) = &out {
+        wrote.push(dir.display().to_string());
+    }
+    if let Some(video) = &args.video {
+        wrote.push(format!(
+            "{} ({} frames)",
+            video.display(),
+            stats.video_frames
+        ));
     }
     eprintln!(
         "qjulia: frames {}..{} of {} to {}: {} rendered ({} skipped), {}x{} on {} ({}) in {:.3} s, {:.2} frames/s",
         range.first,
         range.last,
         animation.frames,
-        args.out.display(),
+        wrote.join(" and "),
         stats.frames,
         stats.skipped,
         stats.width,

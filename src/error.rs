@@ -22,6 +22,9 @@ pub enum Error {
     /// Device creation, device loss, mapping failures. Exit 1.
     #[error("GPU: {0}")]
     Gpu(String),
+    /// ffmpeg missing or failing (`animate --video`). Exit 1.
+    #[error("{0}")]
+    Video(String),
     /// Reading or writing a file. Exit 1.
     #[error("{}: {source}", path.display())]
     Io {

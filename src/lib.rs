@@ -21,6 +21,7 @@ pub mod render;
 pub mod report;
 pub mod scene;
 pub mod stats;
+pub mod video;
 
 pub use error::{Error, Result};
 pub use frame::Frame;

@@ -58,6 +58,36 @@ pub fn write_view_outputs(
     outputs.finish(stats)
 }
 
+/// Writes a PNG of `[width, height]` RGB8 pixels carrying `scene`, as [`StreamingOutputs`]
+/// writes it (the same bytes as `render -o` of the same pixels), whole or not at all.
+pub fn write_png(path: &Path, scene: &Scene, size: [u32; 2], rgb: &[u8]) -> Result<()> {
+    let paths = OutputPaths {
+        png: Some(path.to_path_buf()),
+        ..Default::default()
+    };
+    let mut outputs = StreamingOutputs::create_sized(&paths, scene, size)?;
+    outputs.write_png_rows(rgb)?;
+    outputs.finish_files()
+}
+
+/// The RGB8 pixels and size of a PNG (8-bit RGB, as qjulia writes them).
+pub fn read_png_rgb(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
+    let io = |e: std::io::Error| io_error(path, e);
+    let decoder = png::Decoder::new(std::io::BufReader::new(File::open(path).map_err(io)?));
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| io(std::io::Error::other(e)))?;
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap_or(0)];
+    let info = reader
+        .next_frame(&mut rgb)
+        .map_err(|e| io(std::io::Error::other(e)))?;
+    if info.color_type != png::ColorType::Rgb || info.bit_depth != png::BitDepth::Eight {
+        return Err(io(std::io::Error::other("not an 8-bit RGB PNG")));
+    }
+    rgb.truncate(info.buffer_size());
+    Ok(([info.width, info.height], rgb))
+}
+
 /// Writes `value` as pretty JSON (and a newline) to `path`, whole or not at all.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     let temp = stage(path, |w| {
@@ -224,8 +254,18 @@ impl StreamingOutputs {
         Ok(())
     }
 
+    /// Finishes every file (no stats were asked for), and renames all into place.
+    pub fn finish_files(self) -> Result<()> {
+        assert!(self.stats.is_none(), "stats asked for: use finish");
+        self.finish_with(None)
+    }
+
     /// Finishes every file, writes the stats, and renames all into place.
     pub fn finish(self, stats: &RenderStats) -> Result<()> {
+        self.finish_with(Some(stats))
+    }
+
+    fn finish_with(self, stats: Option<&RenderStats>) -> Result<()> {
         let mut staged: Vec<(NamedTempFile, PathBuf)> = Vec::new();
         if let Some((temp, path, stream)) = self.png {
             stream
@@ -237,7 +277,7 @@ impl StreamingOutputs {
             file.flush().map_err(|e| io_error(&path, e))?;
             staged.push((temp, path));
         }
-        if let Some(path) = self.stats {
+        if let (Some(path), Some(stats)) = (self.stats, stats) {
             staged.push((stage(&path, |w| write_stats(w, stats))?, path));
         }
         for (temp, path) in staged {

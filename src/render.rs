@@ -56,6 +56,17 @@ impl Picture {
     pub const SHADED: Picture = Picture::Slice { shade: true };
 }
 
+/// Which outputs of a render come back to the host.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Readback {
+    /// Colour, depth and steps, and the stats' [`Summary`](crate::stats::Summary) of them.
+    All,
+    /// The colour only (a picture that is only written as an image: an animation's frames):
+    /// the bands' depth and steps are empty and the stats' summary is left at zero. The GPU
+    /// reads back a quarter of the bytes.
+    Colour,
+}
+
 /// Why f64 is refused on the GPU (CONTRACT.md: only where results are right).
 pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU: WGSL's f64 \
     has no trustworthy log/sqrt on common drivers (lavapipe returns wrong values without an error); \
@@ -212,9 +223,22 @@ impl Renderer {
         picture: Picture,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        self.render_with(scene, picture, Readback::All, sink)
+    }
+
+    /// As [`Self::render`], reading back only `readback`'s outputs.
+    pub fn render_with(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        readback: Readback,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    ) -> Result<RenderStats> {
         let mut summary = SummaryBuilder::new(scene.image.width);
         let mut counted = |band: &Frame| {
-            summary.add(band);
+            if readback == Readback::All {
+                summary.add(band);
+            }
             sink(band)
         };
         let (render_seconds, gpu_seconds) = match &self.gpu {
@@ -224,11 +248,14 @@ impl Renderer {
                     Picture::Slice { shade } => kernels.tracer()?.render_bands(
                         &TraceParams::<f32>::new(scene),
                         shade,
+                        readback,
                         &mut owned,
                     )?,
-                    Picture::Julia2d => kernels
-                        .julia2d()?
-                        .render_bands(&Julia2dParams::<f32>::new(scene), &mut owned)?,
+                    Picture::Julia2d => kernels.julia2d()?.render_bands(
+                        &Julia2dParams::<f32>::new(scene),
+                        readback,
+                        &mut owned,
+                    )?,
                 };
                 (times.seconds, times.gpu_seconds)
             }

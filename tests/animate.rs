@@ -244,14 +244,14 @@ fn complete_frames_stay_when_a_later_one_fails() {
     );
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert!(stderr(&out).contains("frame-00002.png"), "{}", stderr(&out));
-    // Frames 0 and 1 are there, whole; no temporary file is left behind.
-    assert_eq!(
-        files_in(&dir.path().join("qjulia-frames")),
-        frame_names(0..=2)
-    );
-    for k in 0..=1 {
-        let img = image::open(dir.path().join(format!("qjulia-frames/frame-{k:05}.png"))).unwrap();
-        assert_eq!((img.width(), img.height()), (48, 32));
+    // Frames 0 and 1 are there, whole; no temporary file is left behind. Later frames, which
+    // the pipeline may have rendered while frame 2 was being written, are whole where present.
+    let names = files_in(&dir.path().join("qjulia-frames"));
+    assert!(names.starts_with(&frame_names(0..=2)), "{names:?}");
+    for name in names.iter().filter(|n| *n != "frame-00002.png") {
+        assert!(frame_names(0..=5).contains(name), "{names:?}");
+        let img = image::open(dir.path().join("qjulia-frames").join(name)).unwrap();
+        assert_eq!((img.width(), img.height()), (48, 32), "{name}");
     }
 }
 

@@ -8,6 +8,7 @@ use super::{GpuContext, IMAGE_OUTPUTS, render_image_bands};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
+use crate::render::Readback;
 
 /// The 2D view: uniform [`GpuJulia2dParams`], outputs colour (the grey), the in-set marker
 /// (0 in the set, negative outside) and the iterations.
@@ -51,7 +52,7 @@ impl GpuJulia2d {
     /// The whole image in host memory, and its times.
     pub fn render(&self, params: &Julia2dParams<f32>) -> Result<(Frame, RunTimes)> {
         let mut frame = Frame::empty(params.width);
-        let times = self.render_bands(params, &mut |band| {
+        let times = self.render_bands(params, Readback::All, &mut |band| {
             frame.append(&band);
             Ok(())
         })?;
@@ -64,12 +65,13 @@ impl GpuJulia2d {
     pub fn render_bands(
         &self,
         params: &Julia2dParams<f32>,
+        readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
         let uniform = |band: Band| {
             bytemuck::bytes_of(&GpuJulia2dParams::new(params, band.row, band.rows)).to_vec()
         };
         let size = (params.width, params.height);
-        render_image_bands(&self.kernel, &[], (size, 1), &uniform, sink)
+        render_image_bands(&self.kernel, &[], (size, 1), readback, &uniform, sink)
     }
 }

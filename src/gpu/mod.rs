@@ -15,6 +15,7 @@ pub use variant::Variant;
 
 use crate::error::{Error, Result};
 use crate::frame::Frame;
+use crate::render::Readback;
 use kernel::BandOutput;
 
 /// An adapter, its device and queue, and what they can do.
@@ -157,6 +158,11 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     },
 ];
 
+/// Where the colour, depth and steps are among the image kernels' outputs.
+const COLOUR_OUTPUT: usize = 0;
+const DEPTH_OUTPUT: usize = 1;
+const STEPS_OUTPUT: usize = 2;
+
 /// Where the tracer's estimates are among its outputs (after the image's three); the outputs
 /// after it stay on the device.
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
@@ -178,17 +184,24 @@ pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
 ];
 
 /// Runs an image kernel over a `width` x `height` image with these override constants and
-/// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`].
+/// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`] of the
+/// outputs `readback` asks for.
 pub(crate) fn render_image_bands(
     kernel: &Kernel,
     constants: &[(&'static str, f64)],
     ((width, height), dispatches): ((u32, u32), u32),
+    readback: Readback,
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
-    // Colour, depth, steps and (where the kernel has it) the estimates; not the accumulator.
+    // All: colour, depth, steps and (where the kernel has it) the estimates, not the
+    // accumulator. Colour: the colour alone.
+    let last = match readback {
+        Readback::All => ESTIMATES_OUTPUT,
+        Readback::Colour => COLOUR_OUTPUT,
+    };
     let read: Vec<bool> = (0..kernel.spec().outputs.len())
-        .map(|k| k <= ESTIMATES_OUTPUT)
+        .map(|k| k <= last)
         .collect();
     let run = kernel::Run {
         constants,
@@ -202,31 +215,40 @@ pub(crate) fn render_image_bands(
 
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
 /// and depths that came out NaN or infinite are counted. The estimates are the kernel's fourth
-/// output where it has one (the tracer), else the steps (the 2D view's iterations).
+/// output where it has one (the tracer), else the steps (the 2D view's iterations). Outputs not
+/// read back stay empty. The arrays are converted in parallel: at 3840x2160 each is 33 MB.
 pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
-    let [Some(colour), Some(depth), Some(steps), ..] = band.outputs else {
-        panic!("an image band reads back colour, depth and steps");
+    use rayon::prelude::*;
+    // An output not read back is an empty array of its type.
+    fn output<'a, T: bytemuck::Pod>(band: &BandOutput<'a>, k: usize) -> &'a [T] {
+        band.outputs
+            .get(k)
+            .copied()
+            .flatten()
+            .map_or(&[], bytemuck::cast_slice)
+    }
+    let colour: &[u32] = output(band, COLOUR_OUTPUT);
+    let depths: &[f32] = output(band, DEPTH_OUTPUT);
+    let steps: &[u32] = output(band, STEPS_OUTPUT);
+    let estimates: &[u32] = match output(band, ESTIMATES_OUTPUT) {
+        [] => steps,
+        counts => counts,
     };
-    let estimates = band
-        .outputs
-        .get(ESTIMATES_OUTPUT)
-        .copied()
-        .flatten()
-        .unwrap_or(steps);
-    let depths = bytemuck::cast_slice::<u8, f32>(depth);
+    assert_eq!(
+        colour.len(),
+        band.rows as usize * width as usize,
+        "an image band reads back its colour"
+    );
     Frame {
         width,
         height: band.rows,
-        colour: bytemuck::cast_slice(colour).to_vec(),
+        colour: colour.par_iter().copied().collect(),
         depth: depths
-            .iter()
+            .par_iter()
             .map(|&d| if d < 0.0 { f32::NAN } else { d })
             .collect(),
-        steps: bytemuck::cast_slice(steps).to_vec(),
-        non_finite: depths.iter().filter(|d| !d.is_finite()).count() as u64,
-        estimates: bytemuck::cast_slice::<u8, u32>(estimates)
-            .iter()
-            .map(|&e| e as u64)
-            .sum(),
+        steps: steps.par_iter().copied().collect(),
+        non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64,
+        estimates: estimates.par_iter().map(|&e| e as u64).sum(),
     }
 }

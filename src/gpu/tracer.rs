@@ -9,6 +9,7 @@ use super::{GpuContext, TRACE_OUTPUTS, render_image_bands};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
+use crate::render::Readback;
 
 /// The tracer: uniform [`GpuParams`], outputs colour, depth, steps, estimates and the samples'
 /// running sum.
@@ -98,7 +99,7 @@ impl GpuTracer {
     /// the background), on a pipeline without the shading code.
     pub fn render_outputs(&self, params: &TraceParams<f32>, shade: bool) -> Result<GpuRender> {
         let mut frame = Frame::empty(params.width);
-        let times = self.render_bands(params, shade, &mut |band| {
+        let times = self.render_bands(params, shade, Readback::All, &mut |band| {
             frame.append(&band);
             Ok(())
         })?;
@@ -115,6 +116,7 @@ impl GpuTracer {
         &self,
         params: &TraceParams<f32>,
         shade: bool,
+        readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
         let constants = self
@@ -130,7 +132,8 @@ impl GpuTracer {
             bytemuck::bytes_of(&gpu).to_vec()
         };
         let dispatches = params.samples.max(1).div_ceil(per_dispatch);
-        render_image_bands(&self.kernel, &constants, (size, dispatches), &uniform, sink)
+        let shape = (size, dispatches);
+        render_image_bands(&self.kernel, &constants, shape, readback, &uniform, sink)
     }
 
     /// Samples each dispatch adds: as many as keep a dispatch within `band_pixels()` rays, so
