@@ -14,7 +14,8 @@
 #   QJULIA_FRAMES       required: the animation's frame count, [animation] frames of the scene
 #                       (120 when the scene has no [animation] table)
 #   QJULIA_BIN          the qjulia binary the jobs run (default: qjulia on PATH here)
-#   QJULIA_OPTS         more qjulia options for every job, split at blanks (e.g. "--backend gpu")
+#   QJULIA_OPTS         more qjulia options for both jobs, split at blanks (scene options such as
+#                       "--set image.samples=4"; "--backend gpu" makes the video job need a GPU)
 #   QJULIA_ARRAY_OPTS   sbatch options for the array, split at blanks
 #                       (e.g. "--partition=gpu --gres=gpu:1 --time=01:00:00")
 #   QJULIA_VIDEO_OPTS   sbatch options for the video job, split at blanks
