@@ -121,6 +121,10 @@ pub struct AnimateArgs {
     /// Shorthand for image.view (as for `render`).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
+    /// Print the animation's frame count on stdout and exit, rendering and writing nothing (for
+    /// scripts that split the frames, such as scripts/slurm/submit.sh).
+    #[arg(long)]
+    pub frame_count: bool,
     #[command(flatten)]
     pub tracer: TracerArgs,
 }
@@ -366,6 +370,10 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
     // Everything is checked before anything is written: the scene, the range, the video's
     // kind; then ffmpeg is looked for, before anything is rendered.
     let (base, animation) = args.scene.load_animated(args.view)?;
+    if args.frame_count {
+        println!("{}", animation.frames);
+        return Ok(());
+    }
     let range = match &args.frames {
         Some(text) => FrameRange::parse(text, animation.frames).map_err(qjulia::Error::from)?,
         None => FrameRange::all(animation.frames),

@@ -359,3 +359,19 @@ fn the_default_animation_starts_at_the_default_render() {
     assert!(std::fs::read(dir.path().join("qjulia-frames/frame-00000.png")).unwrap() == render);
     assert!(std::fs::read(dir.path().join("qjulia-frames/frame-00001.png")).unwrap() != render);
 }
+
+#[test]
+fn frame_count_prints_the_count_and_writes_nothing() {
+    let dir = with_scene();
+    let out = animate_cpu(dir.path(), &["--frame-count"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "6\n");
+    let out = animate_cpu(
+        dir.path(),
+        &["--frame-count", "--set", "animation.frames=250"],
+    );
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "250\n");
+    // The default animation: 120 frames.
+    let out = qjulia(dir.path(), &["animate", "--frame-count"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "120\n");
+    assert_eq!(files_in(dir.path()), ["anim.toml"]);
+}

@@ -3,7 +3,7 @@
 # frames in contiguous ranges (animate.sbatch), and a job that encodes the video once every task
 # has succeeded (video.sbatch, --dependency=afterok). Prints the two job ids.
 #
-#   QJULIA_FRAMES=120 scripts/slurm/submit.sh SCENE OUT_DIR VIDEO [TASKS]
+#   scripts/slurm/submit.sh SCENE OUT_DIR VIDEO [TASKS]
 #
 #   SCENE     the scene file (TOML, or a PNG written by qjulia)
 #   OUT_DIR   the frames folder (DIR/frame-NNNNN.png), on storage that every node reads and writes
@@ -11,8 +11,8 @@
 #   TASKS     the array's size (default 4; more tasks than frames are trimmed to one per frame)
 #
 # Environment:
-#   QJULIA_FRAMES       required: the animation's frame count, [animation] frames of the scene
-#                       (120 when the scene has no [animation] table)
+#   QJULIA_FRAMES       the animation's frame count (default: what `qjulia animate --frame-count`
+#                       says of the scene and QJULIA_OPTS, asked here on the submitting host)
 #   QJULIA_BIN          the qjulia binary the jobs run (default: qjulia on PATH here)
 #   QJULIA_OPTS         more qjulia options for both jobs, split at blanks (scene options such as
 #                       "--set image.samples=4"; "--backend gpu" makes the video job need a GPU)
@@ -24,7 +24,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: QJULIA_FRAMES=N $0 SCENE OUT_DIR VIDEO [TASKS]" >&2
+    echo "usage: $0 SCENE OUT_DIR VIDEO [TASKS]" >&2
     exit 2
 }
 die() {
@@ -37,15 +37,12 @@ scene=$(realpath -m -- "$1")
 out=$(realpath -m -- "$2")
 video=$(realpath -m -- "$3")
 tasks=${4:-4}
-frames=${QJULIA_FRAMES:-}
-[[ -n $frames ]] || die "set QJULIA_FRAMES to the animation's frame count ([animation] frames in $1; 120 when it has no [animation] table)"
 count() { # NAME VALUE: a whole number from 1 to 100000, printed without leading zeros
     if ! [[ $2 =~ ^[0-9]{1,6}$ ]] || (((10#$2) < 1 || (10#$2) > 100000)); then
         die "$1 must be a whole number from 1 to 100000, not '$2'"
     fi
     echo $((10#$2))
 }
-frames=$(count QJULIA_FRAMES "$frames")
 tasks=$(count TASKS "$tasks")
 [[ -f $scene ]] || die "$1: no such scene file"
 case $video in
@@ -59,6 +56,11 @@ if [[ $bin == */* ]]; then
 else
     bin=$(command -v -- "$bin") || die "qjulia is not on PATH: set QJULIA_BIN to the binary"
 fi
+read -r -a opts <<<"${QJULIA_OPTS:-}"
+# The frame count, from the scene itself (a bad scene stops here, with qjulia's own error).
+frames=${QJULIA_FRAMES:-$("$bin" animate --scene "$scene" "${opts[@]}" --frame-count)} ||
+    die "qjulia could not read the scene (above)"
+frames=$(count QJULIA_FRAMES "$frames")
 ((tasks <= frames)) || tasks=$frames
 read -r -a array_opts <<<"${QJULIA_ARRAY_OPTS:-}"
 read -r -a video_opts <<<"${QJULIA_VIDEO_OPTS:-}"

@@ -266,7 +266,7 @@ echo "slurm test: Slurm is up ($(($(date +%s) - started)) s)"
 
 # 4. The array and the video job, by submit.sh as a user would.
 cd "$tmp"
-submitted=$(QJULIA_FRAMES=$frames QJULIA_BIN=$bin \
+submitted=$(QJULIA_BIN=$bin \
     QJULIA_ARRAY_OPTS="--output=$tmp/jobs/array-%A_%a.out" \
     QJULIA_VIDEO_OPTS="--output=$tmp/jobs/video-%j.out" \
     timeout 60 "$here/submit.sh" "$tmp/scene.toml" "$tmp/split" "$tmp/video.mp4" "$tasks") ||
