@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 use std::sync::{Mutex, mpsc};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::GpuContext;
 use super::shaders::ShaderModuleSource;
@@ -108,7 +108,7 @@ pub struct Kernel {
     spare: Mutex<Vec<RunBuffers>>,
 }
 
-/// Steps a stream keeps on the device at once: one being read back, one running.
+/// Steps a stream keeps on the device at once on a GPU: one being read back, one running.
 const STEPS_IN_FLIGHT: usize = 2;
 
 /// One band of a stream ([`Kernel::run_stream`]): its pipeline's constants, the grid's width,
@@ -399,16 +399,21 @@ impl Kernel {
         let mut steps = self.steps(run, 0);
         let mut times = RunTimes::default();
         let mut first_submitted = None;
+        // The sink's time is left out, though the device may have run the next band meanwhile.
+        let mut in_sink = Duration::ZERO;
         self.run_stream(
             &mut steps,
             |_, out| decode(out),
             |_, done| {
                 let start = *first_submitted.get_or_insert(done.submitted);
-                times.seconds = (done.decoded - start).as_secs_f64();
+                times.seconds = (done.decoded - start).saturating_sub(in_sink).as_secs_f64();
                 times.gpu_seconds = done
                     .gpu_seconds
                     .map(|s| s + times.gpu_seconds.unwrap_or(0.0));
-                sink(done.made)
+                let sink_start = Instant::now();
+                let sunk = sink(done.made);
+                in_sink += sink_start.elapsed();
+                sunk
             },
         )?;
         Ok(times)
@@ -478,7 +483,7 @@ impl Kernel {
                 self.spec.outputs.len(),
                 "one flag per output"
             );
-            if in_flight.len() == STEPS_IN_FLIGHT {
+            if in_flight.len() == self.steps_in_flight() {
                 finish_oldest(&mut in_flight, &mut free)?;
             }
             let items = step.band_rows as u64 * step.width as u64;
@@ -494,6 +499,22 @@ impl Kernel {
         free.truncate(STEPS_IN_FLIGHT);
         *self.spare.lock().expect("spare buffers") = free;
         Ok(())
+    }
+
+    /// Steps in flight on this device: [`STEPS_IN_FLIGHT`] on a GPU; one on a CPU adapter
+    /// (lavapipe, llvmpipe), whose "device" is the host's own cores: there the host's work on
+    /// one band would only take cores from the next, and lavapipe's threads, which wait for
+    /// each other within a dispatch, lose more than the overlap gains (measured: docs/PERFORMANCE.md).
+    /// `QJULIA_STEPS_IN_FLIGHT` (1 or 2) overrides it, to measure.
+    pub fn steps_in_flight(&self) -> usize {
+        let default = match self.ctx.info.device_type {
+            wgpu::DeviceType::Cpu => 1,
+            _ => STEPS_IN_FLIGHT,
+        };
+        std::env::var("QJULIA_STEPS_IN_FLIGHT")
+            .ok()
+            .and_then(|v| v.parse::<usize>().ok())
+            .map_or(default, |n| n.clamp(1, STEPS_IN_FLIGHT))
     }
 
     /// Submits a step's dispatches and the copies of its outputs, and asks for them to be
