@@ -507,7 +507,7 @@ mod tests {
                 key(
                     76,
                     &[
-                        ("camera.eye", &[2.0 / 3.0, 1e20, 2.5]),
+                        ("camera.eye", &[2.0 / 3.0, 0.5, 1e20]),
                         ("slice.x", &s1[0]),
                         ("slice.y", &s1[1]),
                         ("slice.z", &s1[2]),
@@ -519,7 +519,9 @@ mod tests {
         let text = scene_file(&base, &a);
         let mut loader = SceneLoader::new();
         loader.toml_str(&text, SceneSource::Default).unwrap();
-        let (read_base, read) = loader.build_animated().unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let (read_base, read) = loader
+            .build_animated()
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(read_base, base);
         assert_eq!(read, a, "{text}");
         // Bitwise, -0.0 included.

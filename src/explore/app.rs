@@ -289,7 +289,10 @@ impl ExplorerApp {
         self.dialogs(&ctx);
         self.render_window(&ctx);
         self.log(now);
-        if self.animation.playing || self.timeline.playing || self.export.is_some() || self.rendering()
+        if self.animation.playing
+            || self.timeline.playing
+            || self.export.is_some()
+            || self.rendering()
         {
             ctx.request_repaint();
         }

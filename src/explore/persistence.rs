@@ -31,7 +31,9 @@ pub fn load_persisted(storage: Option<&dyn eframe::Storage>) -> (Option<Scene>, 
 }
 
 /// The timeline the last run left (its base scene and animation), when it still loads.
-pub fn load_persisted_timeline(storage: Option<&dyn eframe::Storage>) -> Option<(Scene, Animation)> {
+pub fn load_persisted_timeline(
+    storage: Option<&dyn eframe::Storage>,
+) -> Option<(Scene, Animation)> {
     let text = eframe::get_value::<String>(storage?, STORAGE_TIMELINE)?;
     let mut loader = SceneLoader::new();
     loader.toml_str(&text, SceneSource::Default).ok()?;
@@ -56,7 +58,10 @@ impl ExplorerApp {
                 let keys = animation.keys.len();
                 self.set_scene(scene.clone());
                 self.timeline = super::timeline::Timeline::new(scene, animation);
-                self.message = Some((format!("opened {} ({keys} keyframes)", path.display()), false));
+                self.message = Some((
+                    format!("opened {} ({keys} keyframes)", path.display()),
+                    false,
+                ));
             }
             Err(e) => self.message = Some((format!("error: {e}"), true)),
         }

@@ -18,9 +18,7 @@ use std::time::Instant;
 
 use super::app::ExplorerApp;
 use crate::animate::{FrameRange, Progress};
-use crate::animation::{
-    Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, get_value, scene_file,
-};
+use crate::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, get_value, scene_file};
 use crate::render::Renderer;
 use crate::scene::schema::{self, Kind};
 use crate::scene::{Scene, SceneLoader, SceneSource, Slice};
@@ -198,9 +196,15 @@ impl Timeline {
 
     /// Adds a keyframe at the current frame from the view (replacing one there): the values of
     /// [`Self::paths_for`]. Keys that did not set a path the new key sets take the value they
-    /// showed, so every key still looks as it did. Returns the key's frame.
+    /// showed, so every key still looks as it did. A key's values are in the order of their
+    /// paths, as a scene file reads back. Returns the key's frame.
     pub fn add_key(&mut self, view: &Scene) -> u32 {
+        // A c moved from the loop is the key's, not a new centre of the loop.
+        let centre = self.base.fractal.c.clone();
         self.absorb(view);
+        if self.base.fractal.c.len() == centre.len() {
+            self.base.fractal.c = centre;
+        }
         let paths = self.paths_for(view);
         let before = self.animation.clone();
         for key in &mut self.animation.keys {
@@ -211,11 +215,13 @@ impl Timeline {
                     key.values.push((path.clone(), value));
                 }
             }
+            key.values.sort_by(|a, b| a.0.cmp(&b.0));
         }
-        let values = paths
+        let mut values: Vec<(String, Vec<f64>)> = paths
             .iter()
             .map(|p| (p.clone(), get_value(view, p).expect("animatable")))
             .collect();
+        values.sort_by(|a, b| a.0.cmp(&b.0));
         let frame = self.frame;
         self.animation.keys.retain(|k| k.frame != frame);
         self.animation.keys.push(Keyframe { frame, values });
@@ -255,259 +261,11 @@ impl Timeline {
     /// Sets the frame count, within [`FRAMES_MIN`, `FRAMES_MAX`] and never below the last
     /// keyframe (move or delete it first); the current frame stays within.
     pub fn set_frames(&mut self, frames: u32) {
-        let least = self.animation.keys.last().map_or(FRAMES_MIN, |k| k.frame + 1);
-        self.animation.frames = frames.clamp(least.max(FRAMES_MIN), FRAMES_MAX);
-        self.frame = self.frame.min(self.last_frame());
-    }
-
-    /// Shows frame `frame` (within the animation) in `view`, the view's changes taken into the
-    /// base first.
-    pub fn show(&mut self, frame: u32, view: &mut Scene) {
-        self.absorb(view);
-        self.frame = frame.min(self.last_frame());
-        *view = self.scene_at(self.frame);
-        self.shown = Some(view.clone());
-    }
-
-    /// Play or pause; playing starts at the current frame, shown at once.
-    pub fn toggle_play(&mut self, view: &mut Scene) {
-        self.playing = !self.playing;
-        if self.playing {
-            self.position = f64::from(self.frame);
-            self.show(self.frame, view);
-        }
-    }
-
-    /// While playing, advances by `dt` seconds at the animation's frames per second, looping at
-    /// the end, and shows the frame reached.
-    pub fn advance(&mut self, dt: f64, view: &mut Scene) {
-        if !self.playing {
-            return;
-        }
-        let frames = f64::from(self.animation.frames);
-        self.position = (self.position + dt * self.animation.fps).rem_euclid(frames);
-        let frame = (self.position.floor() as u32).min(self.last_frame());
-        if frame != self.frame {
-            self.show(frame, view);
-        }
-    }
-
-    /// The scene file of the animation, the view's changes taken into the base: the scene's
-    /// tables and `[animation]`.
-    pub fn file_text(&mut self, view: &Scene) -> String {
-        self.absorb(view);
-        scene_file(&self.base, &self.animation)
-    }
-
-    /// The scene file as `qjulia animate --scene FILE` reads it: its text, and the base and
-    /// animation read back from it; the loader's one-line error where it would refuse it (a
-    /// track that leaves a range between its keys, a degenerate camera on the way).
-    pub fn checked_file(&mut self, view: &Scene) -> Result<(String, Scene, Animation), String> {
-        let text = self.file_text(view);
-        let mut loader = SceneLoader::new();
-        loader
-            .toml_str(&text, SceneSource::Default)
-            .and_then(|()| loader.build_animated())
-            .map(|(scene, animation)| (text, scene, animation))
-            .map_err(|e| e.message)
-    }
-}
-
-/// The "Render animation..." window and its job.
-    pub(super) render: RenderWindow,
-}
-
-impl Timeline {
-    /// The timeline of `animation` over `base`, at frame 0.
-    pub fn new(base: Scene, animation: Animation) -> Self {
-        let mut timeline = Self {
-            animation,
-            base,
-            frame: 0,
-            shown: None,
-            playing: false,
-            position: 0.0,
-            selected: None,
-            dragging: None,
-            render: RenderWindow::default(),
-        };
-        timeline.animation.keys.sort_by_key(|k| k.frame);
-        timeline
-    }
-
-    /// A timeline restored over a view that already shows `view` (the timeline's own frame 0
-    /// or a frame of it): c on its loop stays the loop's, not a new centre.
-    pub fn restored(base: Scene, animation: Animation, view: &Scene) -> Self {
-        let mut timeline = Self::new(base, animation);
-        timeline.shown = Some(view.clone());
-        timeline
-    }
-
-    /// The last frame's number.
-    pub fn last_frame(&self) -> u32 {
-        self.animation.frames.max(1) - 1
-    }
-
-    /// The keyframes' frame numbers, in order.
-    pub fn key_frames(&self) -> Vec<u32> {
-        self.animation.keys.iter().map(|k| k.frame).collect()
-    }
-
-    /// The keyframe at `frame`, if there is one.
-    pub fn key(&self, frame: u32) -> Option<&Keyframe> {
-        self.animation.keys.iter().find(|k| k.frame == frame)
-    }
-
-    /// Frame `frame`'s scene, as `qjulia animate` renders it.
-    pub fn scene_at(&self, frame: u32) -> Scene {
-        self.animation.scene_at(&self.base, frame)
-    }
-
-    /// Takes what the user changed in `view` into the base: every value of the view, except c
-    /// when no keyframe sets it and the view's c is the one the timeline put there (so c's loop
-    /// keeps its centre). The values keyframes set are the tracks' whatever the base holds.
-    /// After a change of algebra the keys' numbers of the algebra are cut or padded to fit.
-    pub fn absorb(&mut self, view: &Scene) {
-        let mut base = view.clone();
-        let c_keyed = self.animation.animated_paths().contains(&"fractal.c");
-        let c_untouched = self
-            .shown
-            .as_ref()
-            .is_some_and(|s| s.fractal.c == view.fractal.c);
-        if !c_keyed && c_untouched && self.base.fractal.c.len() == view.fractal.c.len() {
-            base.fractal.c = self.base.fractal.c.clone();
-        }
-        self.base = base;
-        self.fit_keys();
-    }
-
-    /// Cuts or pads the keys' numbers of the algebra (c, the slice) to the base's algebra, the
-    /// slice axes re-orthonormalised (the standard axes where they degenerate).
-    fn fit_keys(&mut self) {
-        let dim = self.base.fractal.algebra.dim();
-        for key in &mut self.animation.keys {
-            let mut resized = false;
-            for (path, value) in &mut key.values {
-                let hyper = matches!(schema::key(path).map(|k| k.kind), Some(Kind::Hyper { .. }));
-                if hyper && value.len() != dim {
-                    value.resize(dim, 0.0);
-                    resized = true;
-                }
-            }
-            let axes: Vec<usize> = AXES
-                .iter()
-                .filter_map(|a| key.values.iter().position(|(p, _)| p == a))
-                .collect();
-            if resized && axes.len() == 3 {
-                let [x, y, z] = [0, 1, 2].map(|a| key.values[axes[a]].1.as_slice());
-                let fitted = crate::scene::orthonormalise([x, y, z])
-                    .unwrap_or_else(|| Slice::default().axes(dim));
-                for (a, axis) in fitted.into_iter().enumerate() {
-                    key.values[axes[a]].1 = axis;
-                }
-            }
-        }
-    }
-
-    /// The paths a keyframe at the current frame takes from `view`: those other keyframes set,
-    /// the camera's eye and target, c where the view's c is not the animation's at this frame,
-    /// the slice's axes where the algebra has more than 4 dimensions or they are not the
-    /// standard ones (or not the animation's here), and the slice offset where it is not zero
-    /// (or not the animation's here). The axes go together.
-    fn paths_for(&self, view: &Scene) -> Vec<String> {
-        let current = self.scene_at(self.frame);
-        let changed = |path: &str| get_value(view, path) != get_value(&current, path);
-        let dim = view.fractal.algebra.dim();
-        let standard = Slice::default().axes(dim);
-        let s = &view.slice;
-        let turned = dim > 4 || [&s.x, &s.y, &s.z].into_iter().ne(standard.iter());
-        let mut paths: Vec<String> = self
+        let least = self
             .animation
-            .animated_paths()
-            .into_iter()
-            .map(String::from)
-            .collect();
-        for path in VIEW_PATHS {
-            let wanted = match path {
-                "camera.eye" | "camera.target" => true,
-                "fractal.c" => changed(path),
-                "slice.offset" => changed(path) || s.offset.iter().any(|&x| x != 0.0),
-                _ => turned || AXES.iter().any(|a| changed(a)),
-            };
-            if wanted && !paths.iter().any(|p| p == path) {
-                paths.push(path.to_string());
-            }
-        }
-        if AXES.iter().any(|a| paths.iter().any(|p| p == a)) {
-            for axis in AXES {
-                if !paths.iter().any(|p| p == axis) {
-                    paths.push(axis.to_string());
-                }
-            }
-        }
-        paths
-    }
-
-    /// Adds a keyframe at the current frame from the view (replacing one there): the values of
-    /// [`Self::paths_for`]. Keys that did not set a path the new key sets take the value they
-    /// showed, so every key still looks as it did. Returns the key's frame.
-    pub fn add_key(&mut self, view: &Scene) -> u32 {
-        self.absorb(view);
-        let paths = self.paths_for(view);
-        let before = self.animation.clone();
-        for key in &mut self.animation.keys {
-            let showed = before.scene_at(&self.base, key.frame);
-            for path in &paths {
-                if !key.values.iter().any(|(p, _)| p == path) {
-                    let value = get_value(&showed, path).expect("keyed paths are animatable");
-                    key.values.push((path.clone(), value));
-                }
-            }
-        }
-        let values = paths
-            .iter()
-            .map(|p| (p.clone(), get_value(view, p).expect("animatable")))
-            .collect();
-        let frame = self.frame;
-        self.animation.keys.retain(|k| k.frame != frame);
-        self.animation.keys.push(Keyframe { frame, values });
-        self.animation.keys.sort_by_key(|k| k.frame);
-        self.selected = Some(frame);
-        self.shown = Some(view.clone());
-        frame
-    }
-
-    /// Moves the keyframe at `from` to frame `to`. Refused (false, nothing changed) when there
-    /// is no key at `from`, `to` is past the last frame or another key is there.
-    pub fn move_key(&mut self, from: u32, to: u32) -> bool {
-        if to > self.last_frame() || (from != to && self.key(to).is_some()) {
-            return false;
-        }
-        let Some(key) = self.animation.keys.iter_mut().find(|k| k.frame == from) else {
-            return false;
-        };
-        key.frame = to;
-        self.animation.keys.sort_by_key(|k| k.frame);
-        if self.selected == Some(from) {
-            self.selected = Some(to);
-        }
-        true
-    }
-
-    /// Deletes the keyframe at `frame`; false where there is none.
-    pub fn delete_key(&mut self, frame: u32) -> bool {
-        let count = self.animation.keys.len();
-        self.animation.keys.retain(|k| k.frame != frame);
-        if self.selected == Some(frame) {
-            self.selected = None;
-        }
-        self.animation.keys.len() != count
-    }
-
-    /// Sets the frame count, within [`FRAMES_MIN`, `FRAMES_MAX`] and never below the last
-    /// keyframe (move or delete it first); the current frame stays within.
-    pub fn set_frames(&mut self, frames: u32) {
-        let least = self.animation.keys.last().map_or(FRAMES_MIN, |k| k.frame + 1);
+            .keys
+            .last()
+            .map_or(FRAMES_MIN, |k| k.frame + 1);
         self.animation.frames = frames.clamp(least.max(FRAMES_MIN), FRAMES_MAX);
         self.frame = self.frame.min(self.last_frame());
     }
@@ -563,25 +321,10 @@ impl Timeline {
             .map(|(scene, animation)| (text, scene, animation))
             .map_err(|e| e.message)
     }
-}
-
-/// Writes `value` into the key at `path` of every keyframe that sets it (for tests and tools).
-pub fn set_key_value(animation: &mut Animation, frame: u32, path: &str, value: &[f64]) -> bool {
-    let Some(key) = animation.keys.iter_mut().find(|k| k.frame == frame) else {
-        return false;
-    };
-    let mut probe = Scene::default();
-    if !set_value(&mut probe, path, value) && get_value(&probe, path).is_none() {
-        return false;
-    }
-    match key.values.iter_mut().find(|(p, _)| p == path) {
-        Some((_, v)) => *v = value.to_vec(),
-        None => key.values.push((path.to_string(), value.to_vec())),
-    }
-    true
 }
 
 /// The "Render animation..." window: where and which frames, and the job running.
+#[derive(Default)]
 pub(super) struct RenderWindow {
     pub open: bool,
     /// The output folder, as typed.
@@ -592,20 +335,6 @@ pub(super) struct RenderWindow {
     pub job: Option<RenderJob>,
     /// How the last job ended.
     pub outcome: Option<(String, bool)>,
-}
-
-impl Default for RenderWindow {
-    fn default() -> Self {
-        Self {
-            open: false,
-            dir: String::new(),
-            first: 0,
-            last: None,
-            resume: false,
-            job: None,
-            outcome: None,
-        }
-    }
 }
 
 /// What a render job has done so far, shared with its thread.
@@ -624,19 +353,25 @@ pub(super) struct RenderJob {
     total: u32,
     dir: PathBuf,
     started: Instant,
-    progress: Arc<Mutex<JobProgress>>,
-    cancel: Arc<AtomicBool>,
+    shared: Arc<Shared>,
+}
+
+/// What a job and its thread share: the progress, and the request to stop.
+#[derive(Default)]
+struct Shared {
+    progress: Mutex<JobProgress>,
+    cancel: AtomicBool,
 }
 
 impl RenderJob {
     /// Frames done and the total.
     pub fn counts(&self) -> (u32, u32) {
-        (self.progress.lock().unwrap().done, self.total)
+        (self.shared.progress.lock().unwrap().done, self.total)
     }
 
     /// Frames rendered per second so far.
     pub fn frames_per_second(&self) -> f64 {
-        let rendered = self.progress.lock().unwrap().rendered;
+        let rendered = self.shared.progress.lock().unwrap().rendered;
         f64::from(rendered) / self.started.elapsed().as_secs_f64().max(1e-9)
     }
 }
@@ -678,9 +413,9 @@ fn run_job(
     range: FrameRange,
     dir: PathBuf,
     resume: bool,
-    progress: Arc<Mutex<JobProgress>>,
-    cancel: Arc<AtomicBool>,
+    shared: Arc<Shared>,
 ) -> (String, bool) {
+    let (progress, cancel) = (&shared.progress, &shared.cancel);
     let mut first = range.first;
     let mut chunk = 1;
     while first <= range.last {
@@ -921,20 +656,28 @@ impl ExplorerApp {
         let mid = rect.center().y;
         let faint = visuals.weak_text_color();
         painter.line_segment(
-            [egui::pos2(inner.left(), mid), egui::pos2(inner.right(), mid)],
+            [
+                egui::pos2(inner.left(), mid),
+                egui::pos2(inner.right(), mid),
+            ],
             egui::Stroke::new(1.0, faint),
         );
         // Ticks at a round step at least 50 points apart, numbered.
         let per_frame = inner.width() / last.max(1) as f32;
-        let step = [1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, 1000, 2000, 5000, 10_000]
-            .into_iter()
-            .find(|&s| s as f32 * per_frame >= 50.0)
-            .unwrap_or(20_000);
+        let step = [
+            1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, 1000, 2000, 5000, 10_000,
+        ]
+        .into_iter()
+        .find(|&s| s as f32 * per_frame >= 50.0)
+        .unwrap_or(20_000);
         let font = egui::FontId::proportional(10.0);
         for k in (0..=last).step_by(step as usize) {
             let x = x_of(k);
             painter.line_segment(
-                [egui::pos2(x, rect.bottom() - 8.0), egui::pos2(x, rect.bottom())],
+                [
+                    egui::pos2(x, rect.bottom() - 8.0),
+                    egui::pos2(x, rect.bottom()),
+                ],
                 egui::Stroke::new(1.0, faint),
             );
             painter.text(
@@ -1028,10 +771,10 @@ impl ExplorerApp {
                             ),
                         );
                         ui.horizontal(|ui| {
-                            if job.cancel.load(Ordering::Relaxed) {
+                            if job.shared.cancel.load(Ordering::Relaxed) {
                                 ui.label("cancelling after the frames in hand…");
                             } else if ui.button("Cancel").clicked() {
-                                job.cancel.store(true, Ordering::Relaxed);
+                                job.shared.cancel.store(true, Ordering::Relaxed);
                             }
                         });
                     }
@@ -1069,7 +812,10 @@ impl ExplorerApp {
         let last = r.last.unwrap_or(animation.frames - 1);
         if r.first > last {
             r.outcome = Some((
-                format!("error: the first frame {} is after the last {last}", r.first),
+                format!(
+                    "error: the first frame {} is after the last {last}",
+                    r.first
+                ),
                 true,
             ));
             return;
@@ -1084,14 +830,12 @@ impl ExplorerApp {
             .slice_texture
             .as_ref()
             .map(|view| Renderer::on_tracer(view.tracer().clone()));
-        let progress = Arc::new(Mutex::new(JobProgress::default()));
-        let cancel = Arc::new(AtomicBool::new(false));
+        let shared = Arc::new(Shared::default());
         let job = RenderJob {
             total: range.len(),
             dir: dir.clone(),
             started: Instant::now(),
-            progress: progress.clone(),
-            cancel: cancel.clone(),
+            shared: shared.clone(),
         };
         std::thread::spawn(move || {
             let picture = crate::render::Picture::Slice {
@@ -1114,12 +858,11 @@ impl ExplorerApp {
                     range,
                     dir,
                     resume,
-                    progress.clone(),
-                    cancel,
+                    shared.clone(),
                 ),
                 Err(e) => (format!("error: render animation: {e}"), true),
             };
-            progress.lock().unwrap().finished = Some(finished);
+            shared.progress.lock().unwrap().finished = Some(finished);
         });
         r.outcome = None;
         r.job = Some(job);
@@ -1129,9 +872,12 @@ impl ExplorerApp {
     fn poll_render(&mut self) {
         let r = &mut self.timeline.render;
         let Some(job) = &r.job else { return };
-        let finished = job.progress.lock().unwrap().finished.take();
+        let finished = job.shared.progress.lock().unwrap().finished.take();
         if let Some(outcome) = finished {
-            self.last_dir = job.dir.parent().map_or(self.last_dir.clone(), Path::to_path_buf);
+            self.last_dir = job
+                .dir
+                .parent()
+                .map_or(self.last_dir.clone(), Path::to_path_buf);
             self.message = Some(outcome.clone());
             r.outcome = Some(outcome);
             r.job = None;
@@ -1172,7 +918,10 @@ mod tests {
         view.fractal.c = vec![0.1, 0.2, 0.3, 0.4];
         t.add_key(&view);
         assert_eq!(t.key_frames(), [0, 60]);
-        assert_eq!(path_of(&values(&t, 60), "fractal.c"), Some(view.fractal.c.clone()));
+        assert_eq!(
+            path_of(&values(&t, 60), "fractal.c"),
+            Some(view.fractal.c.clone())
+        );
         assert_eq!(
             path_of(&values(&t, 0), "fractal.c"),
             Some(Scene::default().fractal.c)
@@ -1201,16 +950,22 @@ mod tests {
         for axis in AXES {
             assert_eq!(path_of(&key, axis).map(|v| v.len()), Some(8), "{axis}");
         }
-        assert_eq!(path_of(&values(&t, 0), "slice.offset").map(|v| v.len()), Some(8));
+        assert_eq!(
+            path_of(&values(&t, 0), "slice.offset").map(|v| v.len()),
+            Some(8)
+        );
     }
 
     #[test]
     fn keys_move_within_range_to_free_frames_and_delete() {
         let mut view = Scene::default();
-        let mut t = Timeline::new(view.clone(), Animation {
-            frames: 50,
-            ..Animation::default()
-        });
+        let mut t = Timeline::new(
+            view.clone(),
+            Animation {
+                frames: 50,
+                ..Animation::default()
+            },
+        );
         for frame in [0, 10, 30] {
             t.show(frame, &mut view);
             view.camera.eye[0] = f64::from(frame) / 100.0;
@@ -1239,6 +994,7 @@ mod tests {
         assert_eq!(t.animation.frames, 41);
         t.set_frames(0);
         assert_eq!(t.animation.frames, 41);
+        t.selected = Some(40);
         assert!(t.delete_key(40));
         assert!(!t.delete_key(40));
         assert_eq!(t.selected, None);
@@ -1263,7 +1019,11 @@ mod tests {
         t.add_key(&view);
         let base = t.base.clone();
         assert_eq!(base.shading.ambient, 0.1);
-        assert_eq!(base.fractal.c, Scene::default().fractal.c, "c's loop centre");
+        assert_eq!(
+            base.fractal.c,
+            Scene::default().fractal.c,
+            "c's loop centre"
+        );
         for k in [0, 45, 60, 119] {
             t.show(k, &mut view);
             assert_eq!(view, t.animation.scene_at(&base, k), "frame {k}");
@@ -1283,12 +1043,15 @@ mod tests {
     fn the_saved_file_reads_back_as_the_animation() {
         let mut view = Scene::default();
         view.set_algebra(Algebra::Octonion);
-        let mut t = Timeline::new(view.clone(), Animation {
-            frames: 48,
-            fps: 24.0,
-            path_radius: 0.05,
-            keys: vec![],
-        });
+        let mut t = Timeline::new(
+            view.clone(),
+            Animation {
+                frames: 48,
+                fps: 24.0,
+                path_radius: 0.05,
+                keys: vec![],
+            },
+        );
         for (frame, x) in [(0, 0.1), (20, -0.3), (47, 1.0 / 3.0)] {
             t.show(frame, &mut view);
             view.camera.eye[0] = x;

@@ -40,8 +40,7 @@ impl ExplorerApp {
 
     /// The 3D view: the shaded picture, or a step view's heat map with its legend.
     fn view_3d(&mut self, ui: &mut egui::Ui, rect: egui::Rect, response: &egui::Response) {
-        let interacting =
-            response.dragged()
+        let interacting = response.dragged()
             || self.animation.playing
             || self.timeline.playing
             || ui.input(|i| i.pointer.any_down());
