@@ -506,9 +506,9 @@ impl ExplorerApp {
         let last = self.timeline.last_frame();
         ui.horizontal(|ui| {
             let label = if self.timeline.playing {
-                "⏸ Pause"
+                "Pause"
             } else {
-                "▶ Play"
+                "Play"
             };
             if ui
                 .button(label)
@@ -551,7 +551,7 @@ impl ExplorerApp {
             .on_hover_text("c's closed loop when no keyframe sets c");
             ui.separator();
             if ui
-                .button("◆ Add key")
+                .button("Add key")
                 .on_hover_text("a keyframe at this frame from the view")
                 .clicked()
             {
@@ -723,7 +723,7 @@ impl ExplorerApp {
                 egui::Stroke::new(1.0, egui::Color32::BLACK),
             ));
         }
-        response.on_hover_text("click or drag to scrub; drag a ◆ to move its keyframe");
+        response.on_hover_text("click or drag to scrub; drag a key marker to move its key");
     }
 
     /// The "Render animation..." window: folder, frame range, resume; while a job runs, its
