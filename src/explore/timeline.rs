@@ -59,6 +59,8 @@ pub struct Timeline {
     pub selected: Option<u32>,
     /// The key whose marker is being dragged.
     dragging: Option<u32>,
+    /// Where the strip was drawn last frame, and the x of frame 0 and of the last frame in it.
+    pub strip: (egui::Rect, f32, f32),
     /// The "Render animation..." window and its job.
     pub(super) render: RenderWindow,
 }
@@ -75,6 +77,7 @@ impl Timeline {
             position: 0.0,
             selected: None,
             dragging: None,
+            strip: (egui::Rect::NOTHING, 0.0, 0.0),
             render: RenderWindow::default(),
         };
         timeline.animation.keys.sort_by_key(|k| k.frame);
@@ -504,7 +507,7 @@ impl ExplorerApp {
     /// strip (scrub, key markers).
     pub(super) fn timeline_panel(&mut self, ui: &mut egui::Ui) {
         let last = self.timeline.last_frame();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let label = if self.timeline.playing {
                 "Pause"
             } else {
@@ -597,6 +600,7 @@ impl ExplorerApp {
         let (rect, response) =
             ui.allocate_exact_size(egui::vec2(width, 34.0), egui::Sense::click_and_drag());
         let inner = rect.shrink2(egui::vec2(10.0, 0.0));
+        self.timeline.strip = (rect, inner.left(), inner.right());
         let last = self.timeline.last_frame();
         let x_of = |frame: u32| {
             let t = if last == 0 {
