@@ -120,4 +120,28 @@ mod tests {
         assert_eq!(resolution, 0.5);
         assert_eq!(load_persisted(None), (None, 1.0));
     }
+
+    #[test]
+    fn scene_files_bring_their_keyframes_and_the_timeline_persists() {
+        let mut app = ExplorerApp::with_scene(Scene::default());
+        app.timeline.show(40, &mut app.scene);
+        app.scene.camera.eye = [0.5, 1.0, 2.5];
+        app.add_key();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("anim.toml");
+        app.save(&path);
+        let saved = app.timeline.animation.clone();
+        assert_eq!(saved.keys.len(), 1);
+
+        let mut other = ExplorerApp::with_scene(PRESETS[3].scene());
+        other.open(&path);
+        assert_eq!(other.timeline.animation, saved);
+        assert_eq!(other.timeline.base, app.timeline.base);
+
+        let mut storage = Memory::default();
+        eframe::App::save(&mut app, &mut storage);
+        let (base, animation) = load_persisted_timeline(Some(&storage)).expect("persisted");
+        assert_eq!(animation, saved);
+        assert_eq!(base, app.timeline.base);
+    }
 }
