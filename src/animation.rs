@@ -79,6 +79,16 @@ pub fn set_value(scene: &mut Scene, path: &str, value: &[f64]) -> bool {
     }
 }
 
+/// The value of the animatable key at `path` in `scene` (a float as a one-number vector); None
+/// for any other path.
+pub fn get_value(scene: &Scene, path: &str) -> Option<Vec<f64>> {
+    match schema::key(path).map(|k| k.kind) {
+        Some(Kind::Float { at, .. }) => Some(vec![*(at.get)(scene)]),
+        Some(Kind::Vector { at, .. } | Kind::Hyper { at }) => Some((at.get)(scene).to_vec()),
+        _ => None,
+    }
+}
+
 /// The point at `phase` of c's closed path of radius `radius` around `center` (the explorer's
 /// Play path): every component moves, each at its own frequency, and the path is at `center`
 /// exactly at phase 0 and returns there after 2 pi.
@@ -141,6 +151,34 @@ pub fn track_value(keys: &[(f64, &[f64])], t: f64) -> Vec<f64> {
 }
 
 impl Animation {
+    /// The `[animation]` table as TOML, to follow a scene's tables in a scene file (see
+    /// [`scene_file`]): `frames`, `fps`, `path_radius`, then one `[[animation.keys]]` per
+    /// keyframe with its `frame` and each value by dotted path (`fractal.c = [...]`). Floats are
+    /// written in their shortest exact form, so that the file reads back to the same numbers.
+    pub fn to_toml(&self) -> String {
+        use std::fmt::Write;
+        let float = |x: f64| toml::Value::Float(x).to_string();
+        let mut out = String::from("[animation]\n");
+        writeln!(out, "frames = {}", self.frames).unwrap();
+        writeln!(out, "fps = {}", float(self.fps)).unwrap();
+        writeln!(out, "path_radius = {}", float(self.path_radius)).unwrap();
+        for key in &self.keys {
+            out.push_str("\n[[animation.keys]]\n");
+            writeln!(out, "frame = {}", key.frame).unwrap();
+            for (path, value) in &key.values {
+                let text = match schema::key(path).map(|k| k.kind) {
+                    Some(Kind::Float { .. }) if value.len() == 1 => float(value[0]),
+                    _ => {
+                        let items: Vec<String> = value.iter().map(|&x| float(x)).collect();
+                        format!("[{}]", items.join(", "))
+                    }
+                };
+                writeln!(out, "{path} = {text}").unwrap();
+            }
+        }
+        out
+    }
+
     /// The paths the keyframes set, each once, in the order first set.
     pub fn animated_paths(&self) -> Vec<&str> {
         let mut paths: Vec<&str> = Vec::new();
@@ -202,6 +240,12 @@ impl Animation {
         }
         scene
     }
+}
+
+/// A scene file holding `base` and its animation: the scene's tables, then `[animation]`, so
+/// that `qjulia animate --scene FILE` renders exactly this animation.
+pub fn scene_file(base: &Scene, animation: &Animation) -> String {
+    format!("{}\n{}", base.to_toml(), animation.to_toml())
 }
 
 #[cfg(test)]
@@ -438,5 +482,50 @@ mod tests {
         ] {
             assert!(!animatable(path), "{path}");
         }
+    }
+
+    #[test]
+    fn a_saved_animation_reads_back_exactly() {
+        use crate::scene::{SceneLoader, SceneSource};
+        let mut base = Scene::default();
+        base.set_algebra(Algebra::Octonion);
+        base.camera.fov_y_degrees = 0.1 + 0.2;
+        let s1 = rotated_slice(8, 2, 6, 0.7);
+        let a = Animation {
+            frames: 77,
+            fps: 23.976,
+            path_radius: 1.0 / 3.0,
+            keys: vec![
+                key(
+                    0,
+                    &[
+                        ("camera.eye", &[1e-17, -0.0, 3.0000000000000004]),
+                        ("fractal.c", &[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 1.0 / 3.0]),
+                        ("fractal.epsilon", &[3e-3]),
+                    ],
+                ),
+                key(
+                    76,
+                    &[
+                        ("camera.eye", &[2.0 / 3.0, 0.5, 1e20]),
+                        ("slice.x", &s1[0]),
+                        ("slice.y", &s1[1]),
+                        ("slice.z", &s1[2]),
+                    ],
+                ),
+                key(40, &[("light.position", &[-1.5, 2.0, 7.0 / 9.0])]),
+            ],
+        };
+        let text = scene_file(&base, &a);
+        let mut loader = SceneLoader::new();
+        loader.toml_str(&text, SceneSource::Default).unwrap();
+        let (read_base, read) = loader
+            .build_animated()
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(read_base, base);
+        assert_eq!(read, a, "{text}");
+        // Bitwise, -0.0 included.
+        assert!(read.keys[0].values[0].1[1].is_sign_negative());
+        assert!(text.contains("[[animation.keys]]\nframe = 76\n"), "{text}");
     }
 }

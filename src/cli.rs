@@ -498,7 +498,7 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
 
 pub fn explore(args: &ExploreArgs) -> anyhow::Result<()> {
     let initial = if args.scene.given() || args.view.is_some() {
-        Some(args.scene.load_with_view(args.view)?)
+        Some(args.scene.load_animated(args.view)?)
     } else {
         None
     };

@@ -371,3 +371,83 @@ fn the_shading_panel_sets_the_picture_features() {
         &qjulia::compare::CONTRACT_TOLERANCE,
     );
 }
+
+/// Presses and releases the left button at `pos`, a frame between.
+fn click_at(harness: &mut Harness<'static, ExplorerApp>, pos: egui::Pos2) {
+    harness.hover_at(pos);
+    harness.step();
+    harness.drag_at(pos);
+    harness.step();
+    harness.drop_at(pos);
+    harness.step();
+}
+
+#[test]
+fn the_timeline_keys_the_view_scrubs_and_saves_what_animate_renders() {
+    let Some(mut harness) = harness("explorer_timeline") else {
+        return;
+    };
+    settle(&mut harness);
+    // A key at frame 0 from the view, then one at frame 90 with the camera orbited.
+    harness.get_by_label("Add key").click();
+    harness.step();
+    assert_eq!(harness.state().timeline.key_frames(), [0]);
+    let (_, x0, x1) = harness.state().timeline.strip;
+    let y = harness.state().timeline.strip.0.center().y;
+    let x_of = |frame: f32| x0 + (x1 - x0) * frame / 119.0;
+    click_at(&mut harness, egui::pos2(x_of(90.0), y));
+    assert_eq!(harness.state().timeline.frame, 90);
+    let centre = harness.state().view_rect.center();
+    harness.hover_at(centre);
+    harness.drag_at(centre);
+    harness.step();
+    for k in 1..=6 {
+        harness.hover_at(centre + egui::vec2(15.0 * k as f32, 0.0));
+        harness.step();
+    }
+    harness.drop_at(centre + egui::vec2(90.0, 0.0));
+    harness.step();
+    harness.get_by_label("Add key").click();
+    harness.step();
+    assert_eq!(harness.state().timeline.key_frames(), [0, 90]);
+
+    // Drag the key at 90 to 100.
+    harness.hover_at(egui::pos2(x_of(90.0), y));
+    harness.step();
+    harness.drag_at(egui::pos2(x_of(90.0), y));
+    harness.step();
+    for k in 1..=5 {
+        harness.hover_at(egui::pos2(x_of(90.0 + 2.0 * k as f32), y));
+        harness.step();
+    }
+    harness.drop_at(egui::pos2(x_of(100.0), y));
+    harness.step();
+    assert_eq!(harness.state().timeline.key_frames(), [0, 100]);
+
+    // Scrub to frame 50: the view shows that frame of the animation, as the headless render.
+    click_at(&mut harness, egui::pos2(x_of(50.0), y));
+    let app = harness.state();
+    assert_eq!(app.timeline.frame, 50);
+    assert_eq!(app.scene, app.timeline.scene_at(50));
+    assert_ne!(app.scene.camera.eye, app.timeline.scene_at(0).camera.eye);
+    settle(&mut harness);
+    let shown = shown_view(&mut harness);
+    common::assert_agree(
+        "explorer_timeline_frame",
+        &headless(&harness),
+        &shown,
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+
+    // Saved, the file reads back as this animation over this base.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("anim.toml");
+    harness.state_mut().save(&path);
+    let mut loader = qjulia::scene::SceneLoader::new();
+    loader.file(&path).unwrap();
+    let (base, animation) = loader.build_animated().unwrap();
+    let app = harness.state();
+    assert_eq!(animation, app.timeline.animation);
+    assert_eq!(base, app.timeline.base);
+    assert_eq!(animation.scene_at(&base, 50), app.scene);
+}

@@ -1,5 +1,6 @@
 //! The animation of c: a smooth closed path through the algebra around a centre, played from
-//! the c it starts at.
+//! the c it starts at, with the timeline's path radius (the loop `qjulia animate` renders when no
+//! keyframe sets c).
 
 use super::app::ExplorerApp;
 
@@ -27,6 +28,7 @@ impl Animation {
 impl ExplorerApp {
     /// Play or pause (Space, or the Play button); playing starts the path afresh at today's c.
     pub(super) fn toggle_play(&mut self) {
+        self.timeline.playing = false;
         self.animation.playing = !self.animation.playing;
         if self.animation.playing {
             self.animation.center = self.scene.fractal.c.clone();
@@ -36,6 +38,8 @@ impl ExplorerApp {
 
     /// Moves c along the path by `dt` seconds, while playing.
     pub(super) fn animate(&mut self, dt: f64) {
+        // One path size: the timeline's, which `qjulia animate` uses.
+        self.animation.radius = self.timeline.animation.path_radius;
         if self.animation.playing {
             self.animation.phase =
                 (self.animation.phase + dt * self.animation.speed) % std::f64::consts::TAU;

@@ -1,8 +1,9 @@
 //! The explorer's state and its frame loop. What the UI does with the state lives beside it, in
 //! `impl ExplorerApp` blocks of their own: the side panel's controls (`panels`), the menu bar and
 //! its windows (`menu`), keys and mouse (`input`), the view's drawing (`viewport`, with the step
-//! views' heat map in `heat_texture`), the animation of c (`animation`), the status line
-//! (`status`), export (`export`) and what persists (`persistence`).
+//! views' heat map in `heat_texture`), the animation of c (`animation`), the keyframed
+//! animation's timeline and its render (`timeline`), the status line (`status`), export
+//! (`export`) and what persists (`persistence`).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -13,8 +14,9 @@ use super::export::Export;
 use super::file_dialog::FileDialog;
 use super::heat_texture::HeatTexture;
 use super::julia2d_texture::Julia2dTexture;
-use super::persistence::load_persisted;
+use super::persistence::{load_persisted, load_persisted_timeline};
 use super::slice_texture::SliceTexture;
+use super::timeline::Timeline;
 use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
 use crate::heatmap::Legend;
 use crate::scene::rotation::{planes, rotate_basis};
@@ -51,6 +53,8 @@ pub struct ExplorerApp {
     pub(super) gpu_error: Option<String>,
     pub(super) adapter_label: String,
     pub animation: Animation,
+    /// The scene's `[animation]`: keyframes, scrubbing, playing, rendering.
+    pub timeline: Timeline,
     /// Resolution of the view relative to the panel's pixels.
     pub resolution_scale: f32,
     /// Samples the idle view accumulates (independent of `image.samples`, which exports use).
@@ -72,10 +76,25 @@ pub struct ExplorerApp {
 impl ExplorerApp {
     /// The app on eframe's wgpu device; `initial` is the scene given on the command line,
     /// else the one persisted from the last run, else the default.
-    pub fn new(cc: &eframe::CreationContext<'_>, initial: Option<Scene>) -> Self {
+    pub fn new(
+        cc: &eframe::CreationContext<'_>,
+        initial: Option<(Scene, crate::animation::Animation)>,
+    ) -> Self {
         let (stored_scene, resolution_scale) = load_persisted(cc.storage);
-        let scene = initial.or(stored_scene).unwrap_or_default();
-        let mut app = Self::with_scene(scene);
+        let mut app = match initial {
+            Some((scene, animation)) => {
+                let mut app = Self::with_scene(scene.clone());
+                app.timeline = Timeline::new(scene, animation);
+                app
+            }
+            None => {
+                let mut app = Self::with_scene(stored_scene.unwrap_or_default());
+                if let Some((base, animation)) = load_persisted_timeline(cc.storage) {
+                    app.timeline = Timeline::restored(base, animation, &app.scene);
+                }
+                app
+            }
+        };
         app.resolution_scale = resolution_scale;
         match &cc.wgpu_render_state {
             Some(rs) => app.attach_gpu(rs),
@@ -125,6 +144,7 @@ impl ExplorerApp {
                 phase: 0.0,
                 center: scene.fractal.c.clone(),
             },
+            timeline: Timeline::new(scene.clone(), Default::default()),
             scene,
             slice_texture: None,
             julia2d_texture: None,
@@ -199,6 +219,7 @@ impl ExplorerApp {
             std::mem::take(&mut self.adapter_label),
         );
         let (dir, dialog) = (self.last_dir.clone(), self.dialog.take());
+        let render = std::mem::take(&mut self.timeline.render);
         *self = Self {
             slice_texture,
             julia2d_texture,
@@ -211,6 +232,7 @@ impl ExplorerApp {
             dialog,
             ..Self::with_scene(scene)
         };
+        self.timeline.render = render;
     }
 
     /// The message shown in the status line, and whether it is an error.
@@ -254,17 +276,24 @@ impl ExplorerApp {
         let ctx = ui.ctx().clone();
         self.shortcuts(&ctx);
         self.animate(dt);
+        self.play_timeline(dt);
         self.poll_export();
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
         egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
+        egui::Panel::bottom("timeline").show(ui, |ui| self.timeline_panel(ui));
         egui::Panel::left("controls")
             .resizable(true)
             .default_size(320.0)
             .show(ui, |ui| self.controls(ui));
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_panel(ui));
         self.dialogs(&ctx);
+        self.render_window(&ctx);
         self.log(now);
-        if self.animation.playing || self.export.is_some() {
+        if self.animation.playing
+            || self.timeline.playing
+            || self.export.is_some()
+            || self.rendering()
+        {
             ctx.request_repaint();
         }
     }

@@ -1,5 +1,6 @@
 //! The menu bar (File, Presets, View) and the windows it opens: the file dialogs, whose choice
-//! opens, saves or exports, and the help window listing the shortcuts.
+//! opens, saves or exports, "Render animation…" (drawn by `timeline`), and the help window
+//! listing the shortcuts.
 
 use super::app::{ExplorerApp, Mode};
 use super::file_dialog::{FileDialog, Outcome, Purpose};
@@ -19,6 +20,9 @@ impl ExplorerApp {
                 }
                 if ui.button("Export PNG…  (Ctrl+E)").clicked() {
                     self.open_dialog(Purpose::ExportPng);
+                }
+                if ui.button("Render animation…").clicked() {
+                    self.timeline.render.open = true;
                 }
             });
             ui.menu_button("Presets", |ui| {

@@ -16,6 +16,7 @@ mod panels;
 pub mod persistence;
 pub mod slice_texture;
 mod status;
+pub mod timeline;
 mod viewport;
 
 use std::sync::Arc;
@@ -49,8 +50,9 @@ pub fn display_available() -> bool {
         .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
 }
 
-/// Runs the explorer until its window closes. `initial` is the scene from the command line.
-pub fn run(initial: Option<Scene>) -> Result<()> {
+/// Runs the explorer until its window closes. `initial` is the scene from the command line and
+/// its `[animation]`, which the timeline shows.
+pub fn run(initial: Option<(Scene, crate::animation::Animation)>) -> Result<()> {
     // Say clearly when there is no adapter, before eframe fails less clearly.
     pollster::block_on(crate::gpu::select_adapter())?;
     let options = eframe::NativeOptions {

@@ -202,8 +202,9 @@ impl ExplorerApp {
                 .text("speed (rad/s)"),
         );
         ui.add(
-            egui::Slider::new(&mut self.animation.radius, 0.005..=0.5)
+            egui::Slider::new(&mut self.timeline.animation.path_radius, 0.005..=0.5)
                 .logarithmic(true)
+                .clamping(egui::SliderClamping::Never)
                 .text("path size"),
         );
     }

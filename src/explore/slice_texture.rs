@@ -177,8 +177,11 @@ impl SliceTexture {
             self.wanted = Some(wanted);
             self.changed_at = Instant::now();
             // Tiles of a stale render not yet submitted are dropped; a fully submitted one is
-            // let finish, so that a continuous drag still shows a new image every frame.
-            if let Some(job) = &self.job {
+            // let finish, so that a continuous drag still shows a new image every frame. A
+            // preview always finishes: on a device so slow that even the smallest preview
+            // takes more than a frame's budget, a scene that changes every frame (Play) would
+            // otherwise never show one.
+            if let Some(job) = self.job.as_ref().filter(|j| j.quality == Quality::Full) {
                 let rows = self.targets[job.quality as usize]
                     .as_ref()
                     .map_or(0, |t| t.height);

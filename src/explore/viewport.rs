@@ -40,8 +40,10 @@ impl ExplorerApp {
 
     /// The 3D view: the shaded picture, or a step view's heat map with its legend.
     fn view_3d(&mut self, ui: &mut egui::Ui, rect: egui::Rect, response: &egui::Response) {
-        let interacting =
-            response.dragged() || self.animation.playing || ui.input(|i| i.pointer.any_down());
+        let interacting = response.dragged()
+            || self.animation.playing
+            || self.timeline.playing
+            || ui.input(|i| i.pointer.any_down());
         let view_scene = self.view_scene();
         let Some(view) = &mut self.slice_texture else {
             self.no_gpu(ui, rect);
