@@ -12,6 +12,7 @@
 //! At most [`frames_in_flight`] rendered frames wait for them, so memory stays bounded.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, channel, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -113,6 +114,9 @@ pub fn frame_complete(path: &Path, scene: &Scene) -> bool {
 pub struct AnimateStats {
     /// The frames rendered and written in this run.
     pub frames: u32,
+    /// Whether the run was stopped early ([`Job::stop`]): then no video was written.
+    #[serde(skip)]
+    pub stopped: bool,
     /// The video written, if any, and the frames it holds (those rendered and those skipped).
     pub video: Option<PathBuf>,
     pub video_frames: u32,
@@ -160,6 +164,9 @@ pub struct Job<'a> {
     pub resume: bool,
     /// The video to write (`.mp4` or `.webm`), of every frame of the range.
     pub video: Option<&'a Path>,
+    /// Set (by another thread) to stop after the frames in hand: frames written stay, and the
+    /// video, incomplete, is not written. The explorer's Cancel.
+    pub stop: Option<&'a AtomicBool>,
 }
 
 /// How many rendered frames may wait for the encoders at once: one per encoder thread, and as
@@ -264,7 +271,11 @@ pub fn run(
                 Ok(())
             };
             let mut to_render = frames.iter().filter(|f| !f.3);
-            let mut scenes = to_render.clone().map(|f| f.1.clone());
+            let stop = || job.stop.is_some_and(|s| s.load(Ordering::Relaxed));
+            let mut scenes = to_render
+                .clone()
+                .map(|f| f.1.clone())
+                .take_while(|_| !stop());
             let (picture, readback) = match job.base.image.view {
                 View::Shaded => (Picture::SHADED, Readback::Colour),
                 _ => (Picture::Slice { shade: false }, Readback::All),
@@ -296,7 +307,11 @@ pub fn run(
                 to_video(picture)?;
                 report_written(&written, false, progress)
             })?;
-            from_disk(u32::MAX)
+            match to_render.next() {
+                // Stopped before this frame: the rest stays undone.
+                Some(_) => Ok(()),
+                None => from_disk(u32::MAX),
+            }
         };
         let handed_out = hand_out();
         drop(to_encoders);
@@ -308,6 +323,10 @@ pub fn run(
         encoded?;
         let writer = video.transpose()?.flatten();
         handed_out?;
+        if rendered < job.range.len() - skipped {
+            // Stopped: an incomplete video is not written (dropped, it leaves nothing).
+            return Ok(0);
+        }
         let video_frames = writer.as_ref().map_or(0, |w| w.frames() as u32);
         if let Some(writer) = writer {
             writer.finish()?;
@@ -315,9 +334,11 @@ pub fn run(
         Ok(video_frames)
     });
     let video_frames = outcome?;
+    let stopped = rendered < job.range.len() - skipped;
     let seconds = start.elapsed().as_secs_f64();
     Ok(AnimateStats {
         frames: rendered,
+        stopped,
         video: job.video.map(Path::to_path_buf),
         video_frames,
         skipped,

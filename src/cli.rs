@@ -416,6 +416,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         out: out.as_deref(),
         resume: args.resume,
         video: args.video.as_deref(),
+        stop: None,
     };
     let stats = animate::run(&renderer, &job, &mut |p| match p {
         Progress::Start { to_render, skipped } => {

@@ -375,3 +375,40 @@ fn frame_count_prints_the_count_and_writes_nothing() {
     assert_eq!(String::from_utf8_lossy(&out.stdout), "120\n");
     assert_eq!(files_in(dir.path()), ["anim.toml"]);
 }
+
+#[test]
+fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let dir = with_scene();
+    let mut loader = qjulia::scene::SceneLoader::new();
+    loader.file(&dir.path().join("anim.toml")).unwrap();
+    let (base, animation) = loader.build_animated().unwrap();
+    let renderer = qjulia::Renderer::cpu(qjulia::Precision::F32);
+    let stop = AtomicBool::new(false);
+    let (out, video) = (dir.path().join("f"), dir.path().join("v.mp4"));
+    let job = qjulia::animate::Job {
+        base: &base,
+        animation: &animation,
+        range: qjulia::animate::FrameRange::all(animation.frames),
+        out: Some(&out),
+        resume: false,
+        // Without ffmpeg the video never starts; the frames are what is checked then.
+        video: qjulia::video::find_ffmpeg()
+            .is_ok()
+            .then_some(video.as_path()),
+        stop: Some(&stop),
+    };
+    // Stop as soon as the first frame is written.
+    let stats = qjulia::animate::run(&renderer, &job, &mut |p| {
+        if let qjulia::animate::Progress::Frame { .. } = p {
+            stop.store(true, Ordering::Relaxed);
+        }
+    })
+    .expect("a stopped run is not an error");
+    assert!(stats.stopped && stats.frames < 6, "{stats:?}");
+    let names = files_in(&out);
+    assert_eq!(names, frame_names(0..=(names.len() as u32 - 1)));
+    assert_eq!(names.len() as u32, stats.frames);
+    assert!(!video.exists(), "an incomplete video is not written");
+    assert_eq!(files_in(dir.path()), ["anim.toml", "f"]);
+}

@@ -335,6 +335,8 @@ pub(super) struct RenderWindow {
     pub first: u32,
     pub last: Option<u32>,
     pub resume: bool,
+    /// A video of the frames as typed (`.mp4` or `.webm`); empty for none.
+    pub video: String,
     pub job: Option<RenderJob>,
     /// How the last job ended.
     pub outcome: Option<(String, bool)>,
@@ -379,92 +381,63 @@ impl RenderJob {
     }
 }
 
-/// Renders frames `range` of `animation` over `base` into `dir` with `renderer`: the code of
-/// `qjulia animate`. `on_frames(skipped, rendered)` hears each step. The only call of
-/// [`crate::animate::run`] in the explorer.
-fn animate_frames(
-    renderer: &Renderer,
-    base: &Scene,
-    animation: &Animation,
-    range: FrameRange,
-    dir: &Path,
-    resume: bool,
-    on_frames: &mut dyn FnMut(u32, u32),
-) -> crate::Result<()> {
-    crate::animate::run(
-        renderer,
-        base,
-        animation,
-        range,
-        dir,
-        resume,
-        &mut |p| match p {
-            Progress::Start { skipped, .. } => on_frames(skipped, 0),
-            Progress::Frame { .. } => on_frames(0, 1),
-        },
-    )
-    .map(|_| ())
-}
-
-/// The job's thread: the range in chunks of about a second of frames (one to start with), so
-/// that cancel answers soon while the frames within a chunk go as `animate` runs them. Frames
-/// written stay when it is cancelled or fails.
-fn run_job(
-    renderer: Renderer,
+/// What a render job does: which frames, into which folder, and the video if one is asked for.
+struct JobSpec {
     base: Scene,
     animation: Animation,
     range: FrameRange,
     dir: PathBuf,
     resume: bool,
-    shared: Arc<Shared>,
-) -> (String, bool) {
+    video: Option<PathBuf>,
+}
+
+/// The job's thread: the frames as `qjulia animate` renders them (the one call of
+/// [`crate::animate::run`] in the explorer), counted into the shared progress; Cancel stops it
+/// after the frames in hand, the frames written staying and an incomplete video not written.
+fn run_job(renderer: Renderer, spec: JobSpec, shared: Arc<Shared>) -> (String, bool) {
     let (progress, cancel) = (&shared.progress, &shared.cancel);
-    let mut first = range.first;
-    let mut chunk = 1;
-    while first <= range.last {
-        if cancel.load(Ordering::Relaxed) {
+    let job = crate::animate::Job {
+        base: &spec.base,
+        animation: &spec.animation,
+        range: spec.range,
+        out: Some(&spec.dir),
+        resume: spec.resume,
+        video: spec.video.as_deref(),
+        stop: Some(cancel),
+    };
+    let result = crate::animate::run(&renderer, &job, &mut |p| {
+        let mut p_ = progress.lock().unwrap();
+        match p {
+            Progress::Start { skipped, .. } => p_.done += skipped,
+            Progress::Frame { .. } => {
+                p_.done += 1;
+                p_.rendered += 1;
+            }
+        }
+    });
+    let dir = spec.dir.display();
+    match result {
+        Err(e) => (format!("error: render animation: {e}"), true),
+        Ok(stats) if stats.stopped => {
             let done = progress.lock().unwrap().done;
-            return (
-                format!(
-                    "render cancelled: {done} of {} frames in {}",
-                    range.len(),
-                    dir.display()
-                ),
+            let total = spec.range.len();
+            (
+                format!("render cancelled: {done} of {total} frames in {dir}"),
                 false,
+            )
+        }
+        Ok(stats) => {
+            let video = spec
+                .video
+                .map(|v| format!(" and {}", v.display()))
+                .unwrap_or_default();
+            let line = format!(
+                "rendered {} frames ({} already complete) to {dir}{video}",
+                stats.frames, stats.skipped
             );
+            (line, false)
         }
-        let last = first.saturating_add(chunk - 1).min(range.last);
-        let start = Instant::now();
-        let result = animate_frames(
-            &renderer,
-            &base,
-            &animation,
-            FrameRange { first, last },
-            &dir,
-            resume,
-            &mut |skipped, rendered| {
-                let mut p = progress.lock().unwrap();
-                p.done += skipped + rendered;
-                p.rendered += rendered;
-            },
-        );
-        if let Err(e) = result {
-            return (format!("error: render animation: {e}"), true);
-        }
-        let per_frame = start.elapsed().as_secs_f64() / f64::from(last - first + 1);
-        chunk = (1.0 / per_frame.max(1e-3)).clamp(1.0, 64.0) as u32;
-        first = last + 1;
     }
-    let p = progress.lock().unwrap();
-    (
-        format!(
-            "rendered {} frames ({} already complete) to {}",
-            p.rendered,
-            p.done - p.rendered,
-            dir.display()
-        ),
-        false,
-    )
 }
 
 impl ExplorerApp {
@@ -763,6 +736,14 @@ impl ExplorerApp {
                 });
                 r.last = (last != last_frame).then_some(last);
                 ui.checkbox(&mut r.resume, "resume: skip frames already complete");
+                ui.horizontal(|ui| {
+                    ui.label("video");
+                    ui.add(
+                        egui::TextEdit::singleline(&mut r.video)
+                            .desired_width(320.0)
+                            .hint_text("none, or FILE.mp4 / FILE.webm (needs ffmpeg)"),
+                    );
+                });
                 match &r.job {
                     Some(job) => {
                         let (done, total) = job.counts();
@@ -830,6 +811,19 @@ impl ExplorerApp {
         };
         let dir = PathBuf::from(r.dir.trim());
         let resume = r.resume;
+        let video = Some(r.video.trim())
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from);
+        if let Some(video) = &video {
+            // As `animate` checks it: the kind, then ffmpeg, before anything is rendered.
+            let checked = crate::video::Codec::for_path(video)
+                .map_err(crate::Error::from)
+                .and_then(|_| crate::video::find_ffmpeg());
+            if let Err(e) = checked {
+                r.outcome = Some((format!("error: {e}"), true));
+                return;
+            }
+        }
         let renderer = self
             .slice_texture
             .as_ref()
@@ -841,7 +835,16 @@ impl ExplorerApp {
             started: Instant::now(),
             shared: shared.clone(),
         };
+        let spec = JobSpec {
+            base,
+            animation,
+            range,
+            dir,
+            resume,
+            video,
+        };
         std::thread::spawn(move || {
+            let base = &spec.base;
             let picture = crate::render::Picture::Slice {
                 shade: base.image.view == crate::scene::View::Shaded,
             };
@@ -855,15 +858,7 @@ impl ExplorerApp {
                 ),
             };
             let finished = match renderer {
-                Ok(renderer) => run_job(
-                    renderer,
-                    base,
-                    animation,
-                    range,
-                    dir,
-                    resume,
-                    shared.clone(),
-                ),
+                Ok(renderer) => run_job(renderer, spec, shared.clone()),
                 Err(e) => (format!("error: render animation: {e}"), true),
             };
             shared.progress.lock().unwrap().finished = Some(finished);
