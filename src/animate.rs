@@ -198,14 +198,16 @@ struct PngJob {
 /// What an encoder reports of a frame.
 type Written = (u32, PathBuf, f64, Result<()>);
 
-/// Renders frames `job.range` of `job.animation` over `job.base` with `renderer`: PNGs into
+/// Renders frames `job.range` of `job.animation` over `job.base`, each with the renderer
+/// `renderers` gives for its scene (its precision may depend on the frame): PNGs into
 /// `job.out`, skipping complete frames when `job.resume` is set, and the video. Frames already
 /// written stay when a later one fails; the video is written whole or not at all.
 pub fn run(
-    renderer: &Renderer,
+    renderers: &mut dyn FnMut(&Scene) -> Result<Renderer>,
     job: &Job,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<AnimateStats> {
+    let mut used: Vec<Renderer> = Vec::new();
     if let Some(dir) = job.out {
         std::fs::create_dir_all(dir).map_err(|source| Error::Io {
             path: dir.to_path_buf(),
@@ -270,18 +272,16 @@ pub fn run(
                 }
                 Ok(())
             };
-            let mut to_render = frames.iter().filter(|f| !f.3);
+            let to_render: Vec<_> = frames.iter().filter(|f| !f.3).collect();
             let stop = || job.stop.is_some_and(|s| s.load(Ordering::Relaxed));
-            let mut scenes = to_render
-                .clone()
-                .map(|f| f.1.clone())
-                .take_while(|_| !stop());
             let (picture, readback) = match job.base.image.view {
                 View::Shaded => (Picture::SHADED, Readback::Colour),
                 _ => (Picture::Slice { shade: false }, Readback::All),
             };
-            renderer.render_frames(&mut scenes, picture, readback, &mut |frame, stats| {
-                let (k, scene, path, _) = to_render.next().expect("one frame per scene");
+            let mut next = 0;
+            let mut sink = |frame: crate::frame::Frame, stats: crate::stats::RenderStats| {
+                let (k, scene, path, _) = to_render[next];
+                next += 1;
                 from_disk(*k)?;
                 let seconds = stats.render_seconds;
                 render_seconds += seconds;
@@ -306,11 +306,30 @@ pub fn run(
                 }
                 to_video(picture)?;
                 report_written(&written, false, progress)
-            })?;
-            match to_render.next() {
+            };
+            // The frames in runs of one renderer (frames may differ in precision), each run one
+            // stream.
+            let mut group = 0;
+            while group < to_render.len() && !stop() {
+                let renderer = renderers(&to_render[group].1)?;
+                let mut end = group + 1;
+                while end < to_render.len()
+                    && same_renderer(&renderers(&to_render[end].1)?, &renderer)
+                {
+                    end += 1;
+                }
+                used.push(renderer.clone());
+                let mut scenes = to_render[group..end]
+                    .iter()
+                    .map(|f| f.1.clone())
+                    .take_while(|_| !stop());
+                renderer.render_frames(&mut scenes, picture, readback, &mut sink)?;
+                group = end;
+            }
+            match next < to_render.len() {
                 // Stopped before this frame: the rest stays undone.
-                Some(_) => Ok(()),
-                None => from_disk(u32::MAX),
+                true => Ok(()),
+                false => from_disk(u32::MAX),
             }
         };
         let handed_out = hand_out();
@@ -351,12 +370,30 @@ pub fn run(
             0.0
         },
         render_seconds,
-        backend: renderer.backend_name().into(),
-        adapter: renderer.adapter(),
-        precision: renderer.precision().name().into(),
+        backend: joined(&used, |r| r.backend_name().into()),
+        adapter: joined(&used, Renderer::adapter),
+        precision: joined(&used, |r| r.precision().name().into()),
         width: job.base.image.width,
         height: job.base.image.height,
     })
+}
+
+/// Whether two renderers are the same tracer: the frames of one may share a stream.
+fn same_renderer(a: &Renderer, b: &Renderer) -> bool {
+    a.backend_name() == b.backend_name() && a.precision() == b.precision()
+}
+
+/// What the renderers used say of themselves, each once, in order of use, joined by ", "
+/// (one value when all frames had one renderer; "" when none rendered).
+fn joined(used: &[Renderer], say: impl Fn(&Renderer) -> String) -> String {
+    let mut said: Vec<String> = Vec::new();
+    for r in used {
+        let s = say(r);
+        if !said.contains(&s) {
+            said.push(s);
+        }
+    }
+    said.join(", ")
 }
 
 /// Hands the encoders' reports to `progress`: those in already, or (`all`) every one until the

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use qjulia::animate::{self, FrameRange, Progress};
 use qjulia::animation::Animation;
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
+use qjulia::precision::{self, Decision, PrecisionChoice};
 use qjulia::scene::{SceneLoader, View};
 use qjulia::{Backend, Picture, Precision, Renderer, Scene};
 
@@ -92,7 +93,8 @@ pub struct RenderArgs {
 pub struct TracerArgs {
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     pub backend: BackendArg,
-    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    /// auto: f32 wherever f32 resolves the scene (no precision warning), else f64.
+    #[arg(long, value_enum, default_value_t = PrecisionArg::Auto)]
     pub precision: PrecisionArg,
 }
 
@@ -191,6 +193,7 @@ pub enum BackendArg {
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum PrecisionArg {
+    Auto,
     F32,
     F64,
 }
@@ -223,11 +226,41 @@ impl BackendArg {
 }
 
 impl PrecisionArg {
-    fn precision(self) -> Precision {
+    fn choice(self) -> PrecisionChoice {
         match self {
-            PrecisionArg::F32 => Precision::F32,
-            PrecisionArg::F64 => Precision::F64,
+            PrecisionArg::Auto => PrecisionChoice::Auto,
+            PrecisionArg::F32 => PrecisionChoice::F32,
+            PrecisionArg::F64 => PrecisionChoice::F64,
         }
+    }
+}
+
+impl TracerArgs {
+    /// The precision of `picture` of `scene` (`--precision`, auto deciding by the scene) and
+    /// its renderer (`--backend`); `notice` hears the choice, why f64 runs where auto chose
+    /// it, and the warnings of the precision that runs.
+    fn renderer(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        notice: &mut dyn FnMut(&str),
+    ) -> anyhow::Result<(Renderer, Decision)> {
+        let choice = self.precision.choice();
+        let decision = precision::decide(choice, scene, picture);
+        if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
+            notice(&format!("rendering in f64: {}", decision.reason));
+        }
+        let backend = self.backend.backend();
+        let (renderer, decision) =
+            precision::choose_renderer(backend, choice, decision, picture, notice)?;
+        let warnings = match picture {
+            Picture::Julia2d => precision::julia2d_warnings(scene, decision.precision),
+            Picture::Slice { .. } => qjulia::precision_warnings(scene, decision.precision),
+        };
+        for warning in warnings {
+            notice(&format!("warning: {warning}"));
+        }
+        Ok((renderer, decision))
     }
 }
 
@@ -301,13 +334,6 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         steps: args.steps.clone(),
         stats: args.stats.clone(),
     };
-    let (backend, precision) = (
-        args.tracer.backend.backend(),
-        args.tracer.precision.precision(),
-    );
-    for warning in qjulia::precision_warnings(&scene, precision) {
-        eprintln!("qjulia: warning: {warning}");
-    }
     let heat_map = scene.image.view != View::Shaded && paths.png.is_some();
     // A heat map needs depth and steps only; without a PNG, so do the .npy outputs.
     let picture = Picture::Slice {
@@ -316,14 +342,14 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if heat_map {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
-        let renderer = Renderer::choose(backend, precision, picture, notice)?;
-        let (frame, stats) = renderer.render_frame(&scene, picture)?;
+        let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
+        let (frame, mut stats) = renderer.render_frame(&scene, picture)?;
+        stats.precision_reason = decision.reason;
         write_view_outputs(&paths, &frame, &stats, &scene)?;
         report_render(&stats);
         return Ok(());
     }
     // Outputs are written band by band as the render goes: any size in bounded memory.
-    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
     let rows = scene.image.height as u64;
     let pixels = scene.image.width as u64 * rows;
     let bar = if pixels >= 1 << 24 {
@@ -340,11 +366,13 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         indicatif::ProgressBar::hidden()
     };
     let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
-    let renderer = Renderer::choose(backend, precision, picture, notice)?;
-    let stats = renderer.render(&scene, picture, &mut |band| {
+    let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
+    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
+    let mut stats = renderer.render(&scene, picture, &mut |band| {
         bar.inc(band.height as u64);
         outputs.write_band(band)
     })?;
+    stats.precision_reason = decision.reason;
     bar.finish_and_clear();
     outputs.finish(&stats)?;
     report_render(&stats);
@@ -388,13 +416,6 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         (None, Some(_)) => None,
         (None, None) => Some(PathBuf::from(animate::DEFAULT_DIR)),
     };
-    let (backend, precision) = (
-        args.tracer.backend.backend(),
-        args.tracer.precision.precision(),
-    );
-    for warning in qjulia::precision_warnings(&animation.scene_at(&base, range.first), precision) {
-        eprintln!("qjulia: warning: {warning}");
-    }
     let picture = Picture::Slice {
         shade: base.image.view == View::Shaded,
     };
@@ -406,9 +427,27 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         .expect("a valid template")
         .progress_chars("=> "),
     );
-    let renderer = Renderer::choose(backend, precision, picture, &mut |n: &str| {
-        bar.suspend(|| eprintln!("qjulia: {n}"))
-    })?;
+    // Each frame's precision by the rule of `render` (auto: by the frame's own scene), its
+    // renderer made once per precision; the notices and warnings once per precision.
+    let mut renderers: Vec<(Precision, Renderer)> = Vec::new();
+    let mut renderer_for = |scene: &Scene| -> qjulia::Result<Renderer> {
+        let choice = args.tracer.precision.choice();
+        let wanted = precision::decide(choice, scene, picture).precision;
+        if let Some((_, r)) = renderers.iter().find(|(p, _)| *p == wanted) {
+            return Ok(r.clone());
+        }
+        let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+        let (renderer, _) = args.tracer.renderer(scene, picture, notice).map_err(|e| {
+            match e.downcast::<qjulia::Error>() {
+                Ok(e) => e,
+                Err(e) => qjulia::Error::Unsupported(format!("{e:#}")),
+            }
+        })?;
+        renderers.push((wanted, renderer.clone()));
+        Ok(renderer)
+    };
+    // Everything the run needs is there before the first frame: the first frame's renderer.
+    renderer_for(&animation.scene_at(&base, range.first))?;
     let job = animate::Job {
         base: &base,
         animation: &animation,
@@ -418,7 +457,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         video: args.video.as_deref(),
         stop: None,
     };
-    let stats = animate::run(&renderer, &job, &mut |p| match p {
+    let stats = animate::run(&mut renderer_for, &job, &mut |p| match p {
         Progress::Start { to_render, skipped } => {
             if skipped > 0 {
                 bar.suspend(|| {
@@ -471,16 +510,13 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
         stats: args.stats.clone(),
         ..Default::default()
     };
+    let notice = &mut |n: &str| eprintln!("qjulia: {n}");
+    let (renderer, decision) = args.tracer.renderer(&scene, Picture::Julia2d, notice)?;
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
-    let renderer = Renderer::choose(
-        args.tracer.backend.backend(),
-        args.tracer.precision.precision(),
-        Picture::Julia2d,
-        &mut |n| eprintln!("qjulia: {n}"),
-    )?;
-    let stats = renderer.render(&scene, Picture::Julia2d, &mut |band| {
+    let mut stats = renderer.render(&scene, Picture::Julia2d, &mut |band| {
         outputs.write_band(band)
     })?;
+    stats.precision_reason = decision.reason;
     outputs.finish(&stats)?;
     eprintln!(
         "qjulia: 2D Julia set of c = {} + {} i, {}x{} on {} ({}) in {:.3} s, {:.1}% in the set, {:.1} iterations/pixel",

@@ -17,6 +17,7 @@ pub mod gpu;
 pub mod heatmap;
 pub mod output;
 pub mod params;
+pub mod precision;
 pub mod render;
 pub mod report;
 pub mod scene;

@@ -271,6 +271,7 @@ impl Renderer {
             backend: self.backend_name().into(),
             adapter: self.adapter(),
             precision: self.precision.name().into(),
+            precision_reason: format!("asked for (--precision {})", self.precision.name()),
             width: scene.image.width,
             height: scene.image.height,
             render_seconds,
@@ -314,6 +315,7 @@ impl Renderer {
                     backend: self.backend_name().into(),
                     adapter: self.adapter(),
                     precision: self.precision.name().into(),
+                    precision_reason: format!("asked for (--precision {})", self.precision.name()),
                     width: frame.width,
                     height: frame.height,
                     render_seconds: times.seconds,
@@ -397,7 +399,7 @@ pub fn precision_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
         Precision::F64 => (f64::RELATIVE_EPSILON, f64::ESCAPE_LIMIT, "f64"),
     };
     let remedy = match precision {
-        Precision::F32 => "use --precision f64 (on the CPU)",
+        Precision::F32 => "use --precision f64 (or auto)",
         Precision::F64 => "this is beyond f64 too",
     };
     let f = &scene.fractal;

@@ -46,6 +46,9 @@ pub struct RenderStats {
     pub adapter: String,
     /// "f32" or "f64".
     pub precision: String,
+    /// Why that precision ran: "asked for (--precision f32)", "auto: f32 resolves the scene",
+    /// or (auto) what f32 could not resolve.
+    pub precision_reason: String,
     pub width: u32,
     pub height: u32,
     /// From the first dispatch to the image in host memory, after an untimed warm-up.

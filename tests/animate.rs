@@ -399,7 +399,7 @@ fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
         stop: Some(&stop),
     };
     // Stop as soon as the first frame is written.
-    let stats = qjulia::animate::run(&renderer, &job, &mut |p| {
+    let stats = qjulia::animate::run(&mut |_| Ok(renderer.clone()), &job, &mut |p| {
         if let qjulia::animate::Progress::Frame { .. } = p {
             stop.store(true, Ordering::Relaxed);
         }

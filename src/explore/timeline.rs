@@ -405,7 +405,7 @@ fn run_job(renderer: Renderer, spec: JobSpec, shared: Arc<Shared>) -> (String, b
         video: spec.video.as_deref(),
         stop: Some(cancel),
     };
-    let result = crate::animate::run(&renderer, &job, &mut |p| {
+    let result = crate::animate::run(&mut |_| Ok(renderer.clone()), &job, &mut |p| {
         let mut p_ = progress.lock().unwrap();
         match p {
             Progress::Start { skipped, .. } => p_.done += skipped,

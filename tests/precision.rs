@@ -1,0 +1,135 @@
+//! `--precision auto` (the default): f32 wherever f32 resolves the picture, f64 otherwise, and
+//! `--stats` says which ran (`precision`) and why (`precision_reason`); for `render`,
+//! `render2d` and each frame of `animate`. On the CPU, where f64 always runs.
+
+mod common;
+
+use common::{qjulia, stderr};
+
+fn stats(dir: &std::path::Path, name: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
+}
+
+const SMALL: [&str; 4] = ["--width", "48", "--height", "32"];
+
+#[test]
+fn render_auto_runs_f32_where_it_resolves_and_f64_where_it_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str], name: &str| {
+        let args = [
+            &["render", "--backend", "cpu", "--stats", name][..],
+            &SMALL,
+            extra,
+        ]
+        .concat();
+        let out = qjulia(dir.path(), &args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        (stats(dir.path(), name), stderr(&out))
+    };
+    let (s, err) = run(&[], "plain.json");
+    assert_eq!(s["precision"], "f32", "{s}");
+    assert_eq!(s["precision_reason"], "auto: f32 resolves the scene");
+    assert!(!err.contains("warning"), "{err}");
+
+    let (s, err) = run(&["--set", "fractal.epsilon=1e-9"], "deep.json");
+    assert_eq!(s["precision"], "f64", "{s}");
+    let reason = s["precision_reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("auto: fractal.epsilon = 1e-9 is below"),
+        "{reason}"
+    );
+    assert!(
+        err.contains("rendering in f64: auto: fractal.epsilon"),
+        "{err}"
+    );
+    assert!(!err.contains("warning"), "f64 resolves it: {err}");
+
+    // Asked for f32: f32, with f32's warning, as before.
+    let (s, err) = run(
+        &["--set", "fractal.epsilon=1e-9", "--precision", "f32"],
+        "f32.json",
+    );
+    assert_eq!(s["precision"], "f32");
+    assert_eq!(s["precision_reason"], "asked for (--precision f32)");
+    assert!(err.contains("warning: fractal.epsilon"), "{err}");
+}
+
+#[test]
+fn render2d_auto_holds_the_pixel_to_f32s_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extent: &str, name: &str| {
+        let set = format!("view2d.extent={extent}");
+        let args = [
+            &[
+                "render2d",
+                "--backend",
+                "cpu",
+                "--stats",
+                name,
+                "--set",
+                &set,
+            ][..],
+            &SMALL,
+        ]
+        .concat();
+        let out = qjulia(dir.path(), &args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        stats(dir.path(), name)
+    };
+    assert_eq!(run("4", "wide.json")["precision"], "f32");
+    let deep = run("1e-9", "deep.json");
+    assert_eq!(deep["precision"], "f64", "{deep}");
+    assert!(
+        deep["precision_reason"]
+            .as_str()
+            .unwrap()
+            .contains("a pixel spans"),
+        "{deep}"
+    );
+}
+
+#[test]
+fn animate_decides_each_frame_by_its_own_scene() {
+    // epsilon from 1e-3 (f32 resolves it) at frame 0 to 1e-9 (it does not) at frame 3.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[image]\nwidth = 40\nheight = 30\n\n[animation]\nframes = 4\n\n\
+        [[animation.keys]]\nframe = 0\nfractal.epsilon = 1e-3\n\n\
+        [[animation.keys]]\nframe = 3\nfractal.epsilon = 1e-9\n";
+    std::fs::write(dir.path().join("a.toml"), scene).unwrap();
+    let args = ["animate", "--scene", "a.toml", "--backend", "cpu"];
+    let out = qjulia(dir.path(), &[&args[..], &["--stats", "s.json"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let s = stats(dir.path(), "s.json");
+    assert_eq!(s["precision"], "f32, f64", "{s}");
+    // Each frame renders again to the same bytes under the same rule, and a split gives the
+    // same frames: a frame's precision is its own scene's, not its range's.
+    let out = qjulia(
+        dir.path(),
+        &[&args[..], &["--frames", "3..3", "--out", "alone"]].concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let whole = std::fs::read(dir.path().join("qjulia-frames/frame-00003.png")).unwrap();
+    assert!(whole == std::fs::read(dir.path().join("alone/frame-00003.png")).unwrap());
+    for k in [0, 3] {
+        let frame = format!("qjulia-frames/frame-{k:05}.png");
+        let again = format!("again-{k}.png");
+        let out = qjulia(
+            dir.path(),
+            &[
+                "render",
+                "--scene",
+                &frame,
+                "--backend",
+                "cpu",
+                "-o",
+                &again,
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(
+            std::fs::read(dir.path().join(&frame)).unwrap()
+                == std::fs::read(dir.path().join(&again)).unwrap(),
+            "frame {k} renders again to the same bytes"
+        );
+    }
+}
