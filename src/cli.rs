@@ -326,13 +326,14 @@ impl SceneArgs {
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = args.scene.load_with_view(args.view)?;
-    let paths = OutputPaths {
+    let mut paths = OutputPaths {
         png: args.output.clone().or_else(|| {
             (args.depth.is_none() && args.steps.is_none()).then(|| PathBuf::from("qjulia.png"))
         }),
         depth: args.depth.clone(),
         steps: args.steps.clone(),
         stats: args.stats.clone(),
+        depth_f64: false,
     };
     let heat_map = scene.image.view != View::Shaded && paths.png.is_some();
     // A heat map needs depth and steps only; without a PNG, so do the .npy outputs.
@@ -343,6 +344,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
         let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
+        paths.depth_f64 = decision.precision == Precision::F64;
         let (frame, mut stats) = renderer.render_frame(&scene, picture)?;
         stats.precision_reason = decision.reason;
         write_view_outputs(&paths, &frame, &stats, &scene)?;
@@ -367,6 +369,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
     let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
+    paths.depth_f64 = decision.precision == Precision::F64;
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
     let mut stats = renderer.render(&scene, picture, &mut |band| {
         bar.inc(band.height as u64);

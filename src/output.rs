@@ -23,6 +23,9 @@ pub struct OutputPaths {
     pub depth: Option<PathBuf>,
     pub steps: Option<PathBuf>,
     pub stats: Option<PathBuf>,
+    /// Write the depth as float64 (`<f8`): the render runs in f64, whose depth float32 cannot
+    /// hold at a deep zoom.
+    pub depth_f64: bool,
 }
 
 /// Writes every requested output of a whole frame, whole or not at all.
@@ -152,6 +155,7 @@ pub struct StreamingOutputs {
         png::StreamWriter<'static, BufWriter<File>>,
     )>,
     depth: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
+    depth_f64: bool,
     steps: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
     stats: Option<PathBuf>,
 }
@@ -217,9 +221,11 @@ impl StreamingOutputs {
                 None => Ok(None),
             }
         };
+        let depth_descr = if paths.depth_f64 { "<f8" } else { "<f4" };
         Ok(Self {
             png,
-            depth: npy(&paths.depth, "<f4")?,
+            depth: npy(&paths.depth, depth_descr)?,
+            depth_f64: paths.depth_f64,
             steps: npy(&paths.steps, "<u4")?,
             stats: paths.stats.clone(),
         })
@@ -244,8 +250,16 @@ impl StreamingOutputs {
     /// Appends a band of whole rows to the depth and steps maps.
     pub fn write_maps(&mut self, band: &Frame) -> Result<()> {
         if let Some((_, path, file)) = &mut self.depth {
-            file.write_all(bytemuck::cast_slice(&band.depth))
-                .map_err(|e| io_error(path, e))?;
+            let written = match (self.depth_f64, band.depth_f64.is_empty()) {
+                (false, _) => file.write_all(bytemuck::cast_slice(&band.depth)),
+                (true, false) => file.write_all(bytemuck::cast_slice(&band.depth_f64)),
+                // An f64 render whose tracer kept only f32 depths.
+                (true, true) => {
+                    let wide: Vec<f64> = band.depth.iter().map(|&d| d as f64).collect();
+                    file.write_all(bytemuck::cast_slice(&wide))
+                }
+            };
+            written.map_err(|e| io_error(path, e))?;
         }
         if let Some((_, path, file)) = &mut self.steps {
             file.write_all(bytemuck::cast_slice(&band.steps))

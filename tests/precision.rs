@@ -133,3 +133,56 @@ fn animate_decides_each_frame_by_its_own_scene() {
         );
     }
 }
+
+#[test]
+fn depth_is_float64_when_the_render_ran_in_f64() {
+    // A pixel footprint of about 2e-9 at the hit: f32's spacing there (2.4e-7 near t = 2) is a
+    // hundred pixels, so float32 depths collapse to a few values while float64 keeps them apart.
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(
+        dir.path(),
+        &[
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--depth",
+                "d.npy",
+                "--stats",
+                "s.json",
+            ][..],
+            &SMALL,
+            &["--set", "camera.fov_y_degrees=1e-6"],
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(stats(dir.path(), "s.json")["precision"], "f64");
+    let bytes = std::fs::read(dir.path().join("d.npy")).unwrap();
+    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = String::from_utf8_lossy(&bytes[10..10 + header_len]);
+    assert!(header.contains("'descr': '<f8'"), "{header}");
+    let depth: Vec<f64> = bytes[10 + header_len..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    assert_eq!(depth.len(), 48 * 32);
+    let hits: Vec<f64> = depth.iter().copied().filter(|d| !d.is_nan()).collect();
+    assert!(
+        hits.len() > 48 * 32 / 2,
+        "the zoom is on the set: {} hits",
+        hits.len()
+    );
+    let distinct = |values: Vec<u64>| {
+        let mut v = values;
+        v.sort_unstable();
+        v.dedup();
+        v.len()
+    };
+    let as_f64 = distinct(hits.iter().map(|d| d.to_bits()).collect());
+    let as_f32 = distinct(hits.iter().map(|&d| (d as f32).to_bits() as u64).collect());
+    assert!(
+        as_f64 > 10 * as_f32,
+        "float64 keeps {as_f64} distinct depths where float32 keeps {as_f32}"
+    );
+}

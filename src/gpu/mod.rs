@@ -287,6 +287,7 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .par_iter()
             .map(|&d| if d < 0.0 { f32::NAN } else { d })
             .collect(),
+        depth_f64: Vec::new(),
         steps: steps.par_iter().copied().collect(),
         non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64,
         estimates: estimates.par_iter().map(|&e| e as u64).sum(),
