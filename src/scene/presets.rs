@@ -88,6 +88,23 @@ pub const PRESETS: &[Preset] = &[
         two_d: true,
     },
     Preset {
+        name: "Deep zoom",
+        slug: "deep-zoom",
+        about: "the seed's set 3e-8 across a pixel: ridges in f64, a flat patch in f32",
+        toml: "[fractal]\nmax_iterations = 30\nepsilon = 1e-12\npixel_epsilon = 1.0\n\
+               [camera]\nfov_y_degrees = 1.5e-4\n[shading]\nnormal = \"analytic\"\n",
+        two_d: false,
+    },
+    Preset {
+        name: "Deep zoom (2D)",
+        slug: "deep-zoom-2d",
+        about: "the rabbit's alpha fixed point, where three parts meet, 1e-9 across: lace in f64, white in f32",
+        toml: "[fractal]\nc = [-0.12, 0.75, 0.0, 0.0]\n\
+               [view2d]\ncenter = [-0.2766277683299133, 0.48285680127870356]\nextent = 1e-9\n\
+               max_iterations = 2000\n",
+        two_d: true,
+    },
+    Preset {
         name: "Gallery",
         slug: "gallery",
         about: "the seed's set at its best: cut open, 16 samples, soft shadows, occlusion, orbit-trap colour",
