@@ -154,6 +154,48 @@ pub const CASES: &[Case] = &[
             "camera.target=[-0.1,0.05,0.3]",
         ],
     },
+    // Deep zooms at pixel footprints of 1e-6, 1e-9 and 1e-12 at the target (64 pixels high, the
+    // eye 3 from it): the deep-zoom preset's settings (30 iterations, the analytic normal,
+    // epsilon one pixel footprint). f32 cannot resolve the last two (a warning says so).
+    Case {
+        name: "pixel 1e-6",
+        why: "a deep zoom f32 still resolves",
+        sets: &[
+            "image.width=64",
+            "image.height=64",
+            "camera.fov_y_degrees=0.0012223099628993989",
+            "fractal.max_iterations=30",
+            "fractal.epsilon=1e-13",
+            "fractal.pixel_epsilon=1",
+            "shading.normal=\"analytic\"",
+        ],
+    },
+    Case {
+        name: "pixel 1e-9",
+        why: "a deep zoom below f32's spacing",
+        sets: &[
+            "image.width=64",
+            "image.height=64",
+            "camera.fov_y_degrees=1.2223099629457564e-6",
+            "fractal.max_iterations=30",
+            "fractal.epsilon=1e-13",
+            "fractal.pixel_epsilon=1",
+            "shading.normal=\"analytic\"",
+        ],
+    },
+    Case {
+        name: "pixel 1e-12",
+        why: "a deep zoom near f64's spacing (5e-15 here)",
+        sets: &[
+            "image.width=64",
+            "image.height=64",
+            "camera.fov_y_degrees=1.2223099629457563e-9",
+            "fractal.max_iterations=30",
+            "fractal.epsilon=1e-13",
+            "fractal.pixel_epsilon=1",
+            "shading.normal=\"analytic\"",
+        ],
+    },
     Case {
         name: "1x1 image",
         why: "one pixel",
