@@ -607,6 +607,7 @@ fn work_precision(
     args: &ReportArgs,
     gpu: Option<std::sync::Arc<qjulia::gpu::GpuTracer>>,
 ) -> anyhow::Result<()> {
+    use qjulia::report::stability::Runner;
     use qjulia::report::work_precision as wp;
     use qjulia::scene::presets::PRESETS;
     let size = args.size.unwrap_or(if args.quick { 128 } else { 320 });
@@ -631,7 +632,6 @@ fn work_precision(
         bar.set_position(k as u64);
         bar.set_message(msg.to_string());
     })?;
-    bar.finish_and_clear();
     let command = format!(
         "qjulia report --out {}{} --size {size}",
         args.out.display(),
@@ -642,12 +642,25 @@ fn work_precision(
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let png_path = args.out.join("work_precision.png");
     wp::plot(&png_path, &rows).map_err(|e| anyhow::anyhow!("{}: {e}", png_path.display()))?;
-    let md = wp::markdown(
+    // f32 against f64 as the zoom deepens, on every tracer there is.
+    let mut zoom_runners = vec![Runner::CpuF32];
+    if gpu.is_some() {
+        zoom_runners.insert(0, Runner::GpuF32);
+    }
+    let zoom = wp::zoom_sweep(size, &zoom_runners, gpu.clone(), repeats, |msg, k, n| {
+        bar.set_length(n as u64);
+        bar.set_position(k as u64);
+        bar.set_message(msg.to_string());
+    })?;
+    bar.finish_and_clear();
+    let mut md = wp::markdown(
         &rows,
         &truth_seconds,
         &qjulia::report::machine(gpu.as_deref()),
         &command,
     );
+    md.push('\n');
+    md.push_str(&wp::zoom_markdown(&zoom, size));
     let md_path = args.out.join("report.md");
     std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
     println!("{md}");

@@ -76,3 +76,32 @@ fn the_report_files_hold_every_setting() {
     let img = image::open(&png).unwrap();
     assert!(img.width() >= 800 && img.height() >= 400);
 }
+
+#[test]
+fn the_zoom_sweep_shows_f32_leaving_f64_as_the_zoom_deepens() {
+    use qjulia::report::stability::Runner;
+    // The scene's pixel footprint at the target is the one asked for.
+    for footprint in wp::ZOOM_FOOTPRINTS {
+        let s = wp::zoom_scene(footprint, 32);
+        let distance = 3.0; // the default eye to the default target
+        let got = 2.0 * distance * (s.camera.fov_y_degrees.to_radians() / 2.0).tan() / 32.0;
+        assert!((got / footprint - 1.0).abs() < 1e-9, "{footprint}: {got}");
+    }
+    let rows = wp::zoom_sweep(32, &[Runner::CpuF32], None, 1, |_, _, _| {}).unwrap();
+    assert_eq!(rows.len(), wp::ZOOM_FOOTPRINTS.len() * 2);
+    let f32_rows: Vec<&wp::ZoomRow> = rows.iter().filter(|r| r.runner == Runner::CpuF32).collect();
+    let colour = |r: &wp::ZoomRow| r.versus_f64.as_ref().unwrap().colour;
+    let (shallow, deep) = (f32_rows[0], f32_rows[f32_rows.len() - 1]);
+    assert!(!shallow.f32_warned && deep.f32_warned);
+    assert!(
+        colour(shallow) > 0.9 && colour(deep) < 0.5,
+        "f32's colour agreement with f64: {:.3} at {:e}, {:.3} at {:e}",
+        colour(shallow),
+        shallow.footprint,
+        colour(deep),
+        deep.footprint
+    );
+    let md = wp::zoom_markdown(&rows, 32);
+    eprintln!("{md}");
+    assert_eq!(md.matches("| cpu f64 |").count(), wp::ZOOM_FOOTPRINTS.len());
+}
