@@ -151,17 +151,28 @@ fn resume_with_video_encodes_the_frames_on_disk() {
     assert!(before == after, "the frames on disk are left as they were");
 }
 
+/// Runs `animate --video a.mp4` with `args` in `dir`, PATH set to `path` (where ffmpeg is
+/// looked for).
+fn animate_on_path(dir: &Path, path: &str, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["animate", "--scene", "anim.toml", "--backend", "cpu"])
+        .args(["--video", "a.mp4"])
+        .args(args)
+        .env("PATH", path)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn without_ffmpeg_it_exits_1_at_once_and_writes_nothing() {
     let dir = with_scene(SCENE);
     let empty = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["animate", "--scene", "anim.toml", "--backend", "cpu"])
-        .args(["--video", "a.mp4", "--out", "frames"])
-        .env("PATH", empty.path())
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let out = animate_on_path(
+        dir.path(),
+        &empty.path().display().to_string(),
+        &["--out", "frames"],
+    );
     let text = stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{text}");
     let lines: Vec<&str> = text.lines().collect();
@@ -199,13 +210,7 @@ fn a_failing_ffmpeg_leaves_no_video() {
         bin.path().display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["animate", "--scene", "anim.toml", "--backend", "cpu"])
-        .args(["--video", "a.mp4"])
-        .env("PATH", path)
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let out = animate_on_path(dir.path(), &path, &[]);
     let text = stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{text}");
     assert!(
