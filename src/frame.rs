@@ -10,6 +10,9 @@ pub struct Frame {
     pub colour: Vec<u32>,
     /// The hit's ray parameter t (the distance from the eye along the unit ray); NaN on a miss.
     pub depth: Vec<f32>,
+    /// The same in f64 where the render ran in f64 (empty otherwise): at a deep zoom's pixel
+    /// footprint `depth`'s f32 cannot tell neighbouring hits apart.
+    pub depth_f64: Vec<f64>,
     /// Distance estimates along the primary ray.
     pub steps: Vec<u32>,
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
@@ -28,6 +31,7 @@ impl Frame {
             height: 0,
             colour: Vec::new(),
             depth: Vec::new(),
+            depth_f64: Vec::new(),
             steps: Vec::new(),
             non_finite: 0,
             estimates: 0,
@@ -44,6 +48,7 @@ impl Frame {
         self.height += band.height;
         self.colour.extend_from_slice(&band.colour);
         self.depth.extend_from_slice(&band.depth);
+        self.depth_f64.extend_from_slice(&band.depth_f64);
         self.steps.extend_from_slice(&band.steps);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;

@@ -406,6 +406,7 @@ mod tests {
             height: 20,
             colour: vec![0xff00_0000; 4000],
             depth: vec![f32::NAN; 4000],
+            depth_f64: Vec::new(),
             steps: (0..4000).map(|k| k % 50).collect(),
             non_finite: 0,
             estimates: 0,

@@ -241,6 +241,7 @@ mod tests {
             height,
             colour: vec![0; n],
             depth: vec![0.0; n],
+            depth_f64: Vec::new(),
             steps,
             non_finite: 0,
             estimates: 0,

@@ -79,6 +79,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         height: h,
         colour,
         depth: vec![0.0; n],
+        depth_f64: Vec::new(),
         steps: vec![0; n],
         non_finite: 0,
         estimates: 0,
@@ -307,6 +308,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                     .map(|p| u32::from_le_bytes([p[0], p[1], p[2], 255]))
                     .collect(),
                 depth: vec![0.0; n],
+                depth_f64: Vec::new(),
                 steps: vec![0; n],
                 non_finite: 0,
                 estimates: 0,

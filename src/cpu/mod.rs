@@ -80,7 +80,9 @@ pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
 /// `rows.len()` rows. With several samples a pixel's colour is the mean of its samples' clamped
 /// colours; depth and steps are sample 0's.
 pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>) -> Frame {
-    fill_rows(params.width, rows, |j| {
+    // An f64 render keeps its depth whole too (Frame::depth_f64).
+    let fine = F::NAME == "f64";
+    fill_rows(params.width, rows, fine, |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
         // hand them over in. Their estimates are not the pixels' (the GPU counts them apart).
         let cones = cone_starts(params, j);
@@ -111,9 +113,9 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
             PixelOut {
                 colour,
                 depth: if first.hit {
-                    first.depth.to_f64() as f32
+                    first.depth.to_f64()
                 } else {
-                    f32::NAN
+                    f64::NAN
                 },
                 steps: first.steps,
                 non_finite,
@@ -137,7 +139,7 @@ fn non_finite_values<F: Real>(pixel: &trace::Pixel<F>) -> u64 {
 pub struct PixelOut {
     pub colour: u32,
     /// NaN where nothing was hit.
-    pub depth: f32,
+    pub depth: f64,
     pub steps: u32,
     pub non_finite: u64,
     /// Distance estimates made for the pixel.
@@ -145,15 +147,16 @@ pub struct PixelOut {
 }
 
 /// The rows `rows` of a `width`-wide image, in parallel over rows: `row(j)` prepares row j and
-/// gives the function of its pixels, called for i = 0 to width - 1.
-pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, row: R) -> Frame
+/// gives the function of its pixels, called for i = 0 to width - 1. With `fine` the depth is
+/// kept in f64 too (`Frame::depth_f64`).
+pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, fine: bool, row: R) -> Frame
 where
     R: Fn(u32) -> P + Sync,
     P: Fn(u32) -> PixelOut,
 {
     let (w, h) = (width as usize, rows.len());
     let mut colour = vec![0u32; w * h];
-    let mut depth = vec![0f32; w * h];
+    let mut depth = vec![0f64; w * h];
     let mut steps = vec![0u32; w * h];
     let non_finite = AtomicU64::new(0);
     let estimates = AtomicU64::new(0);
@@ -180,7 +183,8 @@ where
         width,
         height: h as u32,
         colour,
-        depth,
+        depth: depth.par_iter().map(|&d| d as f32).collect(),
+        depth_f64: if fine { depth } else { Vec::new() },
         steps,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
