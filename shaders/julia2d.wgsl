@@ -27,6 +27,8 @@ struct Julia2dParams {
 // |z|^2 above this counts as escaped: |z| > 16, far enough out that the smooth count is smooth
 // (above 2, the escape radius of every c with |c| <= 2, the orbit only grows).
 const BAILOUT_SQUARED: Real = 256.0;
+// The same in f32, for the grey.
+const BAILOUT_SQUARED_F32: f32 = 256.0;
 
 @group(0) @binding(0) var<uniform> params: Julia2dParams;
 // RGBA8 packed 0xFFBBGGRR, grey.
@@ -80,7 +82,7 @@ fn escape(z0: vec2<Real>) -> Escape {
 // n where |z_n| is just above 16, continuous across n (z_n squares from one n to the next).
 fn smooth_count(e: Escape) -> f32 {
     // In f32 whatever the precision: |z|^2 is just past the bailout, and a grey needs no more.
-    let ratio = log(f32(dot(e.z, e.z))) / log(f32(BAILOUT_SQUARED));
+    let ratio = log(f32(dot(e.z, e.z))) / log(BAILOUT_SQUARED_F32);
     return max(f32(e.n) - log2(ratio), 0.0);
 }
 
