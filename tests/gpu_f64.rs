@@ -63,7 +63,7 @@ fn deep_scene(sets: &[&str], (i, j): (u32, u32), footprint: f64) -> (Scene, f64)
 fn deep_scenes() -> Vec<(&'static str, Scene, f64)> {
     let views: [(&str, &[&str], (u32, u32), f64); 3] = [
         ("deep_default_1e-8", &[], (32, 32), 1e-8),
-        ("deep_default_side_1e-9", &[], (22, 40), 1e-9),
+        ("deep_default_side_1e-9", &[], (40, 24), 1e-9),
         (
             "deep_other_c_1e-10",
             &["fractal.c=[-0.291, -0.399, 0.339, 0.437]"],
