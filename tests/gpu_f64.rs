@@ -59,9 +59,13 @@ fn deep_scene(sets: &[&str], (i, j): (u32, u32), footprint: f64) -> (Scene, f64)
     (common::scene(&deep_refs), footprint)
 }
 
+/// A deep view: its name, the base view's `--set`s, the pixel whose hit it zooms onto, and the
+/// pixel footprint.
+type DeepView = (&'static str, &'static [&'static str], (u32, u32), f64);
+
 /// The deep 3D views: three surfaces, pixel footprints 1e-8 to 1e-10.
 fn deep_scenes() -> Vec<(&'static str, Scene, f64)> {
-    let views: [(&str, &[&str], (u32, u32), f64); 3] = [
+    let views: [DeepView; 3] = [
         ("deep_default_1e-8", &[], (32, 32), 1e-8),
         ("deep_default_side_1e-9", &[], (40, 24), 1e-9),
         (
@@ -107,6 +111,8 @@ fn gpu_f64_matches_cpu_f64_on_deep_zooms_where_f32_fails() {
         return;
     };
     for (name, scene, footprint) in deep_scenes() {
+        let c = &scene.camera;
+        eprintln!("{name}: camera.eye={:?} camera.target={:?}", c.eye, c.target);
         let (expected, _) = qjulia::cpu::render(&TraceParams::<f64>::new(&scene));
         let hits = expected.hit_mask().iter().filter(|&&h| h).count();
         assert!(

@@ -62,7 +62,7 @@ const OPERANDS: [(f64, f64); CASES] = [
     (1.0 + 1.0 / (1u64 << 30) as f64, 1e-12),
     (2.5e-9, 3.7e-10),
     (123456.789, -0.001),
-    (-0.7071067811865476, 2.0),
+    (-std::f64::consts::FRAC_1_SQRT_2, 2.0),
     (1e30, 3e-7),
     (3.1e-300, 7e-12),
 ];
@@ -182,7 +182,11 @@ pub fn check_f64(ctx: &GpuContext, inject: Option<&str>) -> Result<F64Support> {
         Ok(compare(&results))
     };
     let refuse = |failures: &[Failure], note: &str| {
-        let list: Vec<String> = failures.iter().map(|f| f.to_string()).collect();
+        // The first few, on one line.
+        let mut list: Vec<String> = failures.iter().take(3).map(|f| f.to_string()).collect();
+        if failures.len() > 3 {
+            list.push(format!("{} more", failures.len() - 3));
+        }
         Error::Unsupported(format!(
             "f64 on {adapter} failed the start-up check{note}: {}",
             list.join("; ")
