@@ -112,7 +112,10 @@ fn gpu_f64_matches_cpu_f64_on_deep_zooms_where_f32_fails() {
     };
     for (name, scene, footprint) in deep_scenes() {
         let c = &scene.camera;
-        eprintln!("{name}: camera.eye={:?} camera.target={:?}", c.eye, c.target);
+        eprintln!(
+            "{name}: camera.eye={:?} camera.target={:?}",
+            c.eye, c.target
+        );
         let (expected, _) = qjulia::cpu::render(&TraceParams::<f64>::new(&scene));
         let hits = expected.hit_mask().iter().filter(|&&h| h).count();
         assert!(
