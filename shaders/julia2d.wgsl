@@ -3,16 +3,17 @@
 //
 // Twin: src/cpu/julia2d.rs, function by function, with the same names in the same order (checked
 // by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
-// both. Stands alone (no algebra.wgsl).
+// both. Needs a prelude in front of it (shaders/real32.wgsl or shaders/real64.wgsl: the float
+// type `Real`): z and the pixel's point in `Real`, the grey in f32 (src/gpu/shaders.rs).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
-// Keep in sync with `GpuJulia2dParams` in src/gpu/julia2d.rs.
+// Keep in sync with `GpuJulia2dParams` and `GpuJulia2dParams64` in src/gpu/params.rs.
 struct Julia2dParams {
-    c: vec2<f32>,
-    center: vec2<f32>,
+    c: vec2<Real>,
+    center: vec2<Real>,
     // Half the width and half the height of the image in the complex plane.
-    half_extent: vec2<f32>,
+    half_extent: vec2<Real>,
     max_iterations: u32,
     width: u32,
     height: u32,
@@ -25,31 +26,33 @@ struct Julia2dParams {
 
 // |z|^2 above this counts as escaped: |z| > 16, far enough out that the smooth count is smooth
 // (above 2, the escape radius of every c with |c| <= 2, the orbit only grows).
-const BAILOUT_SQUARED: f32 = 256.0;
+const BAILOUT_SQUARED: Real = 256.0;
+// The same in f32, for the grey.
+const BAILOUT_SQUARED_F32: f32 = 256.0;
 
 @group(0) @binding(0) var<uniform> params: Julia2dParams;
 // RGBA8 packed 0xFFBBGGRR, grey.
 @group(0) @binding(1) var<storage, read_write> out_colour: array<u32>;
 // 0 for a point in the set, -1 for one that escapes (as the tracer's depth marks a miss).
-@group(0) @binding(2) var<storage, read_write> out_depth: array<f32>;
+@group(0) @binding(2) var<storage, read_write> out_depth: array<Real>;
 // Iterations of z <- z^2 + c made.
 @group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
 
 // z^2 for z = x + y i.
-fn complex_sq(z: vec2<f32>) -> vec2<f32> {
-    return vec2<f32>(z.x * z.x - z.y * z.y, 2.0 * z.x * z.y);
+fn complex_sq(z: vec2<Real>) -> vec2<Real> {
+    return vec2<Real>(z.x * z.x - z.y * z.y, 2.0 * z.x * z.y);
 }
 
 // The complex number at the centre of pixel (i, j), row 0 at the top: the imaginary axis points up.
-fn pixel_point(i: u32, j: u32) -> vec2<f32> {
-    let x = (2.0 * (f32(i) + 0.5) / f32(params.width) - 1.0) * params.half_extent.x;
-    let y = (1.0 - 2.0 * (f32(j) + 0.5) / f32(params.height)) * params.half_extent.y;
-    return params.center + vec2<f32>(x, y);
+fn pixel_point(i: u32, j: u32) -> vec2<Real> {
+    let x = (2.0 * (Real(i) + 0.5) / Real(params.width) - 1.0) * params.half_extent.x;
+    let y = (1.0 - 2.0 * (Real(j) + 0.5) / Real(params.height)) * params.half_extent.y;
+    return params.center + vec2<Real>(x, y);
 }
 
 struct Escape {
     // The last z reached: the first with |z|^2 > BAILOUT_SQUARED when escaped.
-    z: vec2<f32>,
+    z: vec2<Real>,
     // Iterations made.
     n: u32,
     escaped: bool,
@@ -57,7 +60,7 @@ struct Escape {
 
 // Iterates z <- z^2 + c from z0, testing |z|^2 > BAILOUT_SQUARED before each iteration:
 // z_0, ..., z_max_iterations are tested, and a point none of them escapes is in the set.
-fn escape(z0: vec2<f32>) -> Escape {
+fn escape(z0: vec2<Real>) -> Escape {
     var z = z0;
     var n = 0u;
     var escaped = false;
@@ -78,7 +81,8 @@ fn escape(z0: vec2<f32>) -> Escape {
 // The smooth iteration count of an escaped point, n - log2(ln|z_n| / ln 16), clamped at 0:
 // n where |z_n| is just above 16, continuous across n (z_n squares from one n to the next).
 fn smooth_count(e: Escape) -> f32 {
-    let ratio = log(dot(e.z, e.z)) / log(BAILOUT_SQUARED);
+    // In f32 whatever the precision: |z|^2 is just past the bailout, and a grey needs no more.
+    let ratio = log(f32(dot(e.z, e.z))) / log(BAILOUT_SQUARED_F32);
     return max(f32(e.n) - log2(ratio), 0.0);
 }
 
@@ -107,6 +111,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = escape(pixel_point(i, params.row_offset + r));
     let k = (params.out_row + r) * params.row_stride + i;
     out_colour[k] = pack_grey(grey(e));
-    out_depth[k] = select(-1.0, 0.0, !e.escaped);
+    out_depth[k] = select(Real(-1.0), Real(0.0), !e.escaped);
     out_steps[k] = e.n;
 }

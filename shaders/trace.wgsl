@@ -4,48 +4,63 @@
 //
 // Twin: src/cpu/trace.rs, function by function, with the same names in the same order (checked
 // by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
-// both. Needs shaders/algebra.wgsl in front of it (src/gpu/shaders.rs).
+// both. Needs a prelude (shaders/real32.wgsl or shaders/real64.wgsl: the float type `Real`, its
+// limits and functions) and shaders/algebra.wgsl in front of it (src/gpu/shaders.rs): one source,
+// an f32 and an f64 module.
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
-// Keep in sync with `GpuParams` in src/gpu/params.rs.
+// Keep in sync with `GpuParams` and `GpuParams64` in src/gpu/params.rs (one macro makes both).
+// Ordered so that neither precision has padding inside: the numbers of the algebra, the
+// vec3s each followed by a scalar filling its slot, the other scalars, then the integers.
 struct Params {
     c: Hyper,
     slice_x: Hyper,
     slice_y: Hyper,
     slice_z: Hyper,
     slice_offset: Hyper,
-    eye: vec3<f32>,
-    epsilon: f32,
-    cam_forward: vec3<f32>,
-    tan_half_fov_y: f32,
-    cam_right: vec3<f32>,
-    aspect: f32,
-    cam_up: vec3<f32>,
-    escape_radius_squared: f32,
-    light: vec3<f32>,
-    bounds_radius_squared: f32,
-    bounds_center: vec3<f32>,
-    normal_tint: f32,
-    diffuse: vec3<f32>,
-    specular: f32,
-    background: vec3<f32>,
-    shininess: f32,
+    eye: vec3<Real>,
+    epsilon: Real,
+    cam_forward: vec3<Real>,
+    tan_half_fov_y: Real,
+    cam_right: vec3<Real>,
+    aspect: Real,
+    cam_up: vec3<Real>,
+    escape_radius_squared: Real,
+    light: vec3<Real>,
+    bounds_radius_squared: Real,
+    bounds_center: vec3<Real>,
+    normal_tint: Real,
+    diffuse: vec3<Real>,
+    specular: Real,
+    background: vec3<Real>,
+    shininess: Real,
+    // Orbit-trap colouring: the trap |z| = trap_radius, the palette's cycles and phase.
+    palette_phase: vec3<Real>,
+    trap_scale: Real,
+    // The cut: the set within cut_normal . p <= cut_offset (cut_normal of unit length).
+    cut_normal: vec3<Real>,
+    cut_offset: Real,
+    shadow_factor: Real,
+    normal_delta: Real,
+    step_scale: Real,
+    pixel_epsilon: Real,
+    pixel_angle: Real,
+    // The light's radius: 0 is a point light (hard shadows).
+    light_radius: Real,
+    ambient: Real,
+    occlusion: Real,
+    trap_radius: Real,
     max_iterations: u32,
     max_steps: u32,
     width: u32,
     height: u32,
     shadows: u32,
-    shadow_factor: f32,
     row_offset: u32,
     row_count: u32,
     row_stride: u32,
     out_row: u32,
     normal_method: u32,
-    normal_delta: f32,
-    step_scale: f32,
-    pixel_epsilon: f32,
-    pixel_angle: f32,
     tracing: u32,
     // Quaternion parts of a number of the scene's algebra: 1 quaternion, 2 octonion, 4 sedenion.
     algebra_parts: u32,
@@ -53,17 +68,6 @@ struct Params {
     samples: u32,
     sample_start: u32,
     sample_end: u32,
-    // The light's radius: 0 is a point light (hard shadows).
-    light_radius: f32,
-    ambient: f32,
-    occlusion: f32,
-    // Orbit-trap colouring: the trap |z| = trap_radius, the palette's cycles and phase.
-    trap_radius: f32,
-    palette_phase: vec3<f32>,
-    trap_scale: f32,
-    // The cut: the set within cut_normal . p <= cut_offset (cut_normal of unit length).
-    cut_normal: vec3<f32>,
-    cut_offset: f32,
     colouring: u32,
     cut: u32,
 }
@@ -107,10 +111,10 @@ const TRACING_CONE: u32 = 1u;
 const CONE_BLOCK: u32 = 8u;
 // The cone stops this many epsilons short: the estimate is about half the true distance near
 // the surface, so rays must start where it is still well above epsilon.
-const CONE_MARGIN: f32 = 4.0;
+const CONE_MARGIN: Real = 4.0;
 
 // The cone's start, shared by the workgroup's invocations.
-var<workgroup> cone_t: f32;
+var<workgroup> cone_t: Real;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The band of rows [row_offset, row_offset + row_count) lands in the output arrays from row
@@ -118,7 +122,7 @@ var<workgroup> cone_t: f32;
 // Colour as 0xFFBBGGRR (RGBA8, opaque).
 @group(0) @binding(1) var<storage, read_write> out_colour: array<u32>;
 // The hit's ray parameter t; -1 for a miss (the host turns it into NaN).
-@group(0) @binding(2) var<storage, read_write> out_depth: array<f32>;
+@group(0) @binding(2) var<storage, read_write> out_depth: array<Real>;
 // Distance estimates along the primary ray.
 @group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
 // Distance estimates made for the pixel, every sample and every ray (summed across dispatches).
@@ -129,24 +133,16 @@ var<workgroup> cone_t: f32;
 // Distance estimates this invocation has made for its pixel (the cone's are not counted).
 var<private> estimates: u32;
 
-// |z'|^2 above this: iterating stops before z' can overflow, and the estimate is taken as 0.
-// With |z|^2 <= escape_radius_squared <= 1e8 (the host clamps it for f32) the true estimate
-// there is below 0.25 sqrt(1e8 / 1e28) ln(1e8) = 5e-10, and one more step gives
-// |z'|^2 <= 4e36, still finite. (Twin: `Real::DERIVATIVE_LIMIT`.)
-const DERIVATIVE_LIMIT: f32 = 1e28;
-// A hit needs d below epsilon, or below this fraction of t: the spacing of floats at t (8 ulps),
-// under which a step no longer moves the ray.
-const RELATIVE_EPSILON: f32 = 9.5367431640625e-7;
+// DERIVATIVE_LIMIT, RELATIVE_EPSILON and MIN_NORMAL depend on the precision: the prelude
+// (shaders/real32.wgsl or shaders/real64.wgsl) defines them.
 // Below this a squared length counts as zero: nothing is divided by it or normalised.
-const TINY: f32 = 1e-30;
-// The smallest normal f32: a |z|^2 below it is 0 for the estimate (no log of it is taken).
-const MIN_NORMAL: f32 = 1.17549435e-38;
+const TINY: Real = 1e-30;
 // |z|^2 at which the normal's six orbits stop, long before they can overflow.
-const NORMAL_LIMIT: f32 = 1e16;
+const NORMAL_LIMIT: Real = 1e16;
 // Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
 // k = 1, 2, ... (Twin: cpu::trace's constants of the same names.)
 const OCCLUSION_SAMPLES: u32 = 5u;
-const OCCLUSION_STEP: f32 = 0.04;
+const OCCLUSION_STEP: Real = 0.04;
 
 // Quaternion parts of the scene's algebra (1, 2 or 4): a constant when specialised.
 fn algebra_parts() -> u32 {
@@ -160,31 +156,31 @@ fn algebra_parts() -> u32 {
 // from its parameters).
 fn slice_axis_x() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+        return Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
     }
     return params.slice_x;
 }
 
 fn slice_axis_y() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<f32>(0.0, 1.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+        return Hyper(vec4<Real>(0.0, 1.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
     }
     return params.slice_y;
 }
 
 fn slice_axis_z() -> Hyper {
     if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<f32>(0.0, 0.0, 1.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+        return Hyper(vec4<Real>(0.0, 0.0, 1.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
     }
     return params.slice_z;
 }
 
 // Scene coordinates p in the 3D slice to the point offset + p.x x + p.y y + p.z z of the
 // algebra.
-fn slice_point(p: vec3<f32>) -> Hyper {
+fn slice_point(p: vec3<Real>) -> Hyper {
     var q = params.slice_offset;
     if SPECIALISED && STANDARD_SLICE {
-        q[0] += vec4<f32>(p, 0.0);
+        q[0] += vec4<Real>(p, 0.0);
         return q;
     }
     let x = params.slice_x;
@@ -206,11 +202,11 @@ fn slice_point(p: vec3<f32>) -> Hyper {
 // (The seed's iterateIntersect.) Quaternions and octonions are composition algebras,
 // |a b| = |a| |b|, so |z'|^2 <- 4 |z|^2 |z'|^2 gives the same |z'| without the product (half the
 // arithmetic of an iteration). Sedenions are not: there z' is carried whole.
-fn iterate_orbit(z: ptr<function, Hyper>) -> f32 {
+fn iterate_orbit(z: ptr<function, Hyper>) -> Real {
     let parts = algebra_parts();
     var z_norm2 = hyper_dot(*z, *z, parts);
-    var dz_norm2 = 1.0;
-    var dz = Hyper(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    var dz_norm2: Real = 1.0;
+    var dz = Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
     for (var i = 0u; i < params.max_iterations; i++) {
         if parts == 4u {
             dz = hyper_scale(2.0, hyper_mul(*z, dz, parts));
@@ -232,7 +228,7 @@ fn iterate_orbit(z: ptr<function, Hyper>) -> f32 {
 // Negative inside the set (|z| < 1); 0 where it cannot be formed: |z| = 0 (below the smallest
 // normal float), |z'| = 0 (below TINY |z|, which keeps the ratio finite) or |z'| huge.
 // The set alone, without the cut (estimate_distance adds it).
-fn estimate_julia(p: vec3<f32>) -> f32 {
+fn estimate_julia(p: vec3<Real>) -> Real {
     estimates += 1u;
     var z = slice_point(p);
     let dz_norm2 = iterate_orbit(&z);
@@ -240,19 +236,19 @@ fn estimate_julia(p: vec3<f32>) -> f32 {
     if z_norm2 < MIN_NORMAL || dz_norm2 > DERIVATIVE_LIMIT || dz_norm2 <= z_norm2 * TINY {
         return 0.0;
     }
-    return 0.25 * sqrt(z_norm2 / dz_norm2) * log(z_norm2);
+    return 0.25 * real_sqrt(z_norm2 / dz_norm2) * real_log(z_norm2);
 }
 
 // The cut's plane term cut_normal . p - cut_offset: the signed distance of p from the plane
 // (cut_normal is of unit length), positive on the side the cut takes away.
-fn cut_plane(p: vec3<f32>) -> f32 {
+fn cut_plane(p: vec3<Real>) -> Real {
     return dot(params.cut_normal, p) - params.cut_offset;
 }
 
 // The distance estimate everything uses (primary and shadow rays, the cone, occlusion): the
 // set's, and with the cut on, the set intersected with the half-space cut_normal . p <= cut_offset,
 // max(d, cut_normal . p - cut_offset) (still a lower bound of the distance to what is left).
-fn estimate_distance(p: vec3<f32>) -> f32 {
+fn estimate_distance(p: vec3<Real>) -> Real {
     let d = estimate_julia(p);
     if (!SPECIALISED || CUT) && params.cut != 0u {
         return max(d, cut_plane(p));
@@ -262,15 +258,15 @@ fn estimate_distance(p: vec3<f32>) -> f32 {
 
 // Where a ray meets the bounding ball.
 struct Interval {
-    t_enter: f32,
-    t_exit: f32,
+    t_enter: Real,
+    t_exit: Real,
     hit: bool,
 }
 
 // The ray origin + t dir (t >= 0) against the 3D ball the 4D bounding ball cuts from the slice.
 // Starts at the origin when it is inside; a ray that misses, or a ball behind, gives no hit.
 // (The seed's intersectSphere.)
-fn intersect_bounds(origin: vec3<f32>, dir: vec3<f32>) -> Interval {
+fn intersect_bounds(origin: vec3<Real>, dir: vec3<Real>) -> Interval {
     let oc = origin - params.bounds_center;
     let b = dot(oc, dir);
     let cc = dot(oc, oc) - params.bounds_radius_squared;
@@ -278,7 +274,7 @@ fn intersect_bounds(origin: vec3<f32>, dir: vec3<f32>) -> Interval {
     if params.bounds_radius_squared <= 0.0 || disc < 0.0 {
         return Interval(0.0, 0.0, false);
     }
-    let t_exit = sqrt(disc) - b;
+    let t_exit = real_sqrt(disc) - b;
     if cc <= 0.0 {
         return Interval(0.0, t_exit, true);
     }
@@ -291,7 +287,7 @@ fn intersect_bounds(origin: vec3<f32>, dir: vec3<f32>) -> Interval {
 
 // A sphere-traced ray: the t reached, the estimates made, and whether it hit.
 struct Trace {
-    t: f32,
+    t: Real,
     steps: u32,
     hit: bool,
 }
@@ -304,14 +300,14 @@ struct Trace {
 // With step_scale > 1 steps are over-relaxed (omega d); when the unbounding spheres of two
 // successive points stop overlapping the ray may have jumped the surface, so it goes back to the
 // plain step from the last point and carries on without over-relaxation.
-fn sphere_trace(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps_slope: f32) -> Trace {
+fn sphere_trace(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real) -> Trace {
     var t = t_start;
     var omega = params.step_scale;
     if SPECIALISED && !OVER_RELAXED {
         omega = 1.0;
     }
     var t_prev = t_start;
-    var prev_radius = 0.0;
+    var prev_radius: Real = 0.0;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
         let d = estimate_distance(origin + t * dir);
         let radius = max(d, 0.0);
@@ -344,20 +340,20 @@ fn sphere_trace(origin: vec3<f32>, dir: vec3<f32>, t_start: f32, t_end: f32, eps
 
 // v normalised, or the fallback where v is too short to have a direction. Scaled by its largest
 // component first, so that a long v (an analytic gradient can reach 1e30) cannot overflow.
-fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+fn safe_normalize(v: vec3<Real>, fallback: vec3<Real>) -> vec3<Real> {
     let m = max(max(abs(v.x), abs(v.y)), abs(v.z));
     if m * m <= TINY {
         return fallback;
     }
     let w = v / m;
-    return w / sqrt(dot(w, w));
+    return w / real_sqrt(dot(w, w));
 }
 
 // The seed's normal (its normEstimate): central differences of |z_N| along the slice axes with
 // normal_delta, max_iterations iterations of z <- z^2 + c. All six orbits stop together once
 // any |z|^2 passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
 // grad |z_n| and the direction is already known, and nothing overflows.
-fn normal_central(q: Hyper) -> vec3<f32> {
+fn normal_central(q: Hyper) -> vec3<Real> {
     let parts = algebra_parts();
     let dx = hyper_scale(params.normal_delta, slice_axis_x());
     let dy = hyper_scale(params.normal_delta, slice_axis_y());
@@ -386,16 +382,16 @@ fn normal_central(q: Hyper) -> vec3<f32> {
         z_minus = hyper_add(hyper_sq(z_minus, parts), params.c);
         z_plus = hyper_add(hyper_sq(z_plus, parts), params.c);
     }
-    return vec3<f32>(
-        sqrt(hyper_dot(x_plus, x_plus, parts)) - sqrt(hyper_dot(x_minus, x_minus, parts)),
-        sqrt(hyper_dot(y_plus, y_plus, parts)) - sqrt(hyper_dot(y_minus, y_minus, parts)),
-        sqrt(hyper_dot(z_plus, z_plus, parts)) - sqrt(hyper_dot(z_minus, z_minus, parts)),
+    return vec3<Real>(
+        real_sqrt(hyper_dot(x_plus, x_plus, parts)) - real_sqrt(hyper_dot(x_minus, x_minus, parts)),
+        real_sqrt(hyper_dot(y_plus, y_plus, parts)) - real_sqrt(hyper_dot(y_minus, y_minus, parts)),
+        real_sqrt(hyper_dot(z_plus, z_plus, parts)) - real_sqrt(hyper_dot(z_minus, z_minus, parts)),
     );
 }
 
 // Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) times
 // normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central differences.
-fn normal_tetrahedral(q: Hyper) -> vec3<f32> {
+fn normal_tetrahedral(q: Hyper) -> vec3<Real> {
     let parts = algebra_parts();
     let h = params.normal_delta;
     let x = slice_axis_x();
@@ -418,17 +414,17 @@ fn normal_tetrahedral(q: Hyper) -> vec3<f32> {
         c = hyper_add(hyper_sq(c, parts), params.c);
         d = hyper_add(hyper_sq(d, parts), params.c);
     }
-    let la = sqrt(hyper_dot(a, a, parts));
-    let lb = sqrt(hyper_dot(b, b, parts));
-    let lc = sqrt(hyper_dot(c, c, parts));
-    let ld = sqrt(hyper_dot(d, d, parts));
-    return vec3<f32>(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld);
+    let la = real_sqrt(hyper_dot(a, a, parts));
+    let lb = real_sqrt(hyper_dot(b, b, parts));
+    let lc = real_sqrt(hyper_dot(c, c, parts));
+    let ld = real_sqrt(hyper_dot(d, d, parts));
+    return vec3<Real>(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld);
 }
 
 // The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried through
 // the iteration (d(z^2) = z dz + dz z, square_derivative), then grad_i |z| = z . dz_i / |z| (the
 // 1/|z| does not change the direction).
-fn normal_analytic(q: Hyper) -> vec3<f32> {
+fn normal_analytic(q: Hyper) -> vec3<Real> {
     let parts = algebra_parts();
     var z = q;
     var jx = slice_axis_x();
@@ -444,12 +440,12 @@ fn normal_analytic(q: Hyper) -> vec3<f32> {
         jz = square_derivative(z, jz, parts);
         z = hyper_add(hyper_sq(z, parts), params.c);
     }
-    return vec3<f32>(hyper_dot(z, jx, parts), hyper_dot(z, jy, parts), hyper_dot(z, jz, parts));
+    return vec3<Real>(hyper_dot(z, jx, parts), hyper_dot(z, jy, parts), hyper_dot(z, jz, parts));
 }
 
 // The shading normal by params.normal_method; where no gradient can be formed it points back
 // along the ray. On the cut face, the cut's normal.
-fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+fn estimate_normal(p: vec3<Real>, dir: vec3<Real>) -> vec3<Real> {
     // On the cut face the normal is the plane's: where the plane's term is within epsilon of
     // the set's estimate or above it (inside the set the estimate can be 0, where it cannot be
     // formed, against a plane term rounded a little below 0).
@@ -457,7 +453,7 @@ fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
         return params.cut_normal;
     }
     let q = slice_point(p);
-    var grad: vec3<f32>;
+    var grad: vec3<Real>;
     var method = params.normal_method;
     if SPECIALISED {
         method = NORMAL_METHOD;
@@ -479,32 +475,32 @@ fn estimate_normal(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
 // Phong shading at pt with normal n, a point light and the viewer at eye:
 // (diffuse + normal_tint |n|) max(N.L, 0) + specular max(E.R, 0)^shininess, R = 2 (N.L) N - L,
 // no highlight where N.L <= 0. (The seed negates R and passes the ray direction as the eye.)
-fn phong(light: vec3<f32>, eye: vec3<f32>, pt: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+fn phong(light: vec3<Real>, eye: vec3<Real>, pt: vec3<Real>, n: vec3<Real>) -> vec3<Real> {
     let l = safe_normalize(light - pt, n);
     let e = safe_normalize(eye - pt, n);
     let n_dot_l = dot(n, l);
     if n_dot_l <= 0.0 {
-        return vec3<f32>(0.0);
+        return vec3<Real>(0.0);
     }
     let r = 2.0 * n_dot_l * n - l;
     let e_dot_r = dot(e, r);
-    var highlight = 0.0;
+    var highlight: Real = 0.0;
     if e_dot_r > 0.0 {
-        highlight = params.specular * pow(e_dot_r, params.shininess);
+        highlight = params.specular * real_pow(e_dot_r, params.shininess);
     }
-    return (params.diffuse + params.normal_tint * abs(n)) * n_dot_l + vec3<f32>(highlight);
+    return (params.diffuse + params.normal_tint * abs(n)) * n_dot_l + vec3<Real>(highlight);
 }
 
 // The shadow ray: from p + 2 epsilon n toward the light, traced like a primary ray, stopping
 // at the light or where it leaves the bounding ball, whichever comes first.
-fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
+fn in_shadow(p: vec3<Real>, n: vec3<Real>) -> bool {
     let origin = p + 2.0 * params.epsilon * n;
     let to_light = params.light - origin;
     let dist_squared = dot(to_light, to_light);
     if dist_squared <= TINY {
         return false;
     }
-    let dist = sqrt(dist_squared);
+    let dist = real_sqrt(dist_squared);
     let dir = to_light / dist;
     let bounds = intersect_bounds(origin, dir);
     let t_end = min(bounds.t_exit, dist);
@@ -521,14 +517,14 @@ fn in_shadow(p: vec3<f32>, n: vec3<f32>) -> bool {
 // light_radius / (distance from the origin to the centre): the closest approach relative to the
 // cone towards the light, with 2 d for the true distance (the estimate is about half of it near
 // the surface).
-fn soft_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn soft_shadow(p: vec3<Real>, n: vec3<Real>) -> Real {
     let origin = p + 2.0 * params.epsilon * n;
     let to_light = params.light - origin;
     let dist_squared = dot(to_light, to_light);
     if dist_squared <= TINY {
         return 1.0;
     }
-    let dist = sqrt(dist_squared);
+    let dist = real_sqrt(dist_squared);
     let dir = to_light / dist;
     let bounds = intersect_bounds(origin, dir);
     let t_end = min(bounds.t_exit, dist);
@@ -536,7 +532,7 @@ fn soft_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
         return 1.0;
     }
     let tan_size = params.light_radius / dist;
-    var visibility = 1.0;
+    var visibility: Real = 1.0;
     var t = bounds.t_enter;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
         let d = estimate_distance(origin + t * dir);
@@ -559,27 +555,27 @@ fn soft_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
 // normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and 2 d (the
 // estimate is about half the true distance near the surface) at least h_k; what falls short
 // occludes: A = 1 - occlusion (1 / K) sum_k clamp(1 - 2 d(p + h_k n) / h_k, 0, 1).
-fn occlusion(p: vec3<f32>, n: vec3<f32>) -> f32 {
-    var sum = 0.0;
+fn occlusion(p: vec3<Real>, n: vec3<Real>) -> Real {
+    var sum: Real = 0.0;
     for (var k = 1u; k <= OCCLUSION_SAMPLES; k++) {
-        let h = f32(k) * OCCLUSION_STEP;
+        let h = Real(k) * OCCLUSION_STEP;
         let d = estimate_distance(p + h * n);
         sum += clamp(1.0 - 2.0 * d / h, 0.0, 1.0);
     }
-    return 1.0 - params.occlusion * (sum / f32(OCCLUSION_SAMPLES));
+    return 1.0 - params.occlusion * (sum / Real(OCCLUSION_SAMPLES));
 }
 
 // The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |, z_0 = q,
 // z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or max_iterations
 // (iterate_orbit's count and escape; no derivative is carried, so its limit does not apply).
-fn orbit_trap(q: Hyper) -> f32 {
+fn orbit_trap(q: Hyper) -> Real {
     let parts = algebra_parts();
     var z = q;
-    var trap = abs(sqrt(hyper_dot(z, z, parts)) - params.trap_radius);
+    var trap = abs(real_sqrt(hyper_dot(z, z, parts)) - params.trap_radius);
     for (var i = 0u; i < params.max_iterations; i++) {
         z = hyper_add(hyper_sq(z, parts), params.c);
         let z_norm2 = hyper_dot(z, z, parts);
-        trap = min(trap, abs(sqrt(z_norm2) - params.trap_radius));
+        trap = min(trap, abs(real_sqrt(z_norm2) - params.trap_radius));
         if z_norm2 > params.escape_radius_squared {
             break;
         }
@@ -589,9 +585,9 @@ fn orbit_trap(q: Hyper) -> f32 {
 
 // The palette: 0.5 + 0.5 cos(2 pi x) per channel, x = fract(trap_scale t + palette_phase) (the
 // fraction changes nothing but keeps cos's argument small).
-fn palette(t: f32) -> vec3<f32> {
+fn palette(t: Real) -> vec3<Real> {
     let x = fract(params.trap_scale * t + params.palette_phase);
-    return 0.5 + 0.5 * cos(6.2831855 * x);
+    return 0.5 + 0.5 * real_cos(6.2831855 * x);
 }
 
 // Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
@@ -613,12 +609,12 @@ fn shading_features() -> bool {
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
 // phong's colour, shadowed as trace_pixel does.
-fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+fn shade_features(p: vec3<Real>, n: vec3<Real>) -> vec3<Real> {
     var base = params.diffuse;
     if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
         base = palette(orbit_trap(slice_point(p)));
     }
-    var a = 1.0;
+    var a: Real = 1.0;
     if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
         a = occlusion(p, n);
     }
@@ -631,17 +627,17 @@ fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     }
     let r = 2.0 * n_dot_l * n - l;
     let e_dot_r = dot(e, r);
-    var highlight = 0.0;
+    var highlight: Real = 0.0;
     if e_dot_r > 0.0 {
-        highlight = params.specular * pow(e_dot_r, params.shininess);
+        highlight = params.specular * real_pow(e_dot_r, params.shininess);
     }
-    var light = a * (base + params.normal_tint * abs(n)) * n_dot_l + vec3<f32>(highlight);
+    var light = a * (base + params.normal_tint * abs(n)) * n_dot_l + vec3<Real>(highlight);
     var shadows = params.shadows != 0u;
     if SPECIALISED {
         shadows = SHADOWS;
     }
     // As in trace_pixel: no shadow ray for an unlit point.
-    if shadows && any(light > vec3<f32>(0.0)) {
+    if shadows && any(light > vec3<Real>(0.0)) {
         if (!SPECIALISED || SOFT_SHADOWS) && params.light_radius > 0.0 {
             light *= params.shadow_factor + (1.0 - params.shadow_factor) * soft_shadow(p, n);
         } else if in_shadow(p, n) {
@@ -652,17 +648,17 @@ fn shade_features(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left corner.
-fn camera_ray_at(x: f32, y: f32) -> vec3<f32> {
-    let px = (2.0 * x / f32(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
-    let py = (1.0 - 2.0 * y / f32(params.height)) * params.tan_half_fov_y;
-    return normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
+fn camera_ray_at(x: Real, y: Real) -> vec3<Real> {
+    let px = (2.0 * x / Real(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
+    let py = (1.0 - 2.0 * y / Real(params.height)) * params.tan_half_fov_y;
+    return real_normalize(params.cam_forward + px * params.cam_right + py * params.cam_up);
 }
 
 // The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
 // (CONTRACT.md's camera); sample 0 goes through the pixel's centre.
-fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<f32> {
+fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
     let s = sample_position(sample);
-    return camera_ray_at(f32(i) + s.x, f32(j) + s.y);
+    return camera_ray_at(Real(i) + s.x, Real(j) + s.y);
 }
 
 // Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
@@ -670,16 +666,17 @@ fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<f32> {
 // distance (t times the tangent of the widest angle to a corner ray), so that the whole cone is
 // known to be at least epsilon from the set up to the t returned. Every ray of the block may
 // start there. Bounded by max_steps; 0 where the centre ray misses the ball.
-fn cone_start(bi: u32, bj: u32) -> f32 {
-    let x0 = f32(bi * CONE_BLOCK);
-    let y0 = f32(bj * CONE_BLOCK);
-    let size = f32(CONE_BLOCK);
+fn cone_start(bi: u32, bj: u32) -> Real {
+    let x0 = Real(bi * CONE_BLOCK);
+    let y0 = Real(bj * CONE_BLOCK);
+    let size = Real(CONE_BLOCK);
     let centre = camera_ray_at(x0 + 0.5 * size, y0 + 0.5 * size);
-    var spread = 0.0;
+    var spread: Real = 0.0;
     for (var k = 0u; k < 4u; k++) {
-        let corner = camera_ray_at(x0 + size * f32(k & 1u), y0 + size * f32(k >> 1u));
+        let corner = camera_ray_at(x0 + size * Real(k & 1u), y0 + size * Real(k >> 1u));
         let cos_angle = max(dot(centre, corner), 0.1);
-        spread = max(spread, length(cross(centre, corner)) / cos_angle);
+        let side = cross(centre, corner);
+        spread = max(spread, real_sqrt(dot(side, side)) / cos_angle);
     }
     let bounds = intersect_bounds(params.eye, centre);
     if !bounds.hit {
@@ -698,15 +695,15 @@ fn cone_start(bi: u32, bj: u32) -> f32 {
 
 // One pixel's outcome.
 struct Pixel {
-    colour: vec3<f32>,
-    depth: f32,
+    colour: vec3<Real>,
+    depth: Real,
     steps: u32,
     hit: bool,
 }
 
 // Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the cone's
 // start, or 0), normal, Phong, shadow.
-fn trace_pixel(i: u32, j: u32, sample: u32, t_min: f32) -> Pixel {
+fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
     let dir = camera_ray(i, j, sample);
     let bounds = intersect_bounds(params.eye, dir);
     if !bounds.hit {
@@ -731,7 +728,7 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: f32) -> Pixel {
         shadows = SHADOWS;
     }
     // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
-    let lit = any(colour > vec3<f32>(0.0));
+    let lit = any(colour > vec3<Real>(0.0));
     if shadows && lit && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
@@ -741,9 +738,9 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: f32) -> Pixel {
 // Where sample k lies in its pixel, (x, y) in [0, 1)^2 from the pixel's top left corner:
 // (0.5, 0.5), the centre, for sample 0; else the Halton point of index k in bases 2 and 3
 // (k < 4096: its 12 binary and 8 ternary digits, so both coordinates are exact in f32).
-fn sample_position(k: u32) -> vec2<f32> {
+fn sample_position(k: u32) -> vec2<Real> {
     if k == 0u {
-        return vec2<f32>(0.5, 0.5);
+        return vec2<Real>(0.5, 0.5);
     }
     let base2 = reverseBits(k) >> 20u;
     var base3 = 0u;
@@ -752,12 +749,14 @@ fn sample_position(k: u32) -> vec2<f32> {
         base3 = base3 * 3u + rest % 3u;
         rest /= 3u;
     }
-    return vec2<f32>(f32(base2) * (1.0 / 4096.0), f32(base3) * (1.0 / 6561.0));
+    return vec2<Real>(Real(base2) * (1.0 / 4096.0), Real(base3) * (1.0 / 6561.0));
 }
 
 // Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
-fn pack_colour(colour: vec3<f32>) -> u32 {
-    let v = vec3<u32>(floor(clamp(colour, vec3<f32>(0.0), vec3<f32>(1.0)) * 255.0 + 0.5));
+// (In f32 whatever the precision: a colour needs no more.)
+fn pack_colour(colour: vec3<Real>) -> u32 {
+    let c = vec3<f32>(colour);
+    let v = vec3<u32>(floor(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0)) * 255.0 + 0.5));
     return v.x | (v.y << 8u) | (v.z << 16u) | 0xff000000u;
 }
 
@@ -807,22 +806,22 @@ fn main(
     // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
     // clamped colours, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), exact where every sample
     // has the same colour; sample 0 gives the depth and the steps.
-    var mean = vec3<f32>(0.0);
+    var mean = vec3<Real>(0.0);
     var made = 0u;
     if params.sample_start > 0u {
-        mean = accumulated[index].xyz;
+        mean = vec3<Real>(accumulated[index].xyz);
         made = out_estimates[index];
     }
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let pixel = trace_pixel(i, j, k, t_min);
-        let c = clamp(pixel.colour, vec3<f32>(0.0), vec3<f32>(1.0));
-        mean += (c - mean) / f32(k + 1u);
+        let c = clamp(pixel.colour, vec3<Real>(0.0), vec3<Real>(1.0));
+        mean += (c - mean) / Real(k + 1u);
         if k == 0u {
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }
     }
-    accumulated[index] = vec4<f32>(mean, 0.0);
+    accumulated[index] = vec4<f32>(vec3<f32>(mean), 0.0);
     out_estimates[index] = made + estimates;
     out_colour[index] = pack_colour(mean);
 }

@@ -72,14 +72,24 @@ impl Agreement {
         let pixels = expected.pixel_count();
         let (mut mask_same, mut common, mut depth_ok, mut colour_ok) = (0, 0, 0, 0);
         let (mut depth_max, mut colour_max) = (0f64, 0u8);
+        // Both in f64 where both frames ran in f64: a deep zoom's depths differ below f32's
+        // spacing.
+        let fine = expected.depth_f64.len() == pixels && actual.depth_f64.len() == pixels;
+        let depth = |f: &Frame, k: usize| {
+            if fine {
+                f.depth_f64[k]
+            } else {
+                f.depth[k] as f64
+            }
+        };
         for k in 0..pixels {
-            let (de, da) = (expected.depth[k], actual.depth[k]);
+            let (de, da) = (depth(expected, k), depth(actual, k));
             if de.is_nan() == da.is_nan() {
                 mask_same += 1;
             }
             if !de.is_nan() && !da.is_nan() {
                 common += 1;
-                let err = (de as f64 - da as f64).abs();
+                let err = (de - da).abs();
                 depth_max = depth_max.max(err);
                 if err <= tol.depth_abs {
                     depth_ok += 1;

@@ -10,7 +10,7 @@ pub struct Frame {
     pub colour: Vec<u32>,
     /// The hit's ray parameter t (the distance from the eye along the unit ray); NaN on a miss.
     pub depth: Vec<f32>,
-    /// The depth in f64, where the render ran in f64 (the CPU's f64 tracer); empty otherwise.
+    /// The depth in f64, where the render ran in f64 (either tracer); empty otherwise.
     /// float32 cannot hold a deep zoom's depth: at a pixel footprint of 1e-10, its spacing near
     /// the hit is 10 pixels. `--depth` writes these, as float64, when they are there.
     pub depth_f64: Vec<f64>,

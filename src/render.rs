@@ -67,16 +67,17 @@ pub enum Readback {
     Colour,
 }
 
-/// Why f64 is refused on the GPU (CONTRACT.md: only where results are right).
-pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU: WGSL's f64 \
-    has no trustworthy log/sqrt on common drivers (lavapipe returns wrong values without an error); \
-    use --backend cpu";
+/// Why f64 is refused on a GPU (CONTRACT.md: only where the adapter has SHADER_F64 and the
+/// start-up check passes); the check's reason follows it.
+pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU";
 
 /// The GPU kernels of one device, each built on first use.
 pub struct GpuKernels {
     ctx: GpuContext,
     tracer: Mutex<Option<Arc<GpuTracer>>>,
     julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
+    tracer64: Mutex<Option<Arc<GpuTracer<f64>>>>,
+    julia2d64: Mutex<Option<Arc<GpuJulia2d<f64>>>>,
 }
 
 impl GpuKernels {
@@ -86,6 +87,8 @@ impl GpuKernels {
             ctx,
             tracer: Mutex::new(None),
             julia2d: Mutex::new(None),
+            tracer64: Mutex::new(None),
+            julia2d64: Mutex::new(None),
         }
     }
 
@@ -100,6 +103,8 @@ impl GpuKernels {
             ctx,
             tracer: Mutex::new(tracer),
             julia2d: Mutex::new(julia2d),
+            tracer64: Mutex::new(None),
+            julia2d64: Mutex::new(None),
         }
     }
 
@@ -115,11 +120,30 @@ impl GpuKernels {
         built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
     }
 
-    /// Builds the kernel a picture needs (so that a shader the device rejects shows up now).
-    fn prepare(&self, picture: Picture) -> Result<()> {
-        match picture {
-            Picture::Slice { .. } => self.tracer().map(drop),
-            Picture::Julia2d => self.julia2d().map(drop),
+    /// The f64 tracer, where the device passes the start-up check of f64.
+    pub fn tracer64(&self) -> Result<Arc<GpuTracer<f64>>> {
+        built(&self.tracer64, || GpuTracer::new_f64(self.ctx.clone()))
+    }
+
+    /// The f64 2D view, where the device passes the start-up check of f64.
+    pub fn julia2d64(&self) -> Result<Arc<GpuJulia2d<f64>>> {
+        built(&self.julia2d64, || GpuJulia2d::new_f64(self.ctx.clone()))
+    }
+
+    /// Whether f64 runs on this device: SHADER_F64 and the start-up check
+    /// ([`GpuContext::f64_support`], run once per device).
+    pub fn has_f64(&self) -> bool {
+        self.ctx.f64_support().is_ok()
+    }
+
+    /// Builds the kernel a picture needs in `precision` (so that a shader the device rejects,
+    /// or f64 failing its check, shows up now).
+    fn prepare(&self, picture: Picture, precision: Precision) -> Result<()> {
+        match (picture, precision) {
+            (Picture::Slice { .. }, Precision::F32) => self.tracer().map(drop),
+            (Picture::Julia2d, Precision::F32) => self.julia2d().map(drop),
+            (Picture::Slice { .. }, Precision::F64) => self.tracer64().map(drop),
+            (Picture::Julia2d, Precision::F64) => self.julia2d64().map(drop),
         }
     }
 }
@@ -134,7 +158,8 @@ fn built<T>(slot: &Mutex<Option<Arc<T>>>, make: impl FnOnce() -> Result<T>) -> R
     Ok(k)
 }
 
-/// Where renders run: the GPU (f32) or the CPU in a precision.
+/// Where renders run: the GPU or the CPU, in a precision (f64 on the GPU only where the device
+/// passed the start-up check).
 #[derive(Clone)]
 pub struct Renderer {
     gpu: Option<Arc<GpuKernels>>,
@@ -151,22 +176,30 @@ impl Renderer {
         picture: Picture,
         notice: &mut dyn FnMut(&str),
     ) -> Result<Self> {
+        // f64 on the GPU needs the device to pass the start-up check of f64 (prepare runs it).
         let on_gpu = || -> Result<Self> {
             let kernels = GpuKernels::new(GpuContext::new()?);
-            kernels.prepare(picture)?;
-            Ok(Self::gpu(Arc::new(kernels)))
+            kernels
+                .prepare(picture, precision)
+                .map_err(|e| match precision {
+                    Precision::F64 => Error::Unsupported(format!("{GPU_F64_UNSUPPORTED}: {e}")),
+                    Precision::F32 => e,
+                })?;
+            Ok(Self::gpu_in(Arc::new(kernels), precision))
         };
-        match (backend, precision) {
-            (Backend::Cpu, _) => Ok(Self::cpu(precision)),
-            (Backend::Gpu, Precision::F64) => Err(Error::Unsupported(GPU_F64_UNSUPPORTED.into())),
-            (Backend::Gpu, Precision::F32) => on_gpu(),
-            (Backend::Auto, Precision::F64) => {
-                notice("f64 is not available on the GPU; rendering on the CPU");
-                Ok(Self::cpu(precision))
-            }
-            (Backend::Auto, Precision::F32) => match on_gpu() {
+        match backend {
+            Backend::Cpu => Ok(Self::cpu(precision)),
+            Backend::Gpu => on_gpu(),
+            Backend::Auto => match on_gpu() {
                 Ok(renderer) => {
-                    notice(&format!("rendering on the GPU: {}", renderer.adapter()));
+                    let f64_note = match precision {
+                        Precision::F64 => " in f64",
+                        Precision::F32 => "",
+                    };
+                    notice(&format!(
+                        "rendering on the GPU{f64_note}: {}",
+                        renderer.adapter()
+                    ));
                     Ok(renderer)
                 }
                 Err(e) => {
@@ -187,9 +220,30 @@ impl Renderer {
 
     /// The GPU kernels of a device (f32).
     pub fn gpu(kernels: Arc<GpuKernels>) -> Self {
+        Self::gpu_in(kernels, Precision::F32)
+    }
+
+    /// The GPU kernels of a device in `precision` (f64: renders fail where the device does not
+    /// pass the start-up check; see [`Self::gpu_has_f64`]).
+    pub fn gpu_in(kernels: Arc<GpuKernels>, precision: Precision) -> Self {
         Self {
             gpu: Some(kernels),
-            precision: Precision::F32,
+            precision,
+        }
+    }
+
+    /// Whether this renderer's GPU runs f64 (SHADER_F64 and the start-up check of f64, run
+    /// once per device on the first call); false on the CPU. For `--precision auto`: a GPU
+    /// renderer in f32 can ask before it switches a scene to f64 ([`Self::with_precision`]).
+    pub fn gpu_has_f64(&self) -> bool {
+        self.gpu.as_ref().is_some_and(|k| k.has_f64())
+    }
+
+    /// The same backend (and device) in another precision.
+    pub fn with_precision(&self, precision: Precision) -> Self {
+        Self {
+            gpu: self.gpu.clone(),
+            precision,
         }
     }
 
@@ -244,15 +298,28 @@ impl Renderer {
         let (render_seconds, gpu_seconds) = match &self.gpu {
             Some(kernels) => {
                 let mut owned = |band: Frame| counted(&band);
-                let times = match picture {
-                    Picture::Slice { shade } => kernels.tracer()?.render_bands(
+                let times = match (picture, self.precision) {
+                    (Picture::Slice { shade }, Precision::F32) => kernels.tracer()?.render_bands(
                         &TraceParams::<f32>::new(scene),
                         shade,
                         readback,
                         &mut owned,
                     )?,
-                    Picture::Julia2d => kernels.julia2d()?.render_bands(
+                    (Picture::Slice { shade }, Precision::F64) => {
+                        kernels.tracer64()?.render_bands(
+                            &TraceParams::<f64>::new(scene),
+                            shade,
+                            readback,
+                            &mut owned,
+                        )?
+                    }
+                    (Picture::Julia2d, Precision::F32) => kernels.julia2d()?.render_bands(
                         &Julia2dParams::<f32>::new(scene),
+                        readback,
+                        &mut owned,
+                    )?,
+                    (Picture::Julia2d, Precision::F64) => kernels.julia2d64()?.render_bands(
+                        &Julia2dParams::<f64>::new(scene),
                         readback,
                         &mut owned,
                     )?,
@@ -303,27 +370,38 @@ impl Renderer {
             }
             return Ok(());
         };
-        let mut params = scenes.map(|scene| (TraceParams::<f32>::new(&scene), shade));
-        kernels
-            .tracer()?
-            .render_frames(&mut params, readback, &mut |frame, times| {
-                let summary = match readback {
-                    Readback::All => crate::stats::Summary::of(&frame),
-                    Readback::Colour => SummaryBuilder::new(frame.width).finish(),
-                };
-                let stats = RenderStats {
-                    backend: self.backend_name().into(),
-                    adapter: self.adapter(),
-                    precision: self.precision.name().into(),
-                    precision_reason: format!("asked for (--precision {})", self.precision.name()),
-                    width: frame.width,
-                    height: frame.height,
-                    render_seconds: times.seconds,
-                    gpu_seconds: times.gpu_seconds,
-                    summary,
-                };
-                sink(frame, stats)
-            })
+        let mut sink = |frame: Frame, times: crate::gpu::kernel::RunTimes| {
+            let summary = match readback {
+                Readback::All => crate::stats::Summary::of(&frame),
+                Readback::Colour => SummaryBuilder::new(frame.width).finish(),
+            };
+            let stats = RenderStats {
+                backend: self.backend_name().into(),
+                adapter: self.adapter(),
+                precision: self.precision.name().into(),
+                precision_reason: format!("asked for (--precision {})", self.precision.name()),
+                width: frame.width,
+                height: frame.height,
+                render_seconds: times.seconds,
+                gpu_seconds: times.gpu_seconds,
+                summary,
+            };
+            sink(frame, stats)
+        };
+        match self.precision {
+            Precision::F32 => {
+                let mut params = scenes.map(|scene| (TraceParams::<f32>::new(&scene), shade));
+                kernels
+                    .tracer()?
+                    .render_frames(&mut params, readback, &mut sink)
+            }
+            Precision::F64 => {
+                let mut params = scenes.map(|scene| (TraceParams::<f64>::new(&scene), shade));
+                kernels
+                    .tracer64()?
+                    .render_frames(&mut params, readback, &mut sink)
+            }
+        }
     }
 
     /// As [`Self::render`], the whole image in host memory.

@@ -262,8 +262,22 @@ fn depth_steps_and_stats_outputs() {
     assert!(stats["steps_max"].as_u64().is_some());
 }
 
+/// Runs the qjulia binary in `dir` with `args` and extra environment variables.
+fn qjulia_env(dir: &std::path::Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_qjulia"));
+    command.args(args).current_dir(dir);
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    command.output().unwrap()
+}
+
+/// f64 runs on the CPU always, and on the GPU where the adapter passes the start-up check of f64
+/// (lavapipe does); where it fails (a wrong division injected through the check's test hook),
+/// `--backend gpu` exits 1 with one clear line and writes nothing, and `--backend auto` renders
+/// on the CPU with a notice. Without SHADER_F64 (GL llvmpipe) the same.
 #[test]
-fn f64_on_the_cpu_and_refused_on_the_gpu() {
+fn f64_on_the_gpu_where_its_check_passes_else_refused_or_on_the_cpu() {
     let dir = tempfile::tempdir().unwrap();
     let args = [
         "render",
@@ -276,16 +290,45 @@ fn f64_on_the_cpu_and_refused_on_the_gpu() {
         "--stats",
         "s.json",
     ];
-    let out = qjulia(dir.path(), &args);
+    let stats = || std::fs::read_to_string(dir.path().join("s.json")).unwrap();
+    let out = qjulia(dir.path(), &[&args[..], &["--backend", "cpu"]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
-    let stats = std::fs::read_to_string(dir.path().join("s.json")).unwrap();
-    assert!(stats.contains("\"precision\": \"f64\"") && stats.contains("\"backend\": \"cpu\""));
-    let out = qjulia(
-        dir.path(),
-        &[&args[..], &["--backend", "gpu", "-o", "g.png"]].concat(),
-    );
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    assert!(!dir.path().join("g.png").exists());
+    assert!(stats().contains("\"precision\": \"f64\"") && stats().contains("\"backend\": \"cpu\""));
+    if std::env::var("QJULIA_SKIP_GPU_TESTS").is_ok_and(|v| v == "1") {
+        eprintln!("f64 on the GPU: skipped because QJULIA_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let gpu = [&args[..], &["--backend", "gpu", "-o", "g.png"]].concat();
+    let out = qjulia(dir.path(), &gpu);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stats().contains("\"precision\": \"f64\"") && stats().contains("\"backend\": \"gpu\""));
+    std::fs::remove_file(dir.path().join("g.png")).unwrap();
+    let wrong_div = [("QJULIA_F64_CHECK_INJECT", "div")];
+    let no_f64 = [("WGPU_BACKEND", "gl")];
+    for (case, env, reason) in [
+        ("a wrong division", &wrong_div, "div of ("),
+        ("GL llvmpipe", &no_f64, ""),
+    ] {
+        let out = qjulia_env(dir.path(), &gpu, env);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{case}: {err}");
+        let lines: Vec<&str> = err.lines().collect();
+        assert_eq!(lines.len(), 1, "{case}: {err}");
+        // GL llvmpipe has no f64; where wgpu finds no GL adapter at all, that is the error.
+        assert!(
+            lines[0].starts_with("error: --precision f64 is not available on the GPU")
+                && lines[0].contains(reason)
+                || lines[0].contains("no GPU adapter"),
+            "{case}: {err}"
+        );
+        assert!(!dir.path().join("g.png").exists(), "{case}");
+        let auto = [&args[..], &["--backend", "auto", "-o", "a.png"]].concat();
+        let out = qjulia_env(dir.path(), &auto, env);
+        let err = stderr(&out);
+        assert!(out.status.success(), "{case}: {err}");
+        assert!(err.contains("rendering on the CPU"), "{case}: {err}");
+        assert!(stats().contains("\"backend\": \"cpu\""), "{case}");
+    }
 }
 
 #[test]

@@ -15,8 +15,12 @@ fn every_module_validates() {
             panic!("shader module {} does not validate:\n{e}", module.name);
         }
     }
-    // The library file stands alone too.
-    validate_wgsl(ALGEBRA_WGSL).expect("algebra.wgsl validates on its own");
+    // The library file stands alone too, after either prelude.
+    use qjulia::gpu::shaders::{REAL32_WGSL, REAL64_WGSL};
+    for prelude in [REAL32_WGSL, REAL64_WGSL] {
+        validate_wgsl(&format!("{prelude}\n{ALGEBRA_WGSL}"))
+            .expect("algebra.wgsl validates after a prelude");
+    }
 }
 
 #[test]
@@ -36,84 +40,94 @@ fn every_wgsl_file_is_part_of_a_validated_module() {
     }
 }
 
-#[test]
-fn uniform_layout_matches_the_shader() {
-    let module = validate_wgsl(&TRACE_MODULE.source()).unwrap();
-    let (members, span) = module
+/// The members (name, offset) and size of a struct of a module, as naga lays it out.
+fn shader_layout(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, usize) {
+    module
         .types
         .iter()
         .find_map(|(_, ty)| match &ty.inner {
-            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some("Params") => {
-                Some((members.clone(), *span))
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+                let members = members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect();
+                Some((members, *span as usize))
             }
             _ => None,
         })
-        .expect("struct Params in trace.wgsl");
-    macro_rules! host_offsets {
-        ($($field:ident),* $(,)?) => { vec![$((stringify!($field).to_string(), offset_of!(GpuParams, $field) as u32)),*] };
+        .unwrap_or_else(|| panic!("struct {name} in the module"))
+}
+
+/// The offsets of a host struct's fields, by name.
+macro_rules! host_offsets {
+    ($ty:ty: $($field:ident),* $(,)?) => {
+        vec![$((stringify!($field).to_string(), offset_of!($ty, $field) as u32)),*]
+    };
+}
+
+/// GpuParams's fields in WGSL's order (the padding at the end is the host's alone).
+macro_rules! trace_fields {
+    ($ty:ty) => {
+        host_offsets!($ty: c, slice_x, slice_y, slice_z, slice_offset, eye, epsilon, cam_forward,
+            tan_half_fov_y, cam_right, aspect, cam_up, escape_radius_squared, light,
+            bounds_radius_squared, bounds_center, normal_tint, diffuse, specular, background,
+            shininess, palette_phase, trap_scale, cut_normal, cut_offset, shadow_factor,
+            normal_delta, step_scale, pixel_epsilon, pixel_angle, light_radius, ambient,
+            occlusion, trap_radius, max_iterations, max_steps, width, height, shadows,
+            row_offset, row_count, row_stride, out_row, normal_method, tracing, algebra_parts,
+            samples, sample_start, sample_end, colouring, cut)
+    };
+}
+
+#[test]
+fn uniform_layout_matches_the_shader() {
+    use qjulia::gpu::GpuParams64;
+    use qjulia::gpu::shaders::TRACE64_MODULE;
+    for (module, host, host_size) in [
+        (
+            TRACE_MODULE,
+            trace_fields!(GpuParams),
+            size_of::<GpuParams>(),
+        ),
+        (
+            TRACE64_MODULE,
+            trace_fields!(GpuParams64),
+            size_of::<GpuParams64>(),
+        ),
+    ] {
+        let (shader, span) = shader_layout(&validate_wgsl(&module.source()).unwrap(), "Params");
+        assert_eq!(
+            shader, host,
+            "{}: the host's params and WGSL Params disagree: keep them in sync",
+            module.name
+        );
+        assert_eq!(span, host_size, "{}", module.name);
     }
-    let host = host_offsets!(
-        c,
-        slice_x,
-        slice_y,
-        slice_z,
-        slice_offset,
-        eye,
-        epsilon,
-        cam_forward,
-        tan_half_fov_y,
-        cam_right,
-        aspect,
-        cam_up,
-        escape_radius_squared,
-        light,
-        bounds_radius_squared,
-        bounds_center,
-        normal_tint,
-        diffuse,
-        specular,
-        background,
-        shininess,
-        max_iterations,
-        max_steps,
-        width,
-        height,
-        shadows,
-        shadow_factor,
-        row_offset,
-        row_count,
-        row_stride,
-        out_row,
-        normal_method,
-        normal_delta,
-        step_scale,
-        pixel_epsilon,
-        pixel_angle,
-        tracing,
-        algebra_parts,
-        samples,
-        sample_start,
-        sample_end,
-        light_radius,
-        ambient,
-        occlusion,
-        trap_radius,
-        palette_phase,
-        trap_scale,
-        cut_normal,
-        cut_offset,
-        colouring,
-        cut,
-    );
-    let shader: Vec<(String, u32)> = members
-        .iter()
-        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-        .collect();
-    assert_eq!(
-        shader, host,
-        "GpuParams and WGSL Params disagree: keep them in sync"
-    );
-    assert_eq!(span as usize, size_of::<GpuParams>());
+}
+
+/// The f64 check's uniform too.
+#[test]
+fn f64_check_uniform_layout_matches_the_shader() {
+    use qjulia::gpu::f64check::CheckParams;
+    use qjulia::gpu::shaders::F64CHECK_MODULE;
+    let module = validate_wgsl(&F64CHECK_MODULE.source()).unwrap();
+    let (shader, span) = shader_layout(&module, "CheckParams");
+    assert_eq!(shader, host_offsets!(CheckParams: cases, count));
+    assert_eq!(span, size_of::<CheckParams>());
+    // The kernel's operations are the host's, in order.
+    let ops = qjulia::gpu::f64check::OPS;
+    for (k, op) in ops.iter().enumerate() {
+        let name = format!("OP_{}", op.to_uppercase());
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
+            .unwrap_or_else(|| panic!("const {name} in f64check.wgsl"));
+        match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v as usize, k, "{name}"),
+            ref other => panic!("{name}: {other:?}"),
+        }
+    }
 }
 
 #[test]
@@ -169,91 +183,115 @@ fn shared_constants_match_the_cpu_twin() {
     }
 }
 
+/// Every specialised variant of the tracer validates in both precisions; the f64 ones with
+/// and without the start-up check's sqrt repair (alternating).
 #[test]
 fn every_specialised_variant_validates() {
     use qjulia::gpu::Variant;
-    let module = validate_wgsl(&TRACE_MODULE.source()).unwrap();
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .unwrap();
+    use qjulia::gpu::shaders::TRACE64_MODULE;
     let variants = Variant::all();
     // 576 base variants, each with none, each one and all five of the picture's features.
     assert_eq!(variants.len(), 576 * 7);
-    for variant in variants {
-        let mut constants = naga::back::PipelineConstants::default();
-        for (name, value) in variant.constants() {
-            constants.insert(name.to_string(), value);
-        }
-        let (specialised, _) = naga::back::pipeline_constants::process_overrides(
-            &module,
-            &info,
-            Some((naga::ShaderStage::Compute, "main")),
-            &constants,
-        )
-        .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
-        naga::valid::Validator::new(
+    for source in [TRACE_MODULE, TRACE64_MODULE] {
+        let module = validate_wgsl(&source.source()).unwrap();
+        let info = naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
             naga::valid::Capabilities::all(),
         )
-        .validate(&specialised)
-        .unwrap_or_else(|e| panic!("{variant:?} does not validate: {e:?}"));
+        .validate(&module)
+        .unwrap();
+        for (k, variant) in variants.iter().enumerate() {
+            let mut constants = naga::back::PipelineConstants::default();
+            for (name, value) in variant.constants() {
+                constants.insert(name.to_string(), value);
+            }
+            if source.is_f64() {
+                constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
+            }
+            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+                &module,
+                &info,
+                Some((naga::ShaderStage::Compute, "main")),
+                &constants,
+            )
+            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&specialised)
+            .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
+        }
+    }
+}
+
+/// The f64 prelude's limits are the CPU twin's in f64.
+#[test]
+fn f64_constants_match_the_cpu_twin() {
+    use qjulia::gpu::shaders::TRACE64_MODULE;
+    let module = validate_wgsl(&TRACE64_MODULE.source()).unwrap();
+    for (name, cpu) in [
+        ("DERIVATIVE_LIMIT", <f64 as Real>::DERIVATIVE_LIMIT),
+        ("TINY", TINY),
+        ("NORMAL_LIMIT", NORMAL_LIMIT),
+        ("MIN_NORMAL", f64::MIN_POSITIVE),
+        ("RELATIVE_EPSILON", <f64 as Real>::RELATIVE_EPSILON),
+        ("OCCLUSION_STEP", qjulia::cpu::trace::OCCLUSION_STEP),
+    ] {
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("const {name} in the f64 module"));
+        match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::F64(v)) => {
+                assert_eq!(v, cpu, "{name} differs between WGSL and Rust")
+            }
+            ref other => panic!("{name} is not an f64 literal: {other:?}"),
+        }
     }
 }
 
 #[test]
 fn julia2d_uniform_layout_and_constants_match_the_host() {
-    use qjulia::gpu::GpuJulia2dParams;
-    use qjulia::gpu::shaders::JULIA2D_MODULE;
-    let module = validate_wgsl(&JULIA2D_MODULE.source()).unwrap();
-    let (members, span) = module
-        .types
-        .iter()
-        .find_map(|(_, ty)| match &ty.inner {
-            naga::TypeInner::Struct { members, span }
-                if ty.name.as_deref() == Some("Julia2dParams") =>
-            {
-                Some((members.clone(), *span))
-            }
-            _ => None,
-        })
-        .expect("struct Julia2dParams in julia2d.wgsl");
-    macro_rules! host_offsets {
-        ($($field:ident),* $(,)?) => { vec![$((stringify!($field).to_string(), offset_of!(GpuJulia2dParams, $field) as u32)),*] };
+    use qjulia::gpu::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
+    use qjulia::gpu::{GpuJulia2dParams, GpuJulia2dParams64};
+    macro_rules! julia2d_fields {
+        ($ty:ty) => {
+            host_offsets!($ty: c, center, half_extent, max_iterations, width, height, row_offset,
+                row_count, row_stride, out_row, pad)
+        };
     }
-    let host = host_offsets!(
-        c,
-        center,
-        half_extent,
-        max_iterations,
-        width,
-        height,
-        row_offset,
-        row_count,
-        row_stride,
-        out_row,
-        pad,
-    );
-    let shader: Vec<(String, u32)> = members
-        .iter()
-        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-        .collect();
-    assert_eq!(
-        shader, host,
-        "GpuJulia2dParams and WGSL Julia2dParams disagree: keep them in sync"
-    );
-    assert_eq!(span as usize, size_of::<GpuJulia2dParams>());
-    let (_, bailout) = module
-        .constants
-        .iter()
-        .find(|(_, c)| c.name.as_deref() == Some("BAILOUT_SQUARED"))
-        .expect("const BAILOUT_SQUARED in julia2d.wgsl");
-    match module.global_expressions[bailout.init] {
-        naga::Expression::Literal(naga::Literal::F32(v)) => {
-            assert_eq!(v as f64, qjulia::cpu::julia2d::BAILOUT_SQUARED)
-        }
-        ref other => panic!("BAILOUT_SQUARED is not an f32 literal: {other:?}"),
+    for (module, host, host_size) in [
+        (
+            JULIA2D_MODULE,
+            julia2d_fields!(GpuJulia2dParams),
+            size_of::<GpuJulia2dParams>(),
+        ),
+        (
+            JULIA2D64_MODULE,
+            julia2d_fields!(GpuJulia2dParams64),
+            size_of::<GpuJulia2dParams64>(),
+        ),
+    ] {
+        let module_ir = validate_wgsl(&module.source()).unwrap();
+        let (shader, span) = shader_layout(&module_ir, "Julia2dParams");
+        assert_eq!(
+            shader, host,
+            "{}: the host's params and WGSL Julia2dParams disagree: keep them in sync",
+            module.name
+        );
+        assert_eq!(span, host_size, "{}", module.name);
+        let (_, bailout) = module_ir
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("BAILOUT_SQUARED"))
+            .expect("const BAILOUT_SQUARED in julia2d.wgsl");
+        let value = match module_ir.global_expressions[bailout.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => v as f64,
+            naga::Expression::Literal(naga::Literal::F64(v)) => v,
+            ref other => panic!("BAILOUT_SQUARED is not a float literal: {other:?}"),
+        };
+        assert_eq!(value, qjulia::cpu::julia2d::BAILOUT_SQUARED);
     }
 }

@@ -105,12 +105,7 @@ impl ExplorerApp {
 
     /// Puts the tracer on the UI's device and draws the view through its renderer.
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
-        let ctx = GpuContext {
-            adapter: rs.adapter.clone(),
-            device: rs.device.clone(),
-            queue: rs.queue.clone(),
-            info: rs.adapter.get_info(),
-        };
+        let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
         self.adapter_label = ctx.adapter_label();
         match GpuJulia2d::new(ctx.clone()) {
             Ok(julia) => {

@@ -1,10 +1,11 @@
 //! The 2D Julia view's kernel (shaders/julia2d.wgsl) on the [`Kernel`] runner, for
-//! `qjulia render2d` and the explorer's 2D mode.
+//! `qjulia render2d` and the explorer's 2D mode, in f32 or (where the adapter passes the
+//! start-up check) f64: [`GpuJulia2d<F>`].
 
 use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
-use super::params::GpuJulia2dParams;
-use super::shaders::JULIA2D_MODULE;
-use super::{GpuContext, IMAGE_OUTPUTS, render_image_bands};
+use super::params::{GpuJulia2dParams, GpuJulia2dParams64};
+use super::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
+use super::{GpuContext, GpuReal, IMAGE_OUTPUTS, IMAGE64_OUTPUTS, render_image_bands};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
@@ -22,17 +23,48 @@ pub const JULIA2D_KERNEL: KernelSpec = KernelSpec {
     trusted: false,
 };
 
-/// The 2D Julia pipeline on one device.
-pub struct GpuJulia2d {
+/// [`JULIA2D_KERNEL`] in f64: uniform [`GpuJulia2dParams64`], the marker in f64.
+pub const JULIA2D64_KERNEL: KernelSpec = KernelSpec {
+    name: "julia2d64",
+    module: JULIA2D64_MODULE,
+    uniform_bytes: size_of::<GpuJulia2dParams64>() as u64,
+    outputs: &IMAGE64_OUTPUTS,
+    ..JULIA2D_KERNEL
+};
+
+/// The 2D Julia pipeline on one device, in precision `F`.
+pub struct GpuJulia2d<F: GpuReal = f32> {
     kernel: Kernel,
+    /// Override constants of its pipeline: the f64 check's repairs (none in f32).
+    device_constants: Vec<(&'static str, f64)>,
+    precision: std::marker::PhantomData<F>,
 }
 
-impl GpuJulia2d {
+impl GpuJulia2d<f32> {
     /// Builds the module and its pipeline; a shader the device rejects is an error.
     pub fn new(ctx: GpuContext) -> Result<Self> {
-        let kernel = Kernel::new(ctx, JULIA2D_KERNEL)?;
-        kernel.pipeline(&[])?;
-        Ok(Self { kernel })
+        Self::build(ctx)
+    }
+}
+
+impl GpuJulia2d<f64> {
+    /// The f64 pipeline, where the device passes the start-up check of f64 (Err saying why
+    /// not).
+    pub fn new_f64(ctx: GpuContext) -> Result<Self> {
+        Self::build(ctx)
+    }
+}
+
+impl<F: GpuReal> GpuJulia2d<F> {
+    fn build(ctx: GpuContext) -> Result<Self> {
+        let device_constants = F::device_constants(&ctx)?;
+        let kernel = Kernel::new(ctx, F::JULIA2D_KERNEL)?;
+        kernel.pipeline(&device_constants)?;
+        Ok(Self {
+            kernel,
+            device_constants,
+            precision: std::marker::PhantomData,
+        })
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -46,11 +78,11 @@ impl GpuJulia2d {
 
     /// The pipeline (the kernel has no specialisations).
     pub fn pipeline(&self) -> Result<wgpu::ComputePipeline> {
-        self.kernel.pipeline(&[])
+        self.kernel.pipeline(&self.device_constants)
     }
 
     /// The whole image in host memory, and its times.
-    pub fn render(&self, params: &Julia2dParams<f32>) -> Result<(Frame, RunTimes)> {
+    pub fn render(&self, params: &Julia2dParams<F>) -> Result<(Frame, RunTimes)> {
         let mut frame = Frame::empty(params.width);
         let times = self.render_bands(params, Readback::All, &mut |band| {
             frame.append(&band);
@@ -64,14 +96,13 @@ impl GpuJulia2d {
     /// steps the iterations made.
     pub fn render_bands(
         &self,
-        params: &Julia2dParams<f32>,
+        params: &Julia2dParams<F>,
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
-        let uniform = |band: Band| {
-            bytemuck::bytes_of(&GpuJulia2dParams::new(params, band.row, band.rows)).to_vec()
-        };
+        let uniform = |band: Band| F::julia2d_uniform(params, band);
         let size = (params.width, params.height);
-        render_image_bands(&self.kernel, &[], (size, 1), readback, &uniform, sink)
+        let constants = &self.device_constants;
+        render_image_bands(&self.kernel, constants, (size, 1), readback, &uniform, sink)
     }
 }

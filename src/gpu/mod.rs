@@ -1,5 +1,6 @@
 //! The GPU path: adapter and device choice, and the kernels on the one runner ([`kernel`]).
 
+pub mod f64check;
 mod julia2d;
 pub mod kernel;
 mod params;
@@ -7,16 +8,68 @@ pub mod shaders;
 mod tracer;
 pub mod variant;
 
-pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL};
+pub use f64check::{F64Support, check_f64};
+pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL, JULIA2D64_KERNEL};
 pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
-pub use params::{GpuJulia2dParams, GpuParams};
-pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL};
+pub use params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
+pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 
+use std::sync::{Arc, OnceLock};
+
+use crate::algebra::Real;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
+use crate::params::{Julia2dParams, TraceParams};
 use crate::render::Readback;
-use kernel::BandOutput;
+use kernel::{Band, BandOutput};
+
+/// The float types the GPU kernels run in: f32 on every adapter, f64 where the adapter passes
+/// the start-up check ([`GpuContext::f64_support`]). Each has its own modules of the same WGSL
+/// (src/gpu/shaders.rs) and its own uniform layouts.
+pub trait GpuReal: Real {
+    /// The tracer kernel in this precision.
+    const TRACE_KERNEL: KernelSpec;
+    /// The 2D view's kernel in this precision.
+    const JULIA2D_KERNEL: KernelSpec;
+    /// The tracer's uniform for one dispatch: a band, adding the samples [start, end).
+    fn trace_uniform(p: &TraceParams<Self>, band: Band, samples: (u32, u32)) -> Vec<u8>;
+    /// The 2D view's uniform for one band.
+    fn julia2d_uniform(p: &Julia2dParams<Self>, band: Band) -> Vec<u8>;
+    /// Override constants every pipeline of this precision on `ctx` is built with (f64: the
+    /// start-up check's repairs); Err where this precision cannot run on `ctx`.
+    fn device_constants(ctx: &GpuContext) -> Result<Vec<(&'static str, f64)>>;
+}
+
+impl GpuReal for f32 {
+    const TRACE_KERNEL: KernelSpec = TRACE_KERNEL;
+    const JULIA2D_KERNEL: KernelSpec = JULIA2D_KERNEL;
+    fn trace_uniform(p: &TraceParams<f32>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
+        let gpu = GpuParams::new(p, band.row, band.rows).with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn julia2d_uniform(p: &Julia2dParams<f32>, band: Band) -> Vec<u8> {
+        bytemuck::bytes_of(&GpuJulia2dParams::new(p, band.row, band.rows)).to_vec()
+    }
+    fn device_constants(_: &GpuContext) -> Result<Vec<(&'static str, f64)>> {
+        Ok(Vec::new())
+    }
+}
+
+impl GpuReal for f64 {
+    const TRACE_KERNEL: KernelSpec = TRACE64_KERNEL;
+    const JULIA2D_KERNEL: KernelSpec = JULIA2D64_KERNEL;
+    fn trace_uniform(p: &TraceParams<f64>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
+        let gpu = GpuParams64::new(p, band.row, band.rows).with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn julia2d_uniform(p: &Julia2dParams<f64>, band: Band) -> Vec<u8> {
+        bytemuck::bytes_of(&GpuJulia2dParams64::new(p, band.row, band.rows)).to_vec()
+    }
+    fn device_constants(ctx: &GpuContext) -> Result<Vec<(&'static str, f64)>> {
+        Ok(ctx.f64_support()?.constants.clone())
+    }
+}
 
 /// An adapter, its device and queue, and what they can do.
 #[derive(Clone, Debug)]
@@ -25,6 +78,8 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
+    /// The start-up check of f64, run once per device on first use ([`Self::f64_support`]).
+    f64_check: Arc<OnceLock<std::result::Result<F64Support, String>>>,
 }
 
 impl GpuContext {
@@ -47,7 +102,34 @@ impl GpuContext {
             device,
             queue,
             info,
+            f64_check: Arc::default(),
         })
+    }
+
+    /// Whether f64 kernels run right on this device, and with which repairs: the start-up check
+    /// ([`f64check`]) on the first call, its outcome after. Err (exit 1) where the adapter has
+    /// no SHADER_F64 or an operation fails beyond repair, saying which.
+    pub fn f64_support(&self) -> Result<&F64Support> {
+        self.f64_check
+            .get_or_init(|| {
+                f64check::inject_from_env()
+                    .and_then(|inject| check_f64(self, inject))
+                    .map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(|e| Error::Unsupported(e.clone()))
+    }
+
+    /// A device made elsewhere (the explorer's window's), on its adapter.
+    pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        let info = adapter.get_info();
+        Self {
+            adapter,
+            device,
+            queue,
+            info,
+            f64_check: Arc::default(),
+        }
     }
 
     /// "name / Backend", e.g. "llvmpipe (LLVM 15.0.6, 256 bits) / Vulkan".
@@ -167,6 +249,25 @@ const STEPS_OUTPUT: usize = 2;
 /// after it stay on the device.
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
 
+/// [`IMAGE_OUTPUTS`] of an f64 kernel: the depth is f64.
+pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
+    IMAGE_OUTPUTS[0],
+    OutputSpec {
+        name: "depth",
+        bytes_per_item: 8,
+    },
+    IMAGE_OUTPUTS[2],
+];
+
+/// [`TRACE_OUTPUTS`] of the f64 tracer: the depth is f64.
+pub const TRACE64_OUTPUTS: [OutputSpec; 5] = [
+    IMAGE64_OUTPUTS[0],
+    IMAGE64_OUTPUTS[1],
+    IMAGE64_OUTPUTS[2],
+    TRACE_OUTPUTS[3],
+    TRACE_OUTPUTS[4],
+];
+
 /// The tracer's outputs: the image's three, the estimates made per pixel (u32), and the running
 /// mean of the samples' colours (vec4<f32>).
 pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
@@ -268,7 +369,26 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .map_or(&[], bytemuck::cast_slice)
     }
     let colour: &[u32] = output(band, COLOUR_OUTPUT);
-    let depths: &[f32] = output(band, DEPTH_OUTPUT);
+    let pixels = band.rows as usize * width as usize;
+    // An f64 kernel's depth is 8 bytes a pixel: kept whole in `depth_f64`, rounded in `depth`.
+    let depth_bytes = band
+        .outputs
+        .get(DEPTH_OUTPUT)
+        .copied()
+        .flatten()
+        .unwrap_or(&[]);
+    let depths_f64: Vec<f64> = if pixels > 0 && depth_bytes.len() == 8 * pixels {
+        bytemuck::pod_collect_to_vec::<u8, f64>(depth_bytes)
+    } else {
+        Vec::new()
+    };
+    let depths_f32: Vec<f32>;
+    let depths: &[f32] = if depths_f64.is_empty() {
+        output(band, DEPTH_OUTPUT)
+    } else {
+        depths_f32 = depths_f64.par_iter().map(|&d| d as f32).collect();
+        &depths_f32
+    };
     let steps: &[u32] = output(band, STEPS_OUTPUT);
     let estimates: &[u32] = match output(band, ESTIMATES_OUTPUT) {
         [] => steps,
@@ -287,7 +407,10 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .par_iter()
             .map(|&d| if d < 0.0 { f32::NAN } else { d })
             .collect(),
-        depth_f64: Vec::new(),
+        depth_f64: depths_f64
+            .par_iter()
+            .map(|&d| if d < 0.0 { f64::NAN } else { d })
+            .collect(),
         steps: steps.par_iter().copied().collect(),
         non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64,
         estimates: estimates.par_iter().map(|&e| e as u64).sum(),

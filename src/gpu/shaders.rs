@@ -1,11 +1,30 @@
 //! The WGSL sources, compiled into the binary from shaders/ so that it stands alone.
+//!
+//! # One source, two precisions
+//!
+//! shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl are written against a float type `Real`
+//! (`vec3<Real>`, `Real(i)`, ...) and call the few functions whose f64 form needs care through
+//! `real_sqrt`, `real_log`, `real_pow`, `real_cos` and `real_normalize`. They do not define
+//! `Real`: a prelude in front of them does. The f32 modules put shaders/real32.wgsl first
+//! (`alias Real = f32;`, the builtins themselves), the f64 modules shaders/real64.wgsl
+//! (`alias Real = f64;`, those functions built from checked f64 operations). That choice of
+//! prelude is the whole transform: no text of the kernels is rewritten, an f32 module is
+//! exactly the kernel it was before f64 came, and the f64 one is a separate module with its own
+//! pipelines, so f32 scenes pay nothing. What stays f32 in the f64 kernels is written `f32`
+//! there: the packed colour, the samples' running mean, the 2D view's grey.
 
-/// Quaternion arithmetic (twin: src/algebra.rs).
+/// The f32 prelude: `Real` is f32.
+pub const REAL32_WGSL: &str = include_str!("../../shaders/real32.wgsl");
+/// The f64 prelude: `Real` is f64, with the functions f64 lacks on Vulkan.
+pub const REAL64_WGSL: &str = include_str!("../../shaders/real64.wgsl");
+/// Quaternion arithmetic (twin: src/algebra.rs); needs a prelude.
 pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
-/// The tracer kernel (twin: src/cpu/trace.rs); needs [`ALGEBRA_WGSL`] in front of it.
+/// The tracer kernel (twin: src/cpu/trace.rs); needs a prelude and [`ALGEBRA_WGSL`] in front.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
-/// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); stands alone.
+/// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
+/// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
+pub const F64CHECK_WGSL: &str = include_str!("../../shaders/f64check.wgsl");
 
 /// One WGSL module the GPU runs: a name and its source files in order.
 #[derive(Clone, Copy, Debug)]
@@ -19,24 +38,54 @@ impl ShaderModuleSource {
     pub fn source(&self) -> String {
         self.parts.join("\n")
     }
+
+    /// Whether it computes in f64 (needs the adapter's SHADER_F64).
+    pub fn is_f64(&self) -> bool {
+        self.parts.first() == Some(&REAL64_WGSL)
+    }
 }
 
-/// The tracer: quaternion arithmetic, then the kernel.
+/// The tracer in f32: quaternion arithmetic, then the kernel.
 pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "trace",
-    parts: &[ALGEBRA_WGSL, TRACE_WGSL],
+    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL],
 };
 
-/// The 2D Julia view.
+/// The tracer in f64: the same files after the f64 prelude.
+pub const TRACE64_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "trace64",
+    parts: &[REAL64_WGSL, ALGEBRA_WGSL, TRACE_WGSL],
+};
+
+/// The 2D Julia view in f32.
 pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "julia2d",
-    parts: &[JULIA2D_WGSL],
+    parts: &[REAL32_WGSL, JULIA2D_WGSL],
+};
+
+/// The 2D Julia view in f64.
+pub const JULIA2D64_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "julia2d64",
+    parts: &[REAL64_WGSL, JULIA2D_WGSL],
+};
+
+/// The start-up check of f64.
+pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "f64check",
+    parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
 /// Every module the GPU path builds; the tests validate each with naga.
-pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE, JULIA2D_MODULE];
+pub const ALL_MODULES: &[ShaderModuleSource] = &[
+    TRACE_MODULE,
+    TRACE64_MODULE,
+    JULIA2D_MODULE,
+    JULIA2D64_MODULE,
+    F64CHECK_MODULE,
+];
 
-/// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would.
+/// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with
+/// every capability (f64 included).
 pub fn validate_wgsl(source: &str) -> Result<naga::Module, String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
     naga::valid::Validator::new(

@@ -1,11 +1,15 @@
 //! The tracer kernel (shaders/trace.wgsl) on the [`Kernel`] runner: its spec, its pipelines per
-//! scene [`Variant`], and renders into host memory band by band.
+//! scene [`Variant`], and renders into host memory band by band, in f32 or (where the adapter
+//! passes the start-up check) f64: [`GpuTracer<F>`], one kernel per precision.
 
 use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
-use super::params::GpuParams;
-use super::shaders::TRACE_MODULE;
+use super::params::{GpuParams, GpuParams64};
+use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
 use super::variant::Variant;
-use super::{GpuContext, TRACE_OUTPUTS, image_readback, render_image_bands, stream_frames};
+use super::{
+    GpuContext, GpuReal, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
+    stream_frames,
+};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
@@ -29,17 +33,30 @@ pub const TRACE_KERNEL: KernelSpec = KernelSpec {
     trusted: true,
 };
 
+/// [`TRACE_KERNEL`] in f64: uniform [`GpuParams64`], the depth in f64. Trusted for the same
+/// reasons (the same WGSL).
+pub const TRACE64_KERNEL: KernelSpec = KernelSpec {
+    name: "trace64",
+    module: TRACE64_MODULE,
+    uniform_bytes: size_of::<GpuParams64>() as u64,
+    outputs: &TRACE64_OUTPUTS,
+    ..TRACE_KERNEL
+};
+
 /// Samples one invocation traces in one dispatch at most. lavapipe (Mesa's llvmpipe) stops
 /// a loop after 65,535 iterations counted across the loops around it: measured on the unit ball
 /// at epsilon 1e-4 (grazing rays of up to 1000 steps), 32 samples in one invocation were right
 /// and 48 were not (their last samples never ran). Eight keep well clear of it.
 pub const MAX_SAMPLES_PER_DISPATCH: u32 = 8;
 
-/// The tracer's pipelines on one device: a generic one, and one per scene [`Variant`] built on
-/// first use and cached.
-pub struct GpuTracer {
+/// The tracer's pipelines on one device in precision `F`: a generic one, and one per scene
+/// [`Variant`] built on first use and cached.
+pub struct GpuTracer<F: GpuReal = f32> {
     kernel: Kernel,
     specialise: bool,
+    /// Override constants of every pipeline: the f64 check's repairs (none in f32).
+    device_constants: Vec<(&'static str, f64)>,
+    precision: std::marker::PhantomData<F>,
 }
 
 /// A GPU render: the frame and how long it took.
@@ -51,15 +68,33 @@ pub struct GpuRender {
     pub gpu_seconds: Option<f64>,
 }
 
-impl GpuTracer {
-    /// Builds the module and the generic pipeline; a shader the device rejects is an error.
+impl GpuTracer<f32> {
+    /// The f32 tracer: builds the module and the generic pipeline; a shader the device rejects
+    /// is an error.
     pub fn new(ctx: GpuContext) -> Result<Self> {
+        Self::build(ctx)
+    }
+}
+
+impl GpuTracer<f64> {
+    /// The f64 tracer, where the device passes the start-up check of f64
+    /// ([`GpuContext::f64_support`]; Err saying why not), built with its repairs.
+    pub fn new_f64(ctx: GpuContext) -> Result<Self> {
+        Self::build(ctx)
+    }
+}
+
+impl<F: GpuReal> GpuTracer<F> {
+    fn build(ctx: GpuContext) -> Result<Self> {
+        let device_constants = F::device_constants(&ctx)?;
         let tracer = Self {
-            kernel: Kernel::new(ctx, TRACE_KERNEL)?,
+            kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,
             // QJULIA_SPECIALISE=0 runs every scene on the generic pipeline (to measure the gain).
             specialise: std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0"),
+            device_constants,
+            precision: std::marker::PhantomData,
         };
-        tracer.kernel.pipeline(&[])?;
+        tracer.kernel.pipeline(&tracer.device_constants)?;
         Ok(tracer)
     }
 
@@ -70,14 +105,20 @@ impl GpuTracer {
 
     /// The variant a scene runs on here: its own, or None (the generic pipeline) when
     /// specialisation is off.
-    pub fn variant_for(&self, params: &TraceParams<f32>, shade: bool) -> Option<Variant> {
+    pub fn variant_for(&self, params: &TraceParams<F>, shade: bool) -> Option<Variant> {
         self.specialise.then(|| Variant::of(params, shade))
     }
 
     /// The pipeline of a variant (None: generic), built on first use and cached.
     pub fn pipeline(&self, variant: Option<Variant>) -> Result<wgpu::ComputePipeline> {
-        self.kernel
-            .pipeline(&variant.map(|v| v.constants()).unwrap_or_default())
+        self.kernel.pipeline(&self.with_device_constants(variant))
+    }
+
+    /// A variant's constants (None: generic) and the device's.
+    fn with_device_constants(&self, variant: Option<Variant>) -> Vec<(&'static str, f64)> {
+        let mut constants = variant.map(|v| v.constants()).unwrap_or_default();
+        constants.extend_from_slice(&self.device_constants);
+        constants
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -91,13 +132,13 @@ impl GpuTracer {
     }
 
     /// Traces every pixel in host memory.
-    pub fn render(&self, params: &TraceParams<f32>) -> Result<GpuRender> {
+    pub fn render(&self, params: &TraceParams<F>) -> Result<GpuRender> {
         self.render_outputs(params, true)
     }
 
     /// As [`Self::render`]; with `shade` false only depth and steps are computed (the colour is
     /// the background), on a pipeline without the shading code.
-    pub fn render_outputs(&self, params: &TraceParams<f32>, shade: bool) -> Result<GpuRender> {
+    pub fn render_outputs(&self, params: &TraceParams<F>, shade: bool) -> Result<GpuRender> {
         let mut frame = Frame::empty(params.width);
         let times = self.render_bands(params, shade, Readback::All, &mut |band| {
             frame.append(&band);
@@ -114,7 +155,7 @@ impl GpuTracer {
     /// size), handing each band of whole rows, top to bottom, to `sink` as a frame of its own.
     pub fn render_bands(
         &self,
-        params: &TraceParams<f32>,
+        params: &TraceParams<F>,
         shade: bool,
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
@@ -131,7 +172,7 @@ impl GpuTracer {
     /// ([`Kernel::run_stream`]).
     pub fn render_frames(
         &self,
-        frames: &mut dyn Iterator<Item = (TraceParams<f32>, bool)>,
+        frames: &mut dyn Iterator<Item = (TraceParams<F>, bool)>,
         readback: Readback,
         sink: &mut dyn FnMut(Frame, RunTimes) -> Result<()>,
     ) -> Result<()> {
@@ -152,14 +193,12 @@ impl GpuTracer {
     }
 
     /// The override constants of a scene's pipeline here.
-    fn constants(&self, params: &TraceParams<f32>, shade: bool) -> Vec<(&'static str, f64)> {
-        self.variant_for(params, shade)
-            .map(|v| v.constants())
-            .unwrap_or_default()
+    fn constants(&self, params: &TraceParams<F>, shade: bool) -> Vec<(&'static str, f64)> {
+        self.with_device_constants(self.variant_for(params, shade))
     }
 
     /// Dispatches per band: the samples, [`Self::samples_per_dispatch`] at a time.
-    fn dispatches(&self, params: &TraceParams<f32>) -> u32 {
+    fn dispatches(&self, params: &TraceParams<F>) -> u32 {
         params
             .samples
             .max(1)
@@ -167,19 +206,18 @@ impl GpuTracer {
     }
 
     /// The uniform of each dispatch: the band's rows and the samples it adds.
-    fn uniforms<'p>(&self, params: &'p TraceParams<f32>) -> impl Fn(Band) -> Vec<u8> + 'p {
+    fn uniforms<'p>(&self, params: &'p TraceParams<F>) -> impl Fn(Band) -> Vec<u8> + 'p {
         let per_dispatch = self.samples_per_dispatch(params);
         move |band: Band| {
             let start = band.dispatch * per_dispatch;
             let end = (start + per_dispatch).min(params.samples.max(1));
-            let gpu = GpuParams::new(params, band.row, band.rows).with_samples(start, end);
-            bytemuck::bytes_of(&gpu).to_vec()
+            F::trace_uniform(params, band, (start, end))
         }
     }
 
     /// Samples each dispatch adds: as many as keep a dispatch within `band_pixels()` rays, so
     /// that thousands of samples of a big image never stall the device.
-    pub fn samples_per_dispatch(&self, params: &TraceParams<f32>) -> u32 {
+    pub fn samples_per_dispatch(&self, params: &TraceParams<F>) -> u32 {
         let rows = self.kernel.band_rows(params.width, params.height);
         let band_pixels = rows as u64 * params.width as u64;
         let fit = (crate::band_pixels() / band_pixels.max(1)).clamp(1, u32::MAX as u64) as u32;

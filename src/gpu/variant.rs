@@ -2,6 +2,7 @@
 //! names the features a scene needs; it becomes the override constants of shaders/trace.wgsl
 //! (`SPECIALISED` and the rest), and the tracer builds and caches one pipeline per variant.
 
+use crate::algebra::Real;
 use crate::params::TraceParams;
 use crate::scene::{Algebra, NormalMethod};
 
@@ -37,17 +38,17 @@ pub struct Variant {
 
 impl Variant {
     /// The variant a scene needs; `shade` is false when only depth and steps are wanted.
-    pub fn of(p: &TraceParams<f32>, shade: bool) -> Self {
-        let unit = |v: crate::algebra::Hyper<f32>, k: usize| {
-            let a: Vec<f32> = v.iter().flat_map(|q| [q.x, q.y, q.z, q.w]).collect();
-            (0..16).all(|i| a[i] == if i == k { 1.0 } else { 0.0 })
+    pub fn of<F: Real>(p: &TraceParams<F>, shade: bool) -> Self {
+        let unit = |v: crate::algebra::Hyper<F>, k: usize| {
+            let a: Vec<F> = v.iter().flat_map(|q| [q.x, q.y, q.z, q.w]).collect();
+            (0..16).all(|i| a[i] == if i == k { F::one() } else { F::zero() })
         };
         Self {
             shadows: p.shadows,
             normal: p.normal_method,
             standard_slice: unit(p.slice_x, 0) && unit(p.slice_y, 1) && unit(p.slice_z, 2),
-            over_relaxed: p.step_scale > 1.0,
-            pixel_epsilon: p.pixel_epsilon > 0.0,
+            over_relaxed: p.step_scale > F::one(),
+            pixel_epsilon: p.pixel_epsilon > F::zero(),
             shade,
             cone: p.tracing == crate::scene::Tracing::Cone,
             algebra: match p.algebra_parts {
@@ -56,8 +57,8 @@ impl Variant {
                 _ => Algebra::Sedenion,
             },
             samples: p.samples > 1,
-            soft_shadows: p.shadows && p.light_radius > 0.0,
-            occlusion: shade && p.occlusion > 0.0,
+            soft_shadows: p.shadows && p.light_radius > F::zero(),
+            occlusion: shade && p.occlusion > F::zero(),
             orbit_trap: shade && p.colouring == crate::scene::Colouring::OrbitTrap,
             cut: p.cut,
         }
