@@ -644,8 +644,8 @@ fn work_precision(
     wp::plot(&png_path, &rows).map_err(|e| anyhow::anyhow!("{}: {e}", png_path.display()))?;
     // f32 against f64 as the zoom deepens, on every tracer there is.
     let mut zoom_runners = vec![Runner::CpuF32];
-    if gpu.is_some() {
-        zoom_runners.insert(0, Runner::GpuF32);
+    if let Some(gpu) = &gpu {
+        zoom_runners.splice(0..0, Runner::on_gpu(gpu));
     }
     let zoom = wp::zoom_sweep(size, &zoom_runners, gpu.clone(), repeats, |msg, k, n| {
         bar.set_length(n as u64);

@@ -453,3 +453,36 @@ fn the_timeline_keys_the_view_scrubs_and_saves_what_animate_renders() {
     assert_eq!(base, app.timeline.base);
     assert_eq!(animation.scene_at(&base, 50), app.scene);
 }
+
+#[test]
+fn a_deep_view_switches_to_f64_by_itself_and_back() {
+    let Some(mut harness) = harness("explorer deep zoom") else {
+        return;
+    };
+    let deep = qjulia::scene::presets::find("deep-zoom").unwrap().scene();
+    harness.state_mut().set_scene(deep);
+    settle(&mut harness);
+    let precision =
+        |h: &Harness<'static, ExplorerApp>| h.state().slice_texture.as_ref().unwrap().precision();
+    assert_eq!(precision(&harness), qjulia::Precision::F64);
+    // The view is the GPU's f64 render of the view's scene.
+    let tracer = common::gpu("headless f64").expect("GPU");
+    let tracer64 = qjulia::gpu::GpuTracer::<f64>::new_f64(tracer.context().clone())
+        .expect("lavapipe runs f64");
+    let mut expected = tracer64
+        .render(&TraceParams::<f64>::new(&harness.state().view_scene()))
+        .unwrap()
+        .frame;
+    expected.depth.iter_mut().for_each(|d| *d = 0.0);
+    expected.depth_f64.clear();
+    common::assert_agree(
+        "explorer_deep_f64",
+        &expected,
+        &shown_view(&mut harness),
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+    // Zooming back out returns to f32.
+    harness.state_mut().scene.camera.fov_y_degrees = 40.0;
+    settle(&mut harness);
+    assert_eq!(precision(&harness), qjulia::Precision::F32);
+}

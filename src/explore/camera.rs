@@ -32,12 +32,47 @@ pub fn orbit(cam: &mut Camera, azimuth: f64, elevation: f64) {
     cam.eye = (target + offset).to_array();
 }
 
-/// Moves the eye toward (factor < 1) or away from (factor > 1) the target.
+/// The field of view a zoom out widens back to before the eye moves away again: the default
+/// camera's.
+pub const WIDE_FOV_DEGREES: f64 = 45.0;
+/// The narrowest field of view a zoom reaches: a pixel footprint near 1e-15 at distance 1e-3,
+/// below what f64 resolves.
+pub const MIN_FOV_DEGREES: f64 = 1e-10;
+
+/// Zooms by `factor` (< 1: in, > 1: out): the eye moves toward or away from the target, and
+/// once it is as close as it may come ([`MIN_DISTANCE`]) the field of view narrows instead, so
+/// a zoom goes on, smoothly, to pixel footprints f64 barely resolves (1e-12 and below; the
+/// view switches to f64 by itself). Zooming out widens the field of view back to
+/// [`WIDE_FOV_DEGREES`] first, then moves the eye away.
 pub fn zoom(cam: &mut Camera, factor: f64) {
     let (eye, target) = (v(cam.eye), v(cam.target));
     let offset = eye - target;
-    let distance = (offset.length() * factor).clamp(MIN_DISTANCE, MAX_DISTANCE);
+    let tan_half = |deg: f64| (deg.to_radians() * 0.5).tan();
+    let mut factor = factor;
+    let at_floor = offset.length() <= MIN_DISTANCE * (1.0 + 1e-9);
+    if factor > 1.0 && at_floor && cam.fov_y_degrees < WIDE_FOV_DEGREES {
+        // Out: the footprint (with tan(fov / 2)) grows by the factor, up to the wide view; the
+        // rest of the factor moves the eye.
+        let (now, wide) = (tan_half(cam.fov_y_degrees), tan_half(WIDE_FOV_DEGREES));
+        let widened = (now * factor).min(wide);
+        cam.fov_y_degrees = (2.0 * widened.atan()).to_degrees();
+        factor *= now / widened;
+    }
+    let wanted = offset.length() * factor;
+    let distance = wanted.clamp(MIN_DISTANCE, MAX_DISTANCE);
     cam.eye = (target + offset.normalize() * distance).to_array();
+    if wanted < MIN_DISTANCE {
+        // In, past the closest the eye comes: the rest narrows the view.
+        let narrowed = tan_half(cam.fov_y_degrees) * wanted / MIN_DISTANCE;
+        cam.fov_y_degrees = (2.0 * narrowed.atan()).to_degrees().max(MIN_FOV_DEGREES);
+    }
+}
+
+/// How much slower the camera orbits at this field of view than at [`WIDE_FOV_DEGREES`], so
+/// that a drag across a narrow (deep) view turns it by about a view, not by 1e10 views.
+pub fn orbit_scale(cam: &Camera) -> f64 {
+    let tan_half = |deg: f64| (deg.to_radians() * 0.5).tan();
+    (tan_half(cam.fov_y_degrees) / tan_half(WIDE_FOV_DEGREES)).min(1.0)
 }
 
 /// Slides eye and target together across the view: `right` and `up` in units of the view's
@@ -103,6 +138,39 @@ mod tests {
             zoom(&mut cam, 100.0);
         }
         assert!(distance(&cam) <= MAX_DISTANCE * 1.001);
+    }
+
+    #[test]
+    fn zooming_in_goes_on_by_the_field_of_view_smoothly_and_back() {
+        let mut cam = Camera::default();
+        let footprint =
+            |c: &Camera| 2.0 * distance(c) * (c.fov_y_degrees.to_radians() * 0.5).tan() / 512.0;
+        let mut before = footprint(&cam);
+        let mut steps = 0;
+        while footprint(&cam) > 1e-12 {
+            zoom(&mut cam, 0.9);
+            let now = footprint(&cam);
+            // Every step shrinks the footprint by the factor: no jump where the eye stops.
+            assert!(
+                (now / before - 0.9).abs() < 1e-6,
+                "step {steps}: {before:e} to {now:e}"
+            );
+            before = now;
+            steps += 1;
+            assert!(steps < 1000, "a footprint of 1e-12 is within reach");
+        }
+        assert!(distance(&cam) >= MIN_DISTANCE * 0.999 && cam.fov_y_degrees < 1e-4);
+        assert!(
+            orbit_scale(&cam) < 1e-5,
+            "orbiting slows down with the view"
+        );
+        // Back out: the field of view widens to the default, then the eye moves away.
+        for _ in 0..steps + 20 {
+            zoom(&mut cam, 1.0 / 0.9);
+        }
+        assert!((cam.fov_y_degrees - WIDE_FOV_DEGREES).abs() < 1e-9);
+        assert!(distance(&cam) > 1.0);
+        assert_eq!(orbit_scale(&cam), 1.0);
     }
 
     #[test]

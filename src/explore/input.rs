@@ -107,7 +107,7 @@ impl ExplorerApp {
                 return;
             }
             let cam = &mut self.scene.camera;
-            let step = 0.1;
+            let step = 0.1 * camera::orbit_scale(cam);
             if i.key_pressed(Key::ArrowLeft) {
                 camera::orbit(cam, -step, 0.0);
             }
@@ -138,11 +138,8 @@ impl ExplorerApp {
         let cam = &mut self.scene.camera;
         if response.dragged_by(egui::PointerButton::Primary) {
             let d = response.drag_delta();
-            camera::orbit(
-                cam,
-                d.x as f64 * ORBIT_PER_POINT,
-                d.y as f64 * ORBIT_PER_POINT,
-            );
+            let rate = ORBIT_PER_POINT * camera::orbit_scale(cam);
+            camera::orbit(cam, d.x as f64 * rate, d.y as f64 * rate);
         }
         if response.dragged_by(egui::PointerButton::Secondary)
             || response.dragged_by(egui::PointerButton::Middle)

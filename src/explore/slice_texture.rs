@@ -10,8 +10,11 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use super::kernel_texture::KernelTarget;
-use crate::gpu::{GpuParams, GpuTracer, WORKGROUP_SIZE};
+use crate::gpu::kernel::Band;
+use crate::gpu::{GpuReal, GpuTracer, WORKGROUP_SIZE};
 use crate::params::TraceParams;
+use crate::precision::{self, PrecisionChoice};
+use crate::render::{Picture, Precision};
 use crate::scene::Scene;
 use crate::stats::{Summary, SummaryBuilder};
 
@@ -62,10 +65,10 @@ pub struct TextureStats {
 }
 
 /// A render in progress: which target, what, and how far.
-struct Job {
+struct Job<F: GpuReal> {
     quality: Quality,
     pipeline: wgpu::ComputePipeline,
-    params: TraceParams<f32>,
+    params: TraceParams<F>,
     /// The sample this pass adds to the running mean (0: the first image).
     sample: u32,
     next_row: u32,
@@ -84,12 +87,13 @@ struct StepsReadback {
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
-pub struct SliceTexture {
-    tracer: Arc<GpuTracer>,
+/// The view in one precision: its tracer, targets and render in progress.
+pub struct SliceView<F: GpuReal = f32> {
+    tracer: Arc<GpuTracer<F>>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
     targets: [Option<KernelTarget>; 2],
-    job: Option<Job>,
+    job: Option<Job<F>>,
     /// The target shown now.
     shown: Option<Quality>,
     /// The scene and full size last asked for, and when it last changed.
@@ -104,9 +108,9 @@ pub struct SliceTexture {
     readback: Option<StepsReadback>,
 }
 
-impl SliceTexture {
+impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     pub fn new(
-        tracer: Arc<GpuTracer>,
+        tracer: Arc<GpuTracer<F>>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
         let uniform = tracer.kernel().uniform_buffer("view params");
@@ -128,7 +132,7 @@ impl SliceTexture {
         }
     }
 
-    pub fn tracer(&self) -> &Arc<GpuTracer> {
+    pub fn tracer(&self) -> &Arc<GpuTracer<F>> {
         &self.tracer
     }
 
@@ -240,7 +244,7 @@ impl SliceTexture {
             scene.image.samples = 1;
         }
         self.ensure_target(quality, size);
-        let params = TraceParams::<f32>::new(&scene);
+        let params = TraceParams::<F>::new(&scene);
         // The step views show the steps alone: no shading needed.
         let shade = scene.image.view == crate::scene::View::Shaded;
         let variant = self.tracer.variant_for(&params, shade);
@@ -276,10 +280,18 @@ impl SliceTexture {
             && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
         {
             let rows = tile_rows.min(target.height - job.next_row);
-            let band = GpuParams::new(&job.params, job.next_row, rows)
-                .with_output(target.row_stride, job.next_row)
-                .with_samples(job.sample, job.sample + 1);
-            queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
+            let band = Band {
+                row: job.next_row,
+                rows,
+                dispatch: 0,
+            };
+            let uniform = F::view_uniform(
+                &job.params,
+                band,
+                target.row_stride,
+                (job.sample, job.sample + 1),
+            );
+            queue.write_buffer(&self.uniform, 0, &uniform);
             let mut encoder = device.create_command_encoder(&Default::default());
             self.tracer.kernel().encode(
                 &mut encoder,
@@ -363,16 +375,18 @@ impl SliceTexture {
             return;
         };
         let device = &self.tracer.context().device;
-        let bytes = target.row_stride as u64 * target.height as u64 * 4;
+        let items = target.row_stride as u64 * target.height as u64;
+        // Depth in the tracer's precision, then the steps (u32).
+        let depth_bytes = items * size_of::<F>() as u64;
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("depth and steps readback"),
-            size: 2 * bytes,
+            size: depth_bytes + items * 4,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&target.outputs[1], 0, &buffer, 0, bytes);
-        encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, bytes, bytes);
+        encoder.copy_buffer_to_buffer(&target.outputs[1], 0, &buffer, 0, depth_bytes);
+        encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, depth_bytes, items * 4);
         self.tracer.context().queue.submit([encoder.finish()]);
         let mapped = Arc::new(Mutex::new(None));
         let slot = mapped.clone();
@@ -400,20 +414,21 @@ impl SliceTexture {
                 rb.size[1] as usize,
                 rb.row_stride as usize,
             );
-            let (depth, steps) = view.split_at(view.len() / 2);
-            let rows = |all: &[u32]| -> Vec<u32> {
+            let (depth, steps) = view.split_at(view.len() / (size_of::<F>() + 4) * size_of::<F>());
+            fn rows<T: Copy>(all: &[T], (w, h, stride): (usize, usize, usize)) -> Vec<T> {
                 (0..h)
                     .flat_map(|j| &all[j * stride..j * stride + w])
                     .copied()
                     .collect()
-            };
-            let steps = rows(bytemuck::cast_slice(steps));
+            }
+            let shape = (w, h, stride);
+            let steps = rows::<u32>(bytemuck::cast_slice(steps), shape);
             // The kernel marks a miss by a negative depth; the summary counts hits by non-NaN.
-            let depth: Vec<f32> = rows(bytemuck::cast_slice(depth))
+            let depth: Vec<f32> = rows::<F>(bytemuck::cast_slice(depth), shape)
                 .into_iter()
-                .map(|d| match f32::from_bits(d) {
+                .map(|d| match d.to_f64() {
                     d if d < 0.0 => f32::NAN,
-                    d => d,
+                    d => d as f32,
                 })
                 .collect();
             let mut summary = SummaryBuilder::new(rb.size[0]);
@@ -445,5 +460,98 @@ impl SliceTexture {
             size,
             old.map(|t| t.texture_id),
         ));
+    }
+}
+
+/// The explorer's 3D view: f32 wherever f32 resolves the view, and f64 on the GPU where it does
+/// not (the rule of `--precision auto`), switched by itself as the view zooms in and out. The
+/// f64 view is built on the first deep view, on the same device; where the device has no f64
+/// (or fails its start-up check), the view stays in f32 and [`Self::precision_note`] says why.
+pub struct SliceTexture {
+    f32_view: SliceView<f32>,
+    /// Built on first need; Err: f64 cannot run on this device, and why.
+    f64_view: Option<Result<SliceView<f64>, String>>,
+    /// The precision of the view shown, and why (for the status line).
+    active: Precision,
+    reason: String,
+}
+
+impl SliceTexture {
+    pub fn new(
+        tracer: Arc<GpuTracer>,
+        renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    ) -> Self {
+        Self {
+            f32_view: SliceView::new(tracer, renderer),
+            f64_view: None,
+            active: Precision::F32,
+            reason: String::new(),
+        }
+    }
+
+    /// The f32 tracer (exports and animations build their renderers on its device).
+    pub fn tracer(&self) -> &Arc<GpuTracer> {
+        self.f32_view.tracer()
+    }
+
+    /// Renders `scene` at `size` in the precision it needs, as [`SliceView::update`].
+    pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
+        let decision = precision::decide(PrecisionChoice::Auto, scene, Picture::SHADED);
+        self.reason = decision.reason;
+        self.active = Precision::F32;
+        if decision.precision == Precision::F64 {
+            let view = self.f64_view.get_or_insert_with(|| {
+                let tracer = self.f32_view.tracer();
+                GpuTracer::<f64>::new_f64(tracer.context().clone())
+                    .map(|t| SliceView::new(Arc::new(t), self.f32_view.renderer.clone()))
+                    .map_err(|e| e.to_string())
+            });
+            match view {
+                Ok(view) => {
+                    self.active = Precision::F64;
+                    return view.update(scene, size, interacting);
+                }
+                Err(why) => self.reason = format!("{}; f64 unavailable: {why}", self.reason),
+            }
+        }
+        self.f32_view.update(scene, size, interacting);
+    }
+
+    /// The precision of the view shown.
+    pub fn precision(&self) -> Precision {
+        self.active
+    }
+
+    /// Why the view runs in its precision (the status line's hover text).
+    pub fn precision_note(&self) -> &str {
+        &self.reason
+    }
+
+    pub fn stats(&self) -> &TextureStats {
+        self.with_active(|v| v.stats(), |v| v.stats())
+    }
+
+    pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
+        self.with_active(|v| v.texture(), |v| v.texture())
+    }
+
+    pub fn busy(&self) -> bool {
+        self.with_active(|v| v.busy(), |v| v.busy())
+    }
+
+    pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
+        self.with_active(|v| v.is_refined(scene, size), |v| v.is_refined(scene, size))
+    }
+
+    /// `f32` or `f64` of the view shown.
+    fn with_active<'a, T>(
+        &'a self,
+        f32: impl FnOnce(&'a SliceView<f32>) -> T,
+        f64: impl FnOnce(&'a SliceView<f64>) -> T,
+    ) -> T {
+        match (&self.active, &self.f64_view) {
+            (Precision::F64, Some(Ok(view))) => f64(view),
+            _ => f32(&self.f32_view),
+        }
     }
 }

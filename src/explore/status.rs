@@ -40,6 +40,12 @@ impl ExplorerApp {
                     if s.refined { "" } else { " (preview)" }
                 ));
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
+                // The precision the view runs in: f64 by itself where f32 cannot resolve it.
+                let precision = match view.precision() {
+                    crate::render::Precision::F64 => "f64 (deep zoom)",
+                    crate::render::Precision::F32 => "f32",
+                };
+                ui.label(precision).on_hover_text(view.precision_note());
                 if s.refined {
                     ui.label(format!("samples {}/{}", s.samples, self.preview_samples));
                 }

@@ -34,6 +34,14 @@ pub trait GpuReal: Real {
     const JULIA2D_KERNEL: KernelSpec;
     /// The tracer's uniform for one dispatch: a band, adding the samples [start, end).
     fn trace_uniform(p: &TraceParams<Self>, band: Band, samples: (u32, u32)) -> Vec<u8>;
+    /// The tracer's uniform for one dispatch into an image whose rows are `row_stride` items
+    /// apart, the band's rows written from its own row on (the explorer's texture).
+    fn view_uniform(
+        p: &TraceParams<Self>,
+        band: Band,
+        row_stride: u32,
+        samples: (u32, u32),
+    ) -> Vec<u8>;
     /// The 2D view's uniform for one band.
     fn julia2d_uniform(p: &Julia2dParams<Self>, band: Band) -> Vec<u8>;
     /// Override constants every pipeline of this precision on `ctx` is built with (f64: the
@@ -46,6 +54,17 @@ impl GpuReal for f32 {
     const JULIA2D_KERNEL: KernelSpec = JULIA2D_KERNEL;
     fn trace_uniform(p: &TraceParams<f32>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
         let gpu = GpuParams::new(p, band.row, band.rows).with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn view_uniform(
+        p: &TraceParams<f32>,
+        band: Band,
+        row_stride: u32,
+        (start, end): (u32, u32),
+    ) -> Vec<u8> {
+        let gpu = GpuParams::new(p, band.row, band.rows)
+            .with_output(row_stride, band.row)
+            .with_samples(start, end);
         bytemuck::bytes_of(&gpu).to_vec()
     }
     fn julia2d_uniform(p: &Julia2dParams<f32>, band: Band) -> Vec<u8> {
@@ -61,6 +80,17 @@ impl GpuReal for f64 {
     const JULIA2D_KERNEL: KernelSpec = JULIA2D64_KERNEL;
     fn trace_uniform(p: &TraceParams<f64>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
         let gpu = GpuParams64::new(p, band.row, band.rows).with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn view_uniform(
+        p: &TraceParams<f64>,
+        band: Band,
+        row_stride: u32,
+        (start, end): (u32, u32),
+    ) -> Vec<u8> {
+        let gpu = GpuParams64::new(p, band.row, band.rows)
+            .with_output(row_stride, band.row)
+            .with_samples(start, end);
         bytemuck::bytes_of(&gpu).to_vec()
     }
     fn julia2d_uniform(p: &Julia2dParams<f64>, band: Band) -> Vec<u8> {

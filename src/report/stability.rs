@@ -212,6 +212,8 @@ pub const CASES: &[Case] = &[
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Runner {
     GpuF32,
+    /// f64 on the GPU, where the adapter has it and passes the start-up check.
+    GpuF64,
     CpuF32,
     CpuF64,
 }
@@ -220,26 +222,40 @@ impl Runner {
     pub fn name(self) -> &'static str {
         match self {
             Runner::GpuF32 => "gpu f32",
+            Runner::GpuF64 => "gpu f64",
             Runner::CpuF32 => "cpu f32",
             Runner::CpuF64 => "cpu f64",
         }
     }
 
-    fn precision(self) -> Precision {
-        if self == Runner::CpuF64 {
-            Precision::F64
-        } else {
-            Precision::F32
+    pub fn precision(self) -> Precision {
+        match self {
+            Runner::CpuF64 | Runner::GpuF64 => Precision::F64,
+            Runner::CpuF32 | Runner::GpuF32 => Precision::F32,
         }
+    }
+
+    /// The GPU tracers `gpu` can run: f32, and f64 where the device passes its check.
+    pub fn on_gpu(gpu: &Arc<GpuTracer>) -> Vec<Runner> {
+        let mut runners = vec![Runner::GpuF32];
+        if Renderer::on_tracer(gpu.clone()).gpu_has_f64() {
+            runners.push(Runner::GpuF64);
+        }
+        runners
     }
 
     /// The renderer of this tracer (the GPU one on `gpu`).
     pub fn renderer(self, gpu: Option<&Arc<GpuTracer>>) -> crate::Result<Renderer> {
         Ok(match self {
-            Runner::GpuF32 => Renderer::on_tracer(
-                gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?
-                    .clone(),
-            ),
+            Runner::GpuF32 | Runner::GpuF64 => {
+                let gpu =
+                    gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?;
+                let renderer = Renderer::on_tracer(gpu.clone());
+                if self == Runner::GpuF64 && !renderer.gpu_has_f64() {
+                    return Err(crate::Error::Unsupported(crate::GPU_F64_UNSUPPORTED.into()));
+                }
+                renderer.with_precision(self.precision())
+            }
             Runner::CpuF32 | Runner::CpuF64 => Renderer::cpu(self.precision()),
         })
     }
@@ -374,8 +390,8 @@ pub fn run_all(
         .flatten()
         .map(|(frame, _)| frame);
         let mut runners = vec![Runner::CpuF64, Runner::CpuF32];
-        if gpu.is_some() {
-            runners.push(Runner::GpuF32);
+        if let Some(gpu) = &gpu {
+            runners.extend(Runner::on_gpu(gpu));
         }
         for runner in runners {
             let against = if runner == Runner::CpuF64 {

@@ -255,7 +255,7 @@ pub fn measure(setting: &Setting, frame: &Frame, truth: &Truth) -> Metrics {
     let n = frame.pixel_count();
     let angle = setting.scene.pixel_angle();
     let setting_normals = match setting.runner {
-        Runner::CpuF64 => normals::<f64>(&setting.scene, frame),
+        Runner::CpuF64 | Runner::GpuF64 => normals::<f64>(&setting.scene, frame),
         _ => normals::<f32>(&setting.scene, frame),
     };
     let (mut mask_diff, mut depth_err, mut normal_err) = (0usize, Vec::new(), Vec::new());
