@@ -486,3 +486,42 @@ fn a_deep_view_switches_to_f64_by_itself_and_back() {
     settle(&mut harness);
     assert_eq!(precision(&harness), qjulia::Precision::F32);
 }
+
+#[test]
+fn a_deep_2d_view_switches_to_f64_by_itself() {
+    let Some(mut harness) = harness("explorer deep 2d") else {
+        return;
+    };
+    let deep = qjulia::scene::presets::find("deep-zoom-2d")
+        .unwrap()
+        .scene();
+    harness.state_mut().set_scene(deep);
+    harness.state_mut().mode = Mode::Julia2d;
+    settle(&mut harness);
+    let precision =
+        |h: &Harness<'static, ExplorerApp>| h.state().julia2d_texture.as_ref().unwrap().precision();
+    assert_eq!(precision(&harness), qjulia::Precision::F64);
+    let tracer = common::gpu("headless 2d f64").expect("GPU");
+    let julia = qjulia::gpu::GpuJulia2d::<f64>::new_f64(tracer.context().clone()).unwrap();
+    let (mut expected, _) = julia
+        .render(&qjulia::Julia2dParams::<f64>::new(
+            &harness.state().view_scene(),
+        ))
+        .unwrap();
+    expected.depth.iter_mut().for_each(|d| *d = 0.0);
+    expected.depth_f64.clear();
+    let shown = shown_view(&mut harness);
+    common::assert_agree(
+        "explorer_deep_2d",
+        &expected,
+        &shown,
+        &qjulia::compare::JULIA2D_TOLERANCE,
+    );
+    assert!(
+        shown.colour.contains(&0xffff_ffff) && shown.colour.iter().any(|&c| c != 0xffff_ffff),
+        "the lace of the rabbit's alpha point, not a blank"
+    );
+    harness.state_mut().scene.view2d.extent = 3.0;
+    settle(&mut harness);
+    assert_eq!(precision(&harness), qjulia::Precision::F32);
+}

@@ -12,11 +12,13 @@ use crate::scene::View2d;
 const ORBIT_PER_POINT: f64 = 0.01;
 const ZOOM_PER_POINT: f64 = 0.002;
 
-/// The 2D view's extent within its slider's range (the scene schema's; f32 on the GPU resolves
-/// no finer).
+/// The narrowest 2D extent the mouse and keys zoom to: a pixel of 512 is then 2e-15, about
+/// f64's spacing near the set (the view switches to f64 by itself below f32's).
+const MIN_EXTENT: f64 = 1e-12;
+
+/// The 2D view's extent between [`MIN_EXTENT`] and its slider's widest.
 fn clamp_extent(extent: f64) -> f64 {
-    let range = slider("view2d.extent");
-    extent.clamp(range.min, range.max)
+    extent.clamp(MIN_EXTENT, slider("view2d.extent").max)
 }
 
 /// The explorer's slider of a scene key, from the scene schema.

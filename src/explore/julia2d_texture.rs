@@ -9,17 +9,20 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use super::kernel_texture::KernelTarget;
-use crate::gpu::{GpuJulia2d, GpuJulia2dParams};
+use crate::gpu::{GpuJulia2d, GpuReal};
 use crate::params::Julia2dParams;
+use crate::precision::{self, PrecisionChoice};
+use crate::render::{Picture, Precision};
 use crate::scene::Scene;
 
-pub struct Julia2dTexture {
-    julia: Arc<GpuJulia2d>,
+/// The 2D view in one precision.
+pub struct Julia2dView<F: GpuReal = f32> {
+    julia: Arc<GpuJulia2d<F>>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
     target: Option<KernelTarget>,
     /// The parameters of the render in flight, or of the last one done.
-    submitted: Option<Julia2dParams<f32>>,
+    submitted: Option<Julia2dParams<F>>,
     in_flight: Arc<AtomicBool>,
     started: Instant,
     /// Seconds the last finished render took (submission to completion).
@@ -27,9 +30,9 @@ pub struct Julia2dTexture {
     done_at: Arc<egui::mutex::Mutex<Option<Instant>>>,
 }
 
-impl Julia2dTexture {
+impl<F: GpuReal> Julia2dView<F> {
     pub fn new(
-        julia: Arc<GpuJulia2d>,
+        julia: Arc<GpuJulia2d<F>>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
         let uniform = julia.kernel().uniform_buffer("view2d params");
@@ -46,7 +49,7 @@ impl Julia2dTexture {
         }
     }
 
-    pub fn julia(&self) -> &Arc<GpuJulia2d> {
+    pub fn julia(&self) -> &Arc<GpuJulia2d<F>> {
         &self.julia
     }
 
@@ -74,7 +77,7 @@ impl Julia2dTexture {
         if let Some(done) = self.done_at.lock().take() {
             self.render_seconds = done.duration_since(self.started).as_secs_f64();
         }
-        let params = Julia2dParams::<f32>::new(scene);
+        let params = Julia2dParams::<F>::new(scene);
         if self.busy() || self.submitted.as_ref() == Some(&params) {
             return;
         }
@@ -85,9 +88,9 @@ impl Julia2dTexture {
         self.ensure_target(size);
         let Some(t) = &self.target else { return };
         let device = &self.julia.context().device;
-        let band = GpuJulia2dParams::new(&params, 0, t.height).with_output(t.row_stride, 0);
+        let band = F::julia2d_view_uniform(&params, t.row_stride);
         let queue = &self.julia.context().queue;
-        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&band));
+        queue.write_buffer(&self.uniform, 0, &band);
         let Ok(pipeline) = self.julia.pipeline() else {
             return;
         };
@@ -128,5 +131,92 @@ impl Julia2dTexture {
             size,
             old.map(|t| t.texture_id),
         ));
+    }
+}
+
+/// The explorer's 2D view: f32 wherever f32 resolves it, f64 on the GPU where it does not (the
+/// pixel, extent / width, below f32's spacing), switched by itself; as [`super::slice_texture::SliceTexture`].
+pub struct Julia2dTexture {
+    f32_view: Julia2dView<f32>,
+    f64_view: Option<Result<Julia2dView<f64>, String>>,
+    active: Precision,
+    reason: String,
+    /// Seconds the last finished render took (submission to completion).
+    pub render_seconds: f64,
+}
+
+impl Julia2dTexture {
+    pub fn new(
+        julia: Arc<GpuJulia2d>,
+        renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    ) -> Self {
+        Self {
+            f32_view: Julia2dView::new(julia, renderer),
+            f64_view: None,
+            active: Precision::F32,
+            reason: String::new(),
+            render_seconds: 0.0,
+        }
+    }
+
+    /// The f32 kernel (exports build their renderers on its device).
+    pub fn julia(&self) -> &Arc<GpuJulia2d> {
+        self.f32_view.julia()
+    }
+
+    /// Asks for the 2D view of `scene` in the precision it needs; call once per UI frame.
+    pub fn update(&mut self, scene: &Scene) {
+        let decision = precision::decide(PrecisionChoice::Auto, scene, Picture::Julia2d);
+        self.reason = decision.reason;
+        self.active = Precision::F32;
+        if decision.precision == Precision::F64 {
+            let view = self.f64_view.get_or_insert_with(|| {
+                let ctx = self.f32_view.julia().context().clone();
+                GpuJulia2d::<f64>::new_f64(ctx)
+                    .map(|j| Julia2dView::new(Arc::new(j), self.f32_view.renderer.clone()))
+                    .map_err(|e| e.to_string())
+            });
+            match view {
+                Ok(view) => {
+                    self.active = Precision::F64;
+                    view.update(scene);
+                    self.render_seconds = view.render_seconds;
+                    return;
+                }
+                Err(why) => self.reason = format!("{}; f64 unavailable: {why}", self.reason),
+            }
+        }
+        self.f32_view.update(scene);
+        self.render_seconds = self.f32_view.render_seconds;
+    }
+
+    /// The precision of the view shown, and why.
+    pub fn precision(&self) -> Precision {
+        self.active
+    }
+
+    pub fn precision_note(&self) -> &str {
+        &self.reason
+    }
+
+    pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
+        match (&self.active, &self.f64_view) {
+            (Precision::F64, Some(Ok(v))) => v.texture(),
+            _ => self.f32_view.texture(),
+        }
+    }
+
+    pub fn busy(&self) -> bool {
+        match (&self.active, &self.f64_view) {
+            (Precision::F64, Some(Ok(v))) => v.busy(),
+            _ => self.f32_view.busy(),
+        }
+    }
+
+    pub fn is_refined(&self, scene: &Scene) -> bool {
+        match (&self.active, &self.f64_view) {
+            (Precision::F64, Some(Ok(v))) => v.is_refined(scene),
+            _ => self.f32_view.is_refined(scene),
+        }
     }
 }

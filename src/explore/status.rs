@@ -28,6 +28,11 @@ impl ExplorerApp {
                         v.center[0], v.center[1], v.extent
                     ));
                     ui.label(format!("render {:.0} ms", view2d.render_seconds * 1e3));
+                    let precision = match view2d.precision() {
+                        crate::render::Precision::F64 => "f64 (deep zoom)",
+                        crate::render::Precision::F32 => "f32",
+                    };
+                    ui.label(precision).on_hover_text(view2d.precision_note());
                 }
             } else if let Some(view) = &self.slice_texture {
                 let s = view.stats();

@@ -44,6 +44,9 @@ pub trait GpuReal: Real {
     ) -> Vec<u8>;
     /// The 2D view's uniform for one band.
     fn julia2d_uniform(p: &Julia2dParams<Self>, band: Band) -> Vec<u8>;
+    /// The 2D view's uniform for the whole image into rows `row_stride` items apart (the
+    /// explorer's texture).
+    fn julia2d_view_uniform(p: &Julia2dParams<Self>, row_stride: u32) -> Vec<u8>;
     /// Override constants every pipeline of this precision on `ctx` is built with (f64: the
     /// start-up check's repairs); Err where this precision cannot run on `ctx`.
     fn device_constants(ctx: &GpuContext) -> Result<Vec<(&'static str, f64)>>;
@@ -65,6 +68,10 @@ impl GpuReal for f32 {
         let gpu = GpuParams::new(p, band.row, band.rows)
             .with_output(row_stride, band.row)
             .with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn julia2d_view_uniform(p: &Julia2dParams<f32>, row_stride: u32) -> Vec<u8> {
+        let gpu = GpuJulia2dParams::new(p, 0, p.height).with_output(row_stride, 0);
         bytemuck::bytes_of(&gpu).to_vec()
     }
     fn julia2d_uniform(p: &Julia2dParams<f32>, band: Band) -> Vec<u8> {
@@ -91,6 +98,10 @@ impl GpuReal for f64 {
         let gpu = GpuParams64::new(p, band.row, band.rows)
             .with_output(row_stride, band.row)
             .with_samples(start, end);
+        bytemuck::bytes_of(&gpu).to_vec()
+    }
+    fn julia2d_view_uniform(p: &Julia2dParams<f64>, row_stride: u32) -> Vec<u8> {
+        let gpu = GpuJulia2dParams64::new(p, 0, p.height).with_output(row_stride, 0);
         bytemuck::bytes_of(&gpu).to_vec()
     }
     fn julia2d_uniform(p: &Julia2dParams<f64>, band: Band) -> Vec<u8> {
