@@ -9,7 +9,7 @@ use crate::algebra::Real;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
+use crate::gpu::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
 use crate::params::{Julia2dParams, TraceParams};
 use crate::scene::Scene;
 use crate::stats::{RenderStats, SummaryBuilder};
@@ -49,6 +49,9 @@ pub enum Picture {
     /// set and NaN outside it, steps the iterations made. Its stats count points in the set as
     /// hits and iterations as steps.
     Julia2d,
+    /// No picture: the levels of `qjulia mesh`'s grid ([`crate::mesh`]), which
+    /// [`Renderer::sampler`] samples; [`Renderer::render`] refuses it.
+    Mesh,
 }
 
 impl Picture {
@@ -77,6 +80,7 @@ pub struct GpuKernels {
     ctx: GpuContext,
     tracer: Mutex<Option<Arc<GpuTracer>>>,
     julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
+    sampler: Mutex<Option<Arc<GpuSampler>>>,
 }
 
 impl GpuKernels {
@@ -86,6 +90,7 @@ impl GpuKernels {
             ctx,
             tracer: Mutex::new(None),
             julia2d: Mutex::new(None),
+            sampler: Mutex::new(None),
         }
     }
 
@@ -100,6 +105,7 @@ impl GpuKernels {
             ctx,
             tracer: Mutex::new(tracer),
             julia2d: Mutex::new(julia2d),
+            sampler: Mutex::new(None),
         }
     }
 
@@ -115,11 +121,16 @@ impl GpuKernels {
         built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
     }
 
+    pub fn sampler(&self) -> Result<Arc<GpuSampler>> {
+        built(&self.sampler, || GpuSampler::new(self.ctx.clone()))
+    }
+
     /// Builds the kernel a picture needs (so that a shader the device rejects shows up now).
     fn prepare(&self, picture: Picture) -> Result<()> {
         match picture {
             Picture::Slice { .. } => self.tracer().map(drop),
             Picture::Julia2d => self.julia2d().map(drop),
+            Picture::Mesh => self.sampler().map(drop),
         }
     }
 }
@@ -215,6 +226,11 @@ impl Renderer {
         }
     }
 
+    /// The GPU's voxel sampler (built on first use), or None on the CPU.
+    pub fn sampler(&self) -> Option<Result<Arc<GpuSampler>>> {
+        self.gpu.as_ref().map(|k| k.sampler())
+    }
+
     /// Renders a validated scene, handing the image to `sink` in bands of whole rows, top to
     /// bottom, as they are done: any image size renders in bounded memory.
     pub fn render(
@@ -234,6 +250,11 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        if picture == Picture::Mesh {
+            return Err(Error::Unsupported(
+                "a mesh is not rendered: qjulia::mesh::make_mesh makes it".into(),
+            ));
+        }
         let mut summary = SummaryBuilder::new(scene.image.width);
         let mut counted = |band: &Frame| {
             if readback == Readback::All {
@@ -256,6 +277,7 @@ impl Renderer {
                         readback,
                         &mut owned,
                     )?,
+                    Picture::Mesh => unreachable!("refused above"),
                 };
                 (times.seconds, times.gpu_seconds)
             }
@@ -356,6 +378,7 @@ fn render_cpu<F: Real>(
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
             cpu_bands((p.width, p.height), &rows, sink)
         }
+        Picture::Mesh => unreachable!("Renderer::render_with refuses a mesh"),
     }
 }
 

@@ -3,6 +3,7 @@
 mod julia2d;
 pub mod kernel;
 mod params;
+mod sampler;
 pub mod shaders;
 mod tracer;
 pub mod variant;
@@ -10,6 +11,7 @@ pub mod variant;
 pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL};
 pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
 pub use params::{GpuJulia2dParams, GpuParams};
+pub use sampler::{GpuSampler, SAMPLE_KERNEL};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL};
 pub use variant::Variant;
 

@@ -4,6 +4,9 @@
 pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
 /// The tracer kernel (twin: src/cpu/trace.rs); needs [`ALGEBRA_WGSL`] in front of it.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+/// The voxel sampler of `qjulia mesh` (twin: src/cpu/sample.rs); needs [`ALGEBRA_WGSL`] and
+/// [`TRACE_WGSL`] in front of it, whose estimate it runs.
+pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); stands alone.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 
@@ -27,6 +30,12 @@ pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[ALGEBRA_WGSL, TRACE_WGSL],
 };
 
+/// The voxel sampler: quaternion arithmetic, the tracer (its estimate), then the sampler.
+pub const SAMPLE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "sample",
+    parts: &[ALGEBRA_WGSL, TRACE_WGSL, SAMPLE_WGSL],
+};
+
 /// The 2D Julia view.
 pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "julia2d",
@@ -34,7 +43,7 @@ pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
 };
 
 /// Every module the GPU path builds; the tests validate each with naga.
-pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE, JULIA2D_MODULE];
+pub const ALL_MODULES: &[ShaderModuleSource] = &[TRACE_MODULE, JULIA2D_MODULE, SAMPLE_MODULE];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would.
 pub fn validate_wgsl(source: &str) -> Result<naga::Module, String> {
