@@ -236,7 +236,14 @@ fn gpu_and_cpu_sampling_agree_on_every_points_side() {
             "cut",
             vec!["cut.enabled=true", "cut.normal=[1,1,0]", "cut.offset=0.2"],
         ),
-        ("octonion", vec!["fractal.algebra=\"octonion\""]),
+        (
+            "rotated slice",
+            vec![
+                "slice.x=[0.6,0,0,0.8]",
+                "slice.z=[0,0,1,0]",
+                "slice.offset=[0,0,0,0.1]",
+            ],
+        ),
     ] {
         let scene = common::scene(&sets);
         let options = MeshOptions {

@@ -447,6 +447,36 @@ mod tests {
         }
     }
 
+    #[test]
+    fn random_levels_give_a_closed_mesh() {
+        // Noise: ambiguous faces and cells everywhere. The grid's outer layer is outside, so
+        // whatever the levels inside, the surface is closed and consistently wound.
+        let n = 12u32;
+        let grid = GridSpec {
+            origin: [0.0; 3],
+            step: [1.0; 3],
+            size: [n; 3],
+        };
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut noise = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let levels: Vec<f64> = (0..n * n * n).map(|_| noise()).collect();
+        let f = |p: [f64; 3]| {
+            let [x, y, z] = p.map(|v| v.round() as u32);
+            if [x, y, z].iter().any(|&v| v == 0 || v == n - 1) {
+                return 1.0;
+            }
+            levels[((z * n + y) * n + x) as usize]
+        };
+        let mesh = extract(grid, &f);
+        assert!(mesh.triangles.len() > 1000);
+        assert_closed(&mesh);
+    }
+
     fn euler_characteristic(mesh: &Mesh) -> i64 {
         let edges: std::collections::HashSet<(u32, u32)> = mesh
             .triangles
