@@ -327,7 +327,7 @@ fn each_format_reads_back_as_the_same_triangles() {
             ],
         );
         let path = dir.path().join(&name);
-        let (got, normals): (Vec<[[f32; 3]; 3]>, Option<Vec<[f32; 3]>>) = match ext {
+        let (got, normals): ReadBack = match ext {
             "ply" => read_ply(&path),
             "stl" => {
                 let mut f = std::fs::File::open(&path).unwrap();
@@ -377,8 +377,11 @@ fn each_format_reads_back_as_the_same_triangles() {
     }
 }
 
+/// A file's triangles (as their corners' positions) and, where it has them, vertex normals.
+type ReadBack = (Vec<[[f32; 3]; 3]>, Option<Vec<[f32; 3]>>);
+
 /// A PLY's triangles (as positions) and vertex normals, read by ply-rs.
-fn read_ply(path: &Path) -> (Vec<[[f32; 3]; 3]>, Option<Vec<[f32; 3]>>) {
+fn read_ply(path: &Path) -> ReadBack {
     use ply_rs_bw::parser::Parser;
     use ply_rs_bw::ply::{DefaultElement, Property};
     let mut f = std::fs::File::open(path).unwrap();
