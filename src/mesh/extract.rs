@@ -194,7 +194,9 @@ pub struct Extractor<'n> {
     layers: u32,
     /// Vertices on the edges of the last layer pushed, by edge key.
     welded: FxHashMap<u64, u32>,
-    positions: Vec<[f64; 3]>,
+    /// Positions rounded to f32 as they are made (they are written as f32).
+    positions: Vec<[f32; 3]>,
+    /// The new vertices' edge directions, for the normals where no gradient can be formed.
     outward: Vec<[f64; 3]>,
     normals: Vec<[f32; 3]>,
     triangles: Vec<[u32; 3]>,
@@ -233,10 +235,10 @@ impl<'n> Extractor<'n> {
         self.triangles.len()
     }
 
-    /// The mesh: positions rounded to f32.
+    /// The mesh.
     pub fn finish(self) -> Mesh {
         Mesh {
-            positions: self.positions.iter().map(|p| p.map(|v| v as f32)).collect(),
+            positions: self.positions,
             normals: self.normals,
             triangles: self.triangles,
         }
@@ -286,7 +288,7 @@ impl<'n> Extractor<'n> {
         for tri in rows.iter().flatten() {
             let ids = tri.map(|v| {
                 *self.welded.entry(v.key).or_insert_with(|| {
-                    self.positions.push(v.position);
+                    self.positions.push(v.position.map(|c| c as f32));
                     self.outward.push(v.outward);
                     (self.positions.len() - 1) as u32
                 })
@@ -297,7 +299,7 @@ impl<'n> Extractor<'n> {
         let new_normals: Vec<[f32; 3]> = self.positions[first_new..]
             .par_iter()
             .zip(&self.outward)
-            .map(|(&p, &fallback)| unit_normal(gradient(p), fallback))
+            .map(|(&p, &fallback)| unit_normal(gradient(p.map(f64::from)), fallback))
             .collect();
         self.normals.extend(new_normals);
         self.outward.clear();
