@@ -33,6 +33,10 @@ pub enum Command {
     /// Render the 2D Julia set of c = c[0] + c[1] i (the scene's [view2d]) to a grey PNG.
     #[command(name = "render2d")]
     Render2d(Render2dArgs),
+    /// Mesh the set's surface, the shell d = epsilon that the renderer's rays stop in, as a
+    /// closed triangle mesh (PLY, STL or OBJ by the file's extension), sampled on a grid of N
+    /// points per axis.
+    Mesh(MeshArgs),
     /// The desktop explorer: every scene value live (starts from the scene options when given,
     /// else from the last scene shown, else the default).
     Explore(ExploreArgs),
@@ -150,6 +154,45 @@ pub struct Render2dArgs {
     pub tracer: TracerArgs,
 }
 
+#[derive(Args, Debug)]
+pub struct MeshArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Grid points per axis, from 8 to 4096, over the cube around the bounding region (or the
+    /// box).
+    #[arg(long, value_name = "N", default_value_t = qjulia::mesh::DEFAULT_RESOLUTION as i64, allow_negative_numbers = true)]
+    pub resolution: i64,
+    /// Mesh this box (slice coordinates) instead of the cube around the bounding region.
+    #[arg(
+        long = "box",
+        value_name = "X0,Y0,Z0,X1,Y1,Z1",
+        allow_hyphen_values = true
+    )]
+    pub region: Option<String>,
+    /// Multiply the coordinates written by S (e.g. to millimetres for a printer).
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    pub scale: f64,
+    /// The mesh file: .ply (binary, with normals), .stl (binary) or .obj (with normals).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE.ply|FILE.stl|FILE.obj",
+        default_value = "qjulia.ply"
+    )]
+    pub output: PathBuf,
+    /// Write the run's statistics as JSON: grid points, triangles, vertices, seconds, grid
+    /// points per second, backend, precision.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
 #[derive(Args, Debug, Clone, Default)]
 pub struct ExploreArgs {
     #[command(flatten)]
@@ -255,7 +298,9 @@ impl TracerArgs {
             precision::choose_renderer(backend, choice, decision, picture, notice)?;
         let warnings = match picture {
             Picture::Julia2d => precision::julia2d_warnings(scene, decision.precision),
-            Picture::Slice { .. } => qjulia::precision_warnings(scene, decision.precision),
+            Picture::Slice { .. } | Picture::Mesh => {
+                qjulia::precision_warnings(scene, decision.precision)
+            }
         };
         for warning in warnings {
             notice(&format!("warning: {warning}"));
@@ -532,6 +577,99 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
         stats.render_seconds,
         stats.summary.hit_fraction * 100.0,
         stats.summary.steps_mean
+    );
+    Ok(())
+}
+
+pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
+    use qjulia::mesh::{Format, MeshOptions};
+    // Everything is checked before anything is sampled or written.
+    let scene = args.scene.load()?;
+    let resolution = u32::try_from(args.resolution).unwrap_or(0);
+    let resolution = if resolution as i64 == args.resolution {
+        MeshOptions::check_resolution(resolution)
+    } else {
+        MeshOptions::check_resolution(0).map_err(|mut e| {
+            e.origin =
+                qjulia::scene::SceneSource::Flag(format!("--resolution {}", args.resolution));
+            e
+        })
+    }
+    .map_err(qjulia::Error::from)?;
+    let region = args
+        .region
+        .as_deref()
+        .map(MeshOptions::parse_box)
+        .transpose()
+        .map_err(qjulia::Error::from)?;
+    let scale = MeshOptions::check_scale(args.scale).map_err(qjulia::Error::from)?;
+    Format::for_path(&args.output).map_err(qjulia::Error::from)?;
+    let options = MeshOptions { resolution, region };
+    let bar = indicatif::ProgressBar::new(resolution as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} grid layers, {eta} left",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    // The precision: as for render, the grid cell playing the pixel's part.
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    let choice = args.tracer.precision.choice();
+    let mut decision = precision::decide(choice, &scene, Picture::Mesh);
+    let cell_warnings = |p: Precision| match qjulia::mesh::grid_for(&scene, &options) {
+        Some(grid) => {
+            let cell = grid.step.iter().copied().fold(f64::INFINITY, f64::min);
+            let far = [0, 1, 2].map(|k| {
+                let end = grid.origin[k] + grid.step[k] * (grid.size[k] - 1) as f64;
+                grid.origin[k].abs().max(end.abs())
+            });
+            precision::mesh_warnings(cell, far.iter().copied().fold(0.0, f64::max), p)
+        }
+        None => Vec::new(),
+    };
+    if choice == PrecisionChoice::Auto && decision.precision == Precision::F32 {
+        if let Some(w) = cell_warnings(Precision::F32).first() {
+            decision = Decision {
+                precision: Precision::F64,
+                reason: format!("auto: {}", w.split(": ").next().unwrap_or(w)),
+            };
+        }
+    }
+    if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
+        notice(&format!("sampling in f64: {}", decision.reason));
+    }
+    let backend = args.tracer.backend.backend();
+    let (renderer, decision) =
+        precision::choose_renderer(backend, choice, decision, Picture::Mesh, notice)?;
+    for warning in cell_warnings(decision.precision) {
+        notice(&format!("warning: {warning}"));
+    }
+    let (mesh, stats) =
+        qjulia::mesh::make_mesh(&renderer, &scene, &options, &mut |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        })?;
+    bar.finish_and_clear();
+    if mesh.is_empty() {
+        eprintln!(
+            "qjulia: the surface is empty: no grid point lies inside it (d < epsilon within the bounding ball{}); writing an empty mesh",
+            if region.is_some() { ", in the box" } else { "" }
+        );
+    }
+    let stats_out = args.stats.as_deref().map(|p| (p, &stats));
+    qjulia::mesh::write_outputs(&args.output, &mesh, scale, stats_out)?;
+    eprintln!(
+        "qjulia: {n}x{n}x{n} grid on {} ({}): {} vertices, {} triangles in {:.3} s (sampling {:.3} s, {:.3e} points/s); wrote {}",
+        stats.adapter,
+        stats.precision,
+        stats.vertices,
+        stats.triangles,
+        stats.seconds,
+        stats.sample_seconds,
+        stats.grid_points_per_second,
+        args.output.display(),
+        n = resolution,
     );
     Ok(())
 }

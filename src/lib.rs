@@ -15,6 +15,7 @@ pub mod explore;
 pub mod frame;
 pub mod gpu;
 pub mod heatmap;
+pub mod mesh;
 pub mod output;
 pub mod params;
 pub mod precision;

@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Render(args)) => cli::render(args),
         Some(cli::Command::Animate(args)) => cli::animate(args),
         Some(cli::Command::Render2d(args)) => cli::render2d(args),
+        Some(cli::Command::Mesh(args)) => cli::mesh(args),
         Some(cli::Command::Info) => cli::info(),
         Some(cli::Command::Report(args)) => cli::report(args),
         Some(cli::Command::Explore(args)) => cli::explore(args),

@@ -102,7 +102,7 @@ pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
 }
 
 /// Writes one output to a temporary file in its target's directory.
-fn stage(
+pub(crate) fn stage(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<NamedTempFile> {
@@ -124,7 +124,7 @@ fn stage(
     Ok(temp)
 }
 
-fn io_error(path: &Path, source: std::io::Error) -> Error {
+pub(crate) fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source,

@@ -30,6 +30,32 @@ pub fn f32_shortfalls(scene: &Scene, picture: Picture) -> Vec<String> {
     match picture {
         Picture::Slice { .. } => precision_warnings(scene, Precision::F32),
         Picture::Julia2d => julia2d_warnings(scene, Precision::F32),
+        // The mesh's grid cell plays the pixel's part: its caller adds that check
+        // ([`mesh_warnings`]); here, what the scene alone asks.
+        Picture::Mesh => precision_warnings(scene, Precision::F32)
+            .into_iter()
+            .filter(|w| !w.starts_with("a pixel spans"))
+            .collect(),
+    }
+}
+
+/// The mesh's precision warnings for a grid cell of `cell` (slice units) around points as far
+/// as `reach` from the origin: a cell below the spacing of the floats there, where neighbouring
+/// grid points sample the same point.
+pub fn mesh_warnings(cell: f64, reach: f64, precision: Precision) -> Vec<String> {
+    use crate::algebra::Real;
+    let relative = match precision {
+        Precision::F32 => f32::RELATIVE_EPSILON,
+        Precision::F64 => f64::RELATIVE_EPSILON,
+    };
+    let spacing = reach.max(1.0) * relative;
+    if cell < spacing {
+        vec![format!(
+            "a grid cell spans {cell:.1e}, below the spacing of {} values ({spacing:.1e}): neighbouring grid points sample the same points",
+            precision.name()
+        )]
+    } else {
+        Vec::new()
     }
 }
 

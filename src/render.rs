@@ -9,7 +9,7 @@ use crate::algebra::Real;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
+use crate::gpu::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
 use crate::params::{Julia2dParams, TraceParams};
 use crate::scene::Scene;
 use crate::stats::{RenderStats, SummaryBuilder};
@@ -49,6 +49,9 @@ pub enum Picture {
     /// set and NaN outside it, steps the iterations made. Its stats count points in the set as
     /// hits and iterations as steps.
     Julia2d,
+    /// No picture: the levels of `qjulia mesh`'s grid ([`crate::mesh`]), which
+    /// [`Renderer::sampler`] samples; [`Renderer::render`] refuses it.
+    Mesh,
 }
 
 impl Picture {
@@ -78,6 +81,7 @@ pub struct GpuKernels {
     julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
     tracer64: Mutex<Option<Arc<GpuTracer<f64>>>>,
     julia2d64: Mutex<Option<Arc<GpuJulia2d<f64>>>>,
+    sampler: Mutex<Option<Arc<GpuSampler>>>,
 }
 
 impl GpuKernels {
@@ -89,6 +93,7 @@ impl GpuKernels {
             julia2d: Mutex::new(None),
             tracer64: Mutex::new(None),
             julia2d64: Mutex::new(None),
+            sampler: Mutex::new(None),
         }
     }
 
@@ -105,6 +110,7 @@ impl GpuKernels {
             julia2d: Mutex::new(julia2d),
             tracer64: Mutex::new(None),
             julia2d64: Mutex::new(None),
+            sampler: Mutex::new(None),
         }
     }
 
@@ -118,6 +124,10 @@ impl GpuKernels {
 
     pub fn julia2d(&self) -> Result<Arc<GpuJulia2d>> {
         built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
+    }
+
+    pub fn sampler(&self) -> Result<Arc<GpuSampler>> {
+        built(&self.sampler, || GpuSampler::new(self.ctx.clone()))
     }
 
     /// The f64 tracer, where the device passes the start-up check of f64.
@@ -144,6 +154,10 @@ impl GpuKernels {
             (Picture::Julia2d, Precision::F32) => self.julia2d().map(drop),
             (Picture::Slice { .. }, Precision::F64) => self.tracer64().map(drop),
             (Picture::Julia2d, Precision::F64) => self.julia2d64().map(drop),
+            (Picture::Mesh, Precision::F32) => self.sampler().map(drop),
+            (Picture::Mesh, Precision::F64) => Err(Error::Unsupported(
+                "the mesh sampler runs in f32 on the GPU".into(),
+            )),
         }
     }
 }
@@ -269,6 +283,11 @@ impl Renderer {
         }
     }
 
+    /// The GPU's voxel sampler (built on first use), or None on the CPU.
+    pub fn sampler(&self) -> Option<Result<Arc<GpuSampler>>> {
+        self.gpu.as_ref().map(|k| k.sampler())
+    }
+
     /// Renders a validated scene, handing the image to `sink` in bands of whole rows, top to
     /// bottom, as they are done: any image size renders in bounded memory.
     pub fn render(
@@ -288,6 +307,11 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        if picture == Picture::Mesh {
+            return Err(Error::Unsupported(
+                "a mesh is not rendered: qjulia::mesh::make_mesh makes it".into(),
+            ));
+        }
         let mut summary = SummaryBuilder::new(scene.image.width);
         let mut counted = |band: &Frame| {
             if readback == Readback::All {
@@ -323,6 +347,7 @@ impl Renderer {
                         readback,
                         &mut owned,
                     )?,
+                    (Picture::Mesh, _) => unreachable!("refused above"),
                 };
                 (times.seconds, times.gpu_seconds)
             }
@@ -436,6 +461,7 @@ fn render_cpu<F: Real>(
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
             cpu_bands((p.width, p.height), &rows, sink)
         }
+        Picture::Mesh => unreachable!("Renderer::render_with refuses a mesh"),
     }
 }
 

@@ -525,3 +525,61 @@ fn a_deep_2d_view_switches_to_f64_by_itself() {
     settle(&mut harness);
     assert_eq!(precision(&harness), qjulia::Precision::F32);
 }
+
+#[test]
+fn export_mesh_writes_a_closed_mesh_of_the_view_with_progress() {
+    let Some(mut harness) = harness("export_mesh_writes_a_closed_mesh_of_the_view_with_progress")
+    else {
+        return;
+    };
+    settle(&mut harness);
+    // The File menu offers it, with its resolution beside it, and opens the save dialog.
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Export mesh…").click();
+    harness.run_steps(2);
+    harness.get_by_label("Export mesh");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("view.stl");
+    harness.state_mut().mesh_resolution = 40;
+    harness.state_mut().start_mesh_export(path.clone());
+    let start = Instant::now();
+    let mut saw_progress = false;
+    while harness
+        .state()
+        .message()
+        .is_none_or(|(m, _)| !m.starts_with("exported"))
+    {
+        harness.step();
+        saw_progress |= harness.query_by_label_contains("grid layers").is_some();
+        if let Some((m, true)) = harness.state().message() {
+            panic!("the export failed: {m}");
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the export never finished"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let _ = saw_progress; // A fast device may finish between two frames.
+    let mut f = std::fs::File::open(&path).unwrap();
+    let triangles: Vec<_> = stl_io::create_stl_reader(&mut f)
+        .unwrap()
+        .map(|t| t.unwrap().vertices.map(|v| v.0.map(f32::to_bits)))
+        .collect();
+    assert!(triangles.len() > 1000, "{} triangles", triangles.len());
+    // Closed: every edge (by its corners' positions) in exactly two triangles.
+    let mut edges: std::collections::HashMap<_, u32> = Default::default();
+    for t in &triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *edges
+                .entry(if a < b { (a, b) } else { (b, a) })
+                .or_default() += 1;
+        }
+    }
+    assert!(
+        edges.values().all(|&n| n == 2),
+        "the exported mesh is not closed"
+    );
+}

@@ -128,6 +128,26 @@ const JULIA2D: Twin = Twin {
     ],
 };
 
+const SAMPLE: Twin = Twin {
+    wgsl: "shaders/sample.wgsl",
+    rust: "src/cpu/sample.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "sample_rows",
+            reason: "the dispatch: rows in parallel and the writes, which the GPU does by \
+                     workgroups in `sample`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "sample",
+            reason: "the entry point; on the CPU `sample_rows`",
+        },
+    ],
+};
+
 /// The source text with comments and string literals blanked out (replaced by spaces, so that
 /// nothing inside them reads as code).
 fn code_only(source: &str) -> String {
@@ -315,8 +335,13 @@ fn julia2d_twins_match() {
 }
 
 #[test]
+fn sample_twins_match() {
+    check(&SAMPLE);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D] {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

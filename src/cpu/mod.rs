@@ -2,6 +2,7 @@
 //! f64, parallel over rows with rayon. The tests hold the GPU to it.
 
 pub mod julia2d;
+pub mod sample;
 pub mod trace;
 
 use std::cell::Cell;

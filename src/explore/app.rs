@@ -64,6 +64,8 @@ pub struct ExplorerApp {
     pub(super) message: Option<(String, bool)>,
     pub(super) show_help: bool,
     pub(super) export: Option<Export>,
+    /// Grid points per axis of "Export mesh…" (`qjulia mesh --resolution`).
+    pub mesh_resolution: u32,
     last_frame: Option<Instant>,
     pub(super) frame_seconds: f64,
     /// The view's size in pixels last frame, and where it was drawn (in points).
@@ -154,6 +156,7 @@ impl ExplorerApp {
             message: None,
             show_help: false,
             export: None,
+            mesh_resolution: crate::mesh::DEFAULT_RESOLUTION,
             last_frame: None,
             frame_seconds: 0.0,
             view_pixels: [0, 0],
@@ -223,6 +226,7 @@ impl ExplorerApp {
             adapter_label: adapter,
             resolution_scale: resolution,
             preview_samples: self.preview_samples,
+            mesh_resolution: self.mesh_resolution,
             last_dir: dir,
             dialog,
             ..Self::with_scene(scene)

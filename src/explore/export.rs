@@ -1,8 +1,11 @@
 //! Export: what the view shows, at the scene's image size, through the same kernel as the
-//! headless commands, written as a PNG on a thread of its own while the UI goes on.
+//! headless commands, written as a PNG on a thread of its own while the UI goes on; or the
+//! set's surface as a mesh (`qjulia mesh`), sampled on the view's GPU with its progress in the
+//! status line.
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{Receiver, channel};
 
 use super::app::{ExplorerApp, Mode};
@@ -14,6 +17,17 @@ use crate::scene::View;
 pub struct Export {
     path: PathBuf,
     done: Receiver<Result<(), String>>,
+    /// A mesh export's grid layers done and in all.
+    progress: Option<Arc<[AtomicU32; 2]>>,
+}
+
+impl Export {
+    /// A mesh export's progress: grid layers done, of the total.
+    pub fn progress(&self) -> Option<(u32, u32)> {
+        self.progress
+            .as_ref()
+            .map(|p| (p[0].load(Ordering::Relaxed), p[1].load(Ordering::Relaxed)))
+    }
 }
 
 impl ExplorerApp {
@@ -56,7 +70,44 @@ impl ExplorerApp {
         std::thread::spawn(move || {
             send.send(job().map_err(|e| e.to_string())).ok();
         });
-        self.export = Some(Export { path, done });
+        self.export = Some(Export {
+            path,
+            done,
+            progress: None,
+        });
+    }
+
+    /// Exports the 3D slice's surface as a mesh at `mesh_resolution` points per axis (as
+    /// `qjulia mesh`: the format by the file's extension), sampled on the view's GPU, on
+    /// another thread.
+    pub fn start_mesh_export(&mut self, path: PathBuf) {
+        let Some(view) = &self.slice_texture else {
+            return;
+        };
+        let scene = self.scene.clone();
+        let options = crate::mesh::MeshOptions {
+            resolution: self.mesh_resolution,
+            region: None,
+        };
+        let kernels = GpuKernels::new(view.tracer().context().clone());
+        let renderer = Renderer::gpu(Arc::new(kernels));
+        let progress = Arc::new([AtomicU32::new(0), AtomicU32::new(0)]);
+        let shared = progress.clone();
+        let (send, done) = channel();
+        let out = path.clone();
+        std::thread::spawn(move || {
+            let result = crate::mesh::make_mesh(&renderer, &scene, &options, &mut |k, n| {
+                shared[0].store(k, Ordering::Relaxed);
+                shared[1].store(n, Ordering::Relaxed);
+            })
+            .and_then(|(mesh, _)| crate::mesh::write_outputs(&out, &mesh, 1.0, None));
+            send.send(result.map_err(|e| e.to_string())).ok();
+        });
+        self.export = Some(Export {
+            path,
+            done,
+            progress: Some(progress),
+        });
     }
 
     /// Says in the status line how a finished export went.

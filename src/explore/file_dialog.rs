@@ -13,6 +13,8 @@ pub enum Purpose {
     SaveScene,
     /// Export the image as PNG.
     ExportPng,
+    /// Export the set's surface as a mesh (PLY, STL or OBJ).
+    ExportMesh,
 }
 
 impl Purpose {
@@ -21,6 +23,7 @@ impl Purpose {
             Purpose::OpenScene => "Open scene",
             Purpose::SaveScene => "Save scene",
             Purpose::ExportPng => "Export PNG",
+            Purpose::ExportMesh => "Export mesh",
         }
     }
 
@@ -29,13 +32,14 @@ impl Purpose {
             Purpose::OpenScene => &["toml", "png"],
             Purpose::SaveScene => &["toml"],
             Purpose::ExportPng => &["png"],
+            Purpose::ExportMesh => &["ply", "stl", "obj"],
         }
     }
 
     fn action(self) -> &'static str {
         match self {
             Purpose::OpenScene => "Open",
-            Purpose::SaveScene | Purpose::ExportPng => "Save",
+            Purpose::SaveScene | Purpose::ExportPng | Purpose::ExportMesh => "Save",
         }
     }
 }

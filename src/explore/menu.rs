@@ -1,5 +1,5 @@
 //! The menu bar (File, Presets, View) and the windows it opens: the file dialogs, whose choice
-//! opens, saves or exports, "Render animation…" (drawn by `timeline`), and the help window
+//! opens, saves or exports (a PNG, or a mesh at the resolution set beside "Export mesh…"), "Render animation…" (drawn by `timeline`), and the help window
 //! listing the shortcuts.
 
 use super::app::{ExplorerApp, Mode};
@@ -21,6 +21,17 @@ impl ExplorerApp {
                 if ui.button("Export PNG…  (Ctrl+E)").clicked() {
                     self.open_dialog(Purpose::ExportPng);
                 }
+                ui.horizontal(|ui| {
+                    if ui.button("Export mesh…").clicked() {
+                        self.open_dialog(Purpose::ExportMesh);
+                    }
+                    ui.add(
+                        egui::DragValue::new(&mut self.mesh_resolution)
+                            .range(crate::mesh::MIN_RESOLUTION..=crate::mesh::MAX_RESOLUTION)
+                            .prefix("N = "),
+                    )
+                    .on_hover_text("grid points per axis of the mesh (qjulia mesh --resolution)");
+                });
                 if ui.button("Render animation…").clicked() {
                     self.timeline.render.open = true;
                 }
@@ -58,6 +69,7 @@ impl ExplorerApp {
             Purpose::OpenScene => "",
             Purpose::SaveScene => "scene.toml",
             Purpose::ExportPng => "qjulia.png",
+            Purpose::ExportMesh => "qjulia.ply",
         };
         self.dialog = Some(FileDialog::new(purpose, &self.last_dir, name));
     }
@@ -76,6 +88,7 @@ impl ExplorerApp {
                         Purpose::OpenScene => self.open(&path),
                         Purpose::SaveScene => self.save(&path),
                         Purpose::ExportPng => self.start_export(path),
+                        Purpose::ExportMesh => self.start_mesh_export(path),
                     }
                 }
             }

@@ -64,10 +64,15 @@ impl ExplorerApp {
             }
             ui.separator();
             ui.label(&self.adapter_label);
-            if self.export.is_some() {
+            if let Some(export) = &self.export {
                 ui.separator();
                 ui.spinner();
-                ui.label("exporting…");
+                match export.progress() {
+                    Some((done, total)) if total > 0 => {
+                        ui.label(format!("exporting… {done}/{total} grid layers"))
+                    }
+                    _ => ui.label("exporting…"),
+                };
             }
             if let Some((text, is_error)) = &self.message {
                 ui.separator();

@@ -4,6 +4,7 @@ pub mod f64check;
 mod julia2d;
 pub mod kernel;
 mod params;
+mod sampler;
 pub mod shaders;
 mod tracer;
 pub mod variant;
@@ -12,6 +13,7 @@ pub use f64check::{F64Support, check_f64};
 pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL, JULIA2D64_KERNEL};
 pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
 pub use params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
+pub use sampler::{GpuSampler, SAMPLE_KERNEL};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 

@@ -21,6 +21,9 @@ pub const REAL64_WGSL: &str = include_str!("../../shaders/real64.wgsl");
 pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
 /// The tracer kernel (twin: src/cpu/trace.rs); needs a prelude and [`ALGEBRA_WGSL`] in front.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+/// The voxel sampler of `qjulia mesh` (twin: src/cpu/sample.rs); needs a prelude,
+/// [`ALGEBRA_WGSL`] and [`TRACE_WGSL`] in front of it, whose estimate it runs.
+pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 /// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
@@ -57,6 +60,12 @@ pub const TRACE64_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, ALGEBRA_WGSL, TRACE_WGSL],
 };
 
+/// The voxel sampler (f32): quaternion arithmetic, the tracer (its estimate), then the sampler.
+pub const SAMPLE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "sample",
+    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL, SAMPLE_WGSL],
+};
+
 /// The 2D Julia view in f32.
 pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "julia2d",
@@ -82,6 +91,7 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     JULIA2D_MODULE,
     JULIA2D64_MODULE,
     F64CHECK_MODULE,
+    SAMPLE_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with

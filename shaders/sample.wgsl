@@ -1,0 +1,48 @@
+// The voxel sampler of `qjulia mesh`: one invocation per grid point, the level of the mesh's
+// surface there, through the tracer's own estimate (estimate_distance, with the cut). Needs
+// shaders/algebra.wgsl and shaders/trace.wgsl in front of it (src/gpu/shaders.rs), whose
+// `Params` uniform (binding 0) and first output (binding 1) it shares.
+//
+// Twin: src/cpu/sample.rs, function by function, with the same names in the same order
+// (tests/twins.rs).
+//
+// The grid rides in the Params fields a sampler has no camera for: `eye` is the grid's first
+// point (the low corner of its box), `cam_forward` the spacing of the points along x, y and z,
+// `width` the points per row and `height` the rows per layer. The grid is rows of rows: its row
+// j is the row y = j % height of the layer z = j / height, and this dispatch samples the rows
+// [row_offset, row_offset + row_count), point (i, row_offset + r) written at r * width + i.
+
+// The grid point at column i of the grid's row j (rows of rows), in slice coordinates.
+fn grid_point(i: u32, j: u32) -> vec3<f32> {
+    let y = j % params.height;
+    let z = j / params.height;
+    return params.eye + vec3<f32>(f32(i), f32(y), f32(z)) * params.cam_forward;
+}
+
+// The level whose zero set is the mesh's surface: d(p) - epsilon inside the bounding ball
+// (negative inside the shell the renderer's rays stop in), and outside it the distance to the
+// ball, so that the surface is cut by the ball as the renderer's rays are:
+// max(d(p) - epsilon, |p - centre| - radius), the estimate not made where the second term is
+// positive. An empty bounding region is outside everywhere (1).
+fn sample_level(p: vec3<f32>) -> f32 {
+    if params.bounds_radius_squared <= 0.0 {
+        return 1.0;
+    }
+    let ball = length(p - params.bounds_center) - sqrt(params.bounds_radius_squared);
+    if ball > 0.0 {
+        return ball;
+    }
+    return max(estimate_distance(p) - params.epsilon, ball);
+}
+
+// One grid point's level, as its bits in the first output (`out_colour`, an array of u32).
+@compute @workgroup_size(8, 8, 1)
+fn sample(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let row = gid.y;
+    if i >= params.width || row >= params.row_count {
+        return;
+    }
+    let level = sample_level(grid_point(i, params.row_offset + row));
+    out_colour[row * params.width + i] = bitcast<u32>(level);
+}

@@ -1,0 +1,98 @@
+//! The voxel sampler (shaders/sample.wgsl) on the [`Kernel`] runner, for `qjulia mesh`: the
+//! level of the mesh's surface at every point of a grid, streamed to the host in bands of whole
+//! rows (bounded memory for any grid), through the tracer's own estimate.
+
+use super::kernel::{Band, Kernel, KernelSpec, OutputSpec, Run, RunTimes};
+use super::params::GpuParams;
+use super::shaders::SAMPLE_MODULE;
+use super::{GpuContext, Variant};
+use crate::cpu::sample::SampleGrid;
+use crate::error::Result;
+use crate::params::TraceParams;
+
+/// The sampler's one output: each grid point's level (f32, written as its bits).
+pub const SAMPLE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
+    name: "level",
+    bytes_per_item: 4,
+}];
+
+/// The sampler: uniform [`GpuParams`] (the tracer's, the grid in its camera fields: see
+/// shaders/sample.wgsl), one output, the levels. Trusted (no runtime checks injected): its only
+/// loop is the estimate's, bounded by `max_iterations`, and `sample` checks the point against
+/// the band before it writes.
+pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
+    name: "sample",
+    module: SAMPLE_MODULE,
+    entry_point: "sample",
+    uniform_bytes: size_of::<GpuParams>() as u64,
+    outputs: &SAMPLE_OUTPUTS,
+    band_row_multiple: 1,
+    trusted: true,
+};
+
+/// The sampler's pipelines on one device, one per scene [`Variant`] (built on first use).
+pub struct GpuSampler {
+    kernel: Kernel,
+}
+
+impl GpuSampler {
+    /// Builds the module; a shader the device rejects is an error.
+    pub fn new(ctx: GpuContext) -> Result<Self> {
+        Ok(Self {
+            kernel: Kernel::new(ctx, SAMPLE_KERNEL)?,
+        })
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        self.kernel.context()
+    }
+
+    /// The uniform of the grid's rows [row, row + rows).
+    pub fn params(
+        params: &TraceParams<f32>,
+        grid: &SampleGrid<f32>,
+        row: u32,
+        rows: u32,
+    ) -> GpuParams {
+        let v3 = |v: crate::algebra::Vec3<f32>| [v.x, v.y, v.z];
+        GpuParams {
+            eye: v3(grid.origin),
+            cam_forward: v3(grid.step),
+            width: grid.width,
+            height: grid.rows,
+            row_stride: grid.width,
+            ..GpuParams::new(params, row, rows)
+        }
+    }
+
+    /// Samples the first `total_rows` rows of the grid (its layers times its rows per layer),
+    /// band by band, top to bottom, handing each band's first row and its levels (row after
+    /// row) to `sink`. The sampling's time leaves the sink's out.
+    pub fn sample(
+        &self,
+        params: &TraceParams<f32>,
+        grid: &SampleGrid<f32>,
+        total_rows: u32,
+        sink: &mut dyn FnMut(u32, &[f32]) -> Result<()>,
+    ) -> Result<RunTimes> {
+        let constants = Variant::of(params, false).constants();
+        let uniform = |band: Band| {
+            bytemuck::bytes_of(&Self::params(params, grid, band.row, band.rows)).to_vec()
+        };
+        let run = Run {
+            constants: &constants,
+            size: (grid.width, total_rows),
+            read: &[true],
+            dispatches_per_band: 1,
+            params: &uniform,
+        };
+        self.kernel.run(
+            &run,
+            |out| {
+                let bytes = out.outputs[0].expect("the levels are read back");
+                (out.row, bytemuck::cast_slice::<u8, f32>(bytes).to_vec())
+            },
+            |(row, levels)| sink(row, &levels),
+        )
+    }
+}
