@@ -628,13 +628,14 @@ pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
         }
         None => Vec::new(),
     };
-    if choice == PrecisionChoice::Auto && decision.precision == Precision::F32 {
-        if let Some(w) = cell_warnings(Precision::F32).first() {
-            decision = Decision {
-                precision: Precision::F64,
-                reason: format!("auto: {}", w.split(": ").next().unwrap_or(w)),
-            };
-        }
+    if choice == PrecisionChoice::Auto
+        && decision.precision == Precision::F32
+        && let Some(w) = cell_warnings(Precision::F32).first()
+    {
+        decision = Decision {
+            precision: Precision::F64,
+            reason: format!("auto: {}", w.split(": ").next().unwrap_or(w)),
+        };
     }
     if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
         notice(&format!("sampling in f64: {}", decision.reason));
