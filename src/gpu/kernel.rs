@@ -112,10 +112,8 @@ pub struct Kernel {
 const STEPS_IN_FLIGHT: usize = 2;
 
 /// One band of a stream ([`Kernel::run_stream`]): its pipeline's constants, the grid's width,
-/// its rows, the uniform of each of its dispatches, the outputs to read back, and a tag for the
-/// caller (which frame it belongs to).
+/// its rows, the uniform of each of its dispatches and the outputs to read back.
 pub struct Step {
-    pub tag: usize,
     pub constants: Vec<(&'static str, f64)>,
     pub width: u32,
     /// The grid's rows: the step with `row + rows == height` is its last band.
@@ -396,7 +394,7 @@ impl Kernel {
             self.spec.outputs.len(),
             "read: one flag per output"
         );
-        let mut steps = self.steps(run, 0);
+        let mut steps = self.steps(run);
         let mut times = RunTimes::default();
         let mut first_submitted = None;
         // The sink's time is left out, though the device may have run the next band meanwhile.
@@ -419,8 +417,8 @@ impl Kernel {
         Ok(times)
     }
 
-    /// The bands of a run as [`Step`]s tagged `tag`, each with its dispatches' uniforms.
-    pub fn steps<'r>(&self, run: &'r Run<'_>, tag: usize) -> impl Iterator<Item = Step> + 'r {
+    /// The bands of a run as [`Step`]s, each with its dispatches' uniforms.
+    pub fn steps<'r>(&self, run: &'r Run<'_>) -> impl Iterator<Item = Step> + 'r {
         let (width, height) = run.size;
         let band_rows = self.band_rows(width, height).max(1);
         let dispatches = run.dispatches_per_band.max(1);
@@ -429,7 +427,6 @@ impl Kernel {
         (0..height).step_by(band_rows as usize).map(move |row| {
             let rows = band_rows.min(height - row);
             Step {
-                tag,
                 constants: constants.clone(),
                 width,
                 height,
@@ -472,18 +469,18 @@ impl Kernel {
                                  free: &mut Vec<RunBuffers>|
          -> Result<()> {
             let flight = in_flight.pop_front().expect("a step in flight");
-            let (done, buffers) = self.finish(flight, &mut decode)?;
+            let (step, done, buffers) = self.finish(flight, &mut decode)?;
             free.push(buffers);
-            let (step, done) = done;
             sink(step, done)
         };
+        let depth = self.steps_in_flight();
         for step in steps {
             assert_eq!(
                 step.read.len(),
                 self.spec.outputs.len(),
                 "one flag per output"
             );
-            if in_flight.len() == self.steps_in_flight() {
+            if in_flight.len() == depth {
                 finish_oldest(&mut in_flight, &mut free)?;
             }
             let items = step.band_rows as u64 * step.width as u64;
@@ -571,7 +568,7 @@ impl Kernel {
         &self,
         flight: InFlight,
         decode: &mut impl FnMut(&Step, BandOutput<'_>) -> T,
-    ) -> Result<((Step, StepDone<T>), RunBuffers)> {
+    ) -> Result<(Step, StepDone<T>, RunBuffers)> {
         let InFlight {
             step,
             buffers,
@@ -614,7 +611,7 @@ impl Kernel {
             decoded: Instant::now(),
             gpu_seconds,
         };
-        Ok(((step, done), buffers))
+        Ok((step, done, buffers))
     }
 
     /// Whether the pipeline of these constants has run once; marks it so.

@@ -369,19 +369,14 @@ pub(crate) fn stream_frames(
     steps: &mut dyn Iterator<Item = kernel::Step>,
     sink: &mut dyn FnMut(Frame, kernel::RunTimes) -> Result<()>,
 ) -> Result<()> {
-    let mut frame: Option<(usize, Frame, std::time::Instant, Option<f64>)> = None;
+    // The frame being put together: its bands so far, its first submission, its GPU time.
+    let mut frame: Option<(Frame, std::time::Instant, Option<f64>)> = None;
     kernel.run_stream(
         steps,
         |step, out| decode_frame(step.width, &out),
         |step, done| {
-            let (_, whole, submitted, gpu) = frame.get_or_insert_with(|| {
-                (
-                    step.tag,
-                    Frame::empty(step.width),
-                    done.submitted,
-                    Some(0.0),
-                )
-            });
+            let (whole, submitted, gpu) =
+                frame.get_or_insert_with(|| (Frame::empty(step.width), done.submitted, Some(0.0)));
             whole.append(&done.made);
             *gpu = gpu.zip(done.gpu_seconds).map(|(a, b)| a + b);
             if step.row + step.rows == step.height {
@@ -389,7 +384,7 @@ pub(crate) fn stream_frames(
                     seconds: (done.decoded - *submitted).as_secs_f64(),
                     gpu_seconds: *gpu,
                 };
-                let (_, whole, _, _) = frame.take().expect("a frame");
+                let (whole, _, _) = frame.take().expect("a frame");
                 sink(whole, times)?;
             }
             Ok(())

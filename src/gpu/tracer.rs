@@ -176,7 +176,7 @@ impl<F: GpuReal> GpuTracer<F> {
         readback: Readback,
         sink: &mut dyn FnMut(Frame, RunTimes) -> Result<()>,
     ) -> Result<()> {
-        let mut steps = frames.enumerate().flat_map(|(tag, (params, shade))| {
+        let mut steps = frames.flat_map(|(params, shade)| {
             let constants = self.constants(&params, shade);
             let uniform = self.uniforms(&params);
             let read = image_readback(&self.kernel, readback);
@@ -187,7 +187,7 @@ impl<F: GpuReal> GpuTracer<F> {
                 dispatches_per_band: self.dispatches(&params),
                 params: &uniform,
             };
-            self.kernel.steps(&run, tag).collect::<Vec<_>>()
+            self.kernel.steps(&run).collect::<Vec<_>>()
         });
         stream_frames(&self.kernel, &mut steps, sink)
     }
