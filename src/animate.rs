@@ -251,8 +251,6 @@ pub fn run(
             .video
             .map(|path| s.spawn(move || feed_video(path, fps, pictures)));
 
-        // Renders and hands out every frame in order; stops at the first error (its own, an
-        // encoder's or the video's).
         // Renders the frames to render as one stream and hands each out in order, the complete
         // frames a video needs read back from disk between them; stops at the first error (its
         // own, or an encoder's or the video's: then a queue is closed).
@@ -307,24 +305,22 @@ pub fn run(
                 to_video(picture)?;
                 report_written(&written, false, progress)
             };
-            // The frames in runs of one renderer (frames may differ in precision), each run one
-            // stream.
-            let mut group = 0;
-            while group < to_render.len() && !stop() {
-                let renderer = renderers(&to_render[group].1)?;
-                let mut end = group + 1;
-                while end < to_render.len()
-                    && same_renderer(&renderers(&to_render[end].1)?, &renderer)
-                {
-                    end += 1;
+            // Each frame's renderer, chosen before the first renders; then the frames in runs of
+            // one renderer (frames may differ in precision), each run one stream.
+            let chosen: Vec<Renderer> = to_render
+                .iter()
+                .map(|f| renderers(&f.1))
+                .collect::<Result<_>>()?;
+            let mut first = 0;
+            for run in chosen.chunk_by(same_renderer) {
+                if stop() {
+                    break;
                 }
-                used.push(renderer.clone());
-                let mut scenes = to_render[group..end]
-                    .iter()
-                    .map(|f| f.1.clone())
-                    .take_while(|_| !stop());
-                renderer.render_frames(&mut scenes, picture, readback, &mut sink)?;
-                group = end;
+                let frames = &to_render[first..first + run.len()];
+                first += run.len();
+                used.push(run[0].clone());
+                let mut scenes = frames.iter().map(|f| f.1.clone()).take_while(|_| !stop());
+                run[0].render_frames(&mut scenes, picture, readback, &mut sink)?;
             }
             match next < to_render.len() {
                 // Stopped before this frame: the rest stays undone.
