@@ -9,9 +9,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use super::kernel_texture::KernelTarget;
+use super::precision_switch::{Either, PrecisionSwitch};
 use crate::gpu::{GpuJulia2d, GpuReal};
 use crate::params::Julia2dParams;
-use crate::precision::{self, PrecisionChoice};
 use crate::render::{Picture, Precision};
 use crate::scene::Scene;
 
@@ -134,14 +134,10 @@ impl<F: GpuReal> Julia2dView<F> {
     }
 }
 
-/// The explorer's 2D view: f32 wherever f32 resolves it, f64 on the GPU where it does not (the
-/// pixel, extent / width, below f32's spacing), switched by itself; as [`super::slice_texture::SliceTexture`].
+/// The explorer's 2D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]).
 pub struct Julia2dTexture {
-    f32_view: Julia2dView<f32>,
-    f64_view: Option<Result<Julia2dView<f64>, String>>,
-    active: Precision,
-    reason: String,
-    /// Seconds the last finished render took (submission to completion).
+    views: PrecisionSwitch<Julia2dView<f32>, Julia2dView<f64>>,
+    /// Seconds the last finished render of the view shown took (submission to completion).
     pub render_seconds: f64,
 }
 
@@ -151,72 +147,62 @@ impl Julia2dTexture {
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
         Self {
-            f32_view: Julia2dView::new(julia, renderer),
-            f64_view: None,
-            active: Precision::F32,
-            reason: String::new(),
+            views: PrecisionSwitch::new(Julia2dView::new(julia, renderer)),
             render_seconds: 0.0,
         }
     }
 
     /// The f32 kernel (exports build their renderers on its device).
     pub fn julia(&self) -> &Arc<GpuJulia2d> {
-        self.f32_view.julia()
+        self.views.f32_view().julia()
     }
 
     /// Asks for the 2D view of `scene` in the precision it needs; call once per UI frame.
     pub fn update(&mut self, scene: &Scene) {
-        let decision = precision::decide(PrecisionChoice::Auto, scene, Picture::Julia2d);
-        self.reason = decision.reason;
-        self.active = Precision::F32;
-        if decision.precision == Precision::F64 {
-            let view = self.f64_view.get_or_insert_with(|| {
-                let ctx = self.f32_view.julia().context().clone();
-                GpuJulia2d::<f64>::new_f64(ctx)
-                    .map(|j| Julia2dView::new(Arc::new(j), self.f32_view.renderer.clone()))
-                    .map_err(|e| e.to_string())
-            });
-            match view {
-                Ok(view) => {
-                    self.active = Precision::F64;
-                    view.update(scene);
-                    self.render_seconds = view.render_seconds;
-                    return;
-                }
-                Err(why) => self.reason = format!("{}; f64 unavailable: {why}", self.reason),
+        let build = |view: &Julia2dView<f32>| {
+            let julia = GpuJulia2d::<f64>::new_f64(view.julia().context().clone())?;
+            Ok(Julia2dView::new(Arc::new(julia), view.renderer.clone()))
+        };
+        self.render_seconds = match self.views.pick(scene, Picture::Julia2d, build) {
+            Either::F32(view) => {
+                view.update(scene);
+                view.render_seconds
             }
-        }
-        self.f32_view.update(scene);
-        self.render_seconds = self.f32_view.render_seconds;
+            Either::F64(view) => {
+                view.update(scene);
+                view.render_seconds
+            }
+        };
     }
 
-    /// The precision of the view shown, and why.
+    /// The precision of the view shown.
     pub fn precision(&self) -> Precision {
-        self.active
+        self.views.precision()
     }
 
+    /// Why the view runs in its precision (the status line's hover text).
     pub fn precision_note(&self) -> &str {
-        &self.reason
+        self.views.reason()
     }
 
     pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
-        match (&self.active, &self.f64_view) {
-            (Precision::F64, Some(Ok(v))) => v.texture(),
-            _ => self.f32_view.texture(),
+        match self.views.shown() {
+            Either::F32(view) => view.texture(),
+            Either::F64(view) => view.texture(),
         }
     }
 
     pub fn busy(&self) -> bool {
-        match (&self.active, &self.f64_view) {
-            (Precision::F64, Some(Ok(v))) => v.busy(),
-            _ => self.f32_view.busy(),
+        match self.views.shown() {
+            Either::F32(view) => view.busy(),
+            Either::F64(view) => view.busy(),
         }
     }
 
     pub fn is_refined(&self, scene: &Scene) -> bool {
-        match (&self.active, &self.f64_view) {
-            (Precision::F64, Some(Ok(v))) => v.is_refined(scene),
-            _ => self.f32_view.is_refined(scene),
+        match self.views.shown() {
+            Either::F32(view) => view.is_refined(scene),
+            Either::F64(view) => view.is_refined(scene),
         }
     }
 }

@@ -14,6 +14,7 @@ mod kernel_texture;
 mod menu;
 mod panels;
 pub mod persistence;
+pub mod precision_switch;
 pub mod slice_texture;
 mod status;
 pub mod timeline;

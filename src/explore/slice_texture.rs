@@ -10,10 +10,10 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use super::kernel_texture::KernelTarget;
+use super::precision_switch::{Either, PrecisionSwitch};
 use crate::gpu::kernel::Band;
 use crate::gpu::{GpuReal, GpuTracer, WORKGROUP_SIZE};
 use crate::params::TraceParams;
-use crate::precision::{self, PrecisionChoice};
 use crate::render::{Picture, Precision};
 use crate::scene::Scene;
 use crate::stats::{Summary, SummaryBuilder};
@@ -463,17 +463,9 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     }
 }
 
-/// The explorer's 3D view: f32 wherever f32 resolves the view, and f64 on the GPU where it does
-/// not (the rule of `--precision auto`), switched by itself as the view zooms in and out. The
-/// f64 view is built on the first deep view, on the same device; where the device has no f64
-/// (or fails its start-up check), the view stays in f32 and [`Self::precision_note`] says why.
+/// The explorer's 3D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]).
 pub struct SliceTexture {
-    f32_view: SliceView<f32>,
-    /// Built on first need; Err: f64 cannot run on this device, and why.
-    f64_view: Option<Result<SliceView<f64>, String>>,
-    /// The precision of the view shown, and why (for the status line).
-    active: Precision,
-    reason: String,
+    views: PrecisionSwitch<SliceView<f32>, SliceView<f64>>,
 }
 
 impl SliceTexture {
@@ -482,76 +474,62 @@ impl SliceTexture {
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
         Self {
-            f32_view: SliceView::new(tracer, renderer),
-            f64_view: None,
-            active: Precision::F32,
-            reason: String::new(),
+            views: PrecisionSwitch::new(SliceView::new(tracer, renderer)),
         }
     }
 
     /// The f32 tracer (exports and animations build their renderers on its device).
     pub fn tracer(&self) -> &Arc<GpuTracer> {
-        self.f32_view.tracer()
+        self.views.f32_view().tracer()
     }
 
     /// Renders `scene` at `size` in the precision it needs, as [`SliceView::update`].
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
-        let decision = precision::decide(PrecisionChoice::Auto, scene, Picture::SHADED);
-        self.reason = decision.reason;
-        self.active = Precision::F32;
-        if decision.precision == Precision::F64 {
-            let view = self.f64_view.get_or_insert_with(|| {
-                let tracer = self.f32_view.tracer();
-                GpuTracer::<f64>::new_f64(tracer.context().clone())
-                    .map(|t| SliceView::new(Arc::new(t), self.f32_view.renderer.clone()))
-                    .map_err(|e| e.to_string())
-            });
-            match view {
-                Ok(view) => {
-                    self.active = Precision::F64;
-                    return view.update(scene, size, interacting);
-                }
-                Err(why) => self.reason = format!("{}; f64 unavailable: {why}", self.reason),
-            }
+        let build = |view: &SliceView<f32>| {
+            let tracer = GpuTracer::<f64>::new_f64(view.tracer().context().clone())?;
+            Ok(SliceView::new(Arc::new(tracer), view.renderer.clone()))
+        };
+        match self.views.pick(scene, Picture::SHADED, build) {
+            Either::F32(view) => view.update(scene, size, interacting),
+            Either::F64(view) => view.update(scene, size, interacting),
         }
-        self.f32_view.update(scene, size, interacting);
     }
 
     /// The precision of the view shown.
     pub fn precision(&self) -> Precision {
-        self.active
+        self.views.precision()
     }
 
     /// Why the view runs in its precision (the status line's hover text).
     pub fn precision_note(&self) -> &str {
-        &self.reason
+        self.views.reason()
     }
 
     pub fn stats(&self) -> &TextureStats {
-        self.with_active(|v| v.stats(), |v| v.stats())
+        match self.views.shown() {
+            Either::F32(view) => view.stats(),
+            Either::F64(view) => view.stats(),
+        }
     }
 
     pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
-        self.with_active(|v| v.texture(), |v| v.texture())
+        match self.views.shown() {
+            Either::F32(view) => view.texture(),
+            Either::F64(view) => view.texture(),
+        }
     }
 
     pub fn busy(&self) -> bool {
-        self.with_active(|v| v.busy(), |v| v.busy())
+        match self.views.shown() {
+            Either::F32(view) => view.busy(),
+            Either::F64(view) => view.busy(),
+        }
     }
 
     pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
-        self.with_active(|v| v.is_refined(scene, size), |v| v.is_refined(scene, size))
-    }
-
-    /// `f32` or `f64` of the view shown.
-    fn with_active<'a, T>(
-        &'a self,
-        f32: impl FnOnce(&'a SliceView<f32>) -> T,
-        f64: impl FnOnce(&'a SliceView<f64>) -> T,
-    ) -> T {
-        match (&self.active, &self.f64_view) {
-            (Precision::F64, Some(Ok(view))) => f64(view),
-            _ => f32(&self.f32_view),
+        match self.views.shown() {
+            Either::F32(view) => view.is_refined(scene, size),
+            Either::F64(view) => view.is_refined(scene, size),
         }
     }
 }

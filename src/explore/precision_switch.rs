@@ -1,0 +1,87 @@
+//! The explorer's views in two precisions: f32 wherever f32 resolves the view, and f64 on the
+//! GPU where it does not (the rule of `--precision auto`), switched by itself as the view zooms
+//! in and out. The f64 view is built on the first deep view, on the same device; where the
+//! device has no f64 (or fails its start-up check), the view stays in f32 and the reason says
+//! why. The 3D view ([`super::slice_texture::SliceTexture`]) and the 2D view
+//! ([`super::julia2d_texture::Julia2dTexture`]) both switch through it.
+
+use crate::precision::{self, PrecisionChoice};
+use crate::render::{Picture, Precision};
+use crate::scene::Scene;
+
+/// One of the two views.
+pub enum Either<A, B> {
+    F32(A),
+    F64(B),
+}
+
+/// An f32 view, and the f64 view beside it once one was needed.
+pub struct PrecisionSwitch<A, B> {
+    f32_view: A,
+    /// Built on first need; Err: f64 cannot run on this device, and why.
+    f64_view: Option<Result<B, String>>,
+    /// The precision of the view shown, and why (for the status line).
+    active: Precision,
+    reason: String,
+}
+
+impl<A, B> PrecisionSwitch<A, B> {
+    pub fn new(f32_view: A) -> Self {
+        Self {
+            f32_view,
+            f64_view: None,
+            active: Precision::F32,
+            reason: String::new(),
+        }
+    }
+
+    /// The f32 view (on whose device the f64 one is built).
+    pub fn f32_view(&self) -> &A {
+        &self.f32_view
+    }
+
+    /// The view `picture` of `scene` needs, by the auto rule; the f64 one built with `build`
+    /// (from the f32 one) the first time it is needed.
+    pub fn pick(
+        &mut self,
+        scene: &Scene,
+        picture: Picture,
+        build: impl FnOnce(&A) -> crate::Result<B>,
+    ) -> Either<&mut A, &mut B> {
+        let decision = precision::decide(PrecisionChoice::Auto, scene, picture);
+        self.reason = decision.reason;
+        self.active = Precision::F32;
+        if decision.precision == Precision::F64 {
+            let f32_view = &self.f32_view;
+            let built = self
+                .f64_view
+                .get_or_insert_with(|| build(f32_view).map_err(|e| e.to_string()));
+            match built {
+                Ok(view) => {
+                    self.active = Precision::F64;
+                    return Either::F64(view);
+                }
+                Err(why) => self.reason = format!("{}; f64 unavailable: {why}", self.reason),
+            }
+        }
+        Either::F32(&mut self.f32_view)
+    }
+
+    /// The view shown now.
+    pub fn shown(&self) -> Either<&A, &B> {
+        match (&self.active, &self.f64_view) {
+            (Precision::F64, Some(Ok(view))) => Either::F64(view),
+            _ => Either::F32(&self.f32_view),
+        }
+    }
+
+    /// The precision of the view shown.
+    pub fn precision(&self) -> Precision {
+        self.active
+    }
+
+    /// Why the view runs in its precision (the status line's hover text).
+    pub fn reason(&self) -> &str {
+        &self.reason
+    }
+}
