@@ -288,21 +288,36 @@ impl TracerArgs {
         picture: Picture,
         notice: &mut dyn FnMut(&str),
     ) -> anyhow::Result<(Renderer, Decision)> {
+        self.renderer_with(scene, picture, &|_| Vec::new(), notice)
+    }
+
+    /// As [`Self::renderer`], with `more` warnings of each precision than the scene's own (a
+    /// mesh's grid cell).
+    fn renderer_with(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        more: &dyn Fn(Precision) -> Vec<String>,
+        notice: &mut dyn FnMut(&str),
+    ) -> anyhow::Result<(Renderer, Decision)> {
+        let warnings = |p: Precision| {
+            let mut all = precision::warnings(scene, picture, p);
+            all.extend(more(p));
+            all
+        };
         let choice = self.precision.choice();
-        let decision = precision::decide(choice, scene, picture);
+        let decision = precision::decide_by(choice, &warnings(Precision::F32));
         if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
-            notice(&format!("rendering in f64: {}", decision.reason));
+            let doing = match picture {
+                Picture::Mesh => "sampling",
+                Picture::Slice { .. } | Picture::Julia2d => "rendering",
+            };
+            notice(&format!("{doing} in f64: {}", decision.reason));
         }
         let backend = self.backend.backend();
         let (renderer, decision) =
             precision::choose_renderer(backend, choice, decision, picture, notice)?;
-        let warnings = match picture {
-            Picture::Julia2d => precision::julia2d_warnings(scene, decision.precision),
-            Picture::Slice { .. } | Picture::Mesh => {
-                qjulia::precision_warnings(scene, decision.precision)
-            }
-        };
-        for warning in warnings {
+        for warning in warnings(decision.precision) {
             notice(&format!("warning: {warning}"));
         }
         Ok((renderer, decision))
@@ -615,8 +630,6 @@ pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
     );
     // The precision: as for render, the grid cell playing the pixel's part.
     let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
-    let choice = args.tracer.precision.choice();
-    let mut decision = precision::decide(choice, &scene, Picture::Mesh);
     let cell_warnings = |p: Precision| match qjulia::mesh::grid_for(&scene, &options) {
         Some(grid) => {
             let cell = grid.step.iter().copied().fold(f64::INFINITY, f64::min);
@@ -628,24 +641,9 @@ pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
         }
         None => Vec::new(),
     };
-    if choice == PrecisionChoice::Auto
-        && decision.precision == Precision::F32
-        && let Some(w) = cell_warnings(Precision::F32).first()
-    {
-        decision = Decision {
-            precision: Precision::F64,
-            reason: format!("auto: {}", w.split(": ").next().unwrap_or(w)),
-        };
-    }
-    if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
-        notice(&format!("sampling in f64: {}", decision.reason));
-    }
-    let backend = args.tracer.backend.backend();
-    let (renderer, decision) =
-        precision::choose_renderer(backend, choice, decision, Picture::Mesh, notice)?;
-    for warning in cell_warnings(decision.precision) {
-        notice(&format!("warning: {warning}"));
-    }
+    let (renderer, _) = args
+        .tracer
+        .renderer_with(&scene, Picture::Mesh, &cell_warnings, notice)?;
     let (mesh, stats) =
         qjulia::mesh::make_mesh(&renderer, &scene, &options, &mut |done, total| {
             bar.set_length(total as u64);

@@ -23,16 +23,15 @@ pub struct Decision {
     pub reason: String,
 }
 
-/// What f32 cannot resolve in this picture of `scene`, one line each (empty: f32 is enough):
-/// the 3D view's warnings ([`precision_warnings`]), or the 2D view's pixel against f32's
-/// spacing ([`julia2d_warnings`]).
-pub fn f32_shortfalls(scene: &Scene, picture: Picture) -> Vec<String> {
+/// What `precision` cannot resolve in this picture of `scene`, one line each with its remedy
+/// (empty: it is enough): the 3D view's warnings ([`precision_warnings`]), the 2D view's pixel
+/// against the spacing ([`julia2d_warnings`]), or for a mesh what the scene alone asks (its
+/// grid cell plays the pixel's part: the caller adds [`mesh_warnings`]).
+pub fn warnings(scene: &Scene, picture: Picture, precision: Precision) -> Vec<String> {
     match picture {
-        Picture::Slice { .. } => precision_warnings(scene, Precision::F32),
-        Picture::Julia2d => julia2d_warnings(scene, Precision::F32),
-        // The mesh's grid cell plays the pixel's part: its caller adds that check
-        // ([`mesh_warnings`]); here, what the scene alone asks.
-        Picture::Mesh => precision_warnings(scene, Precision::F32)
+        Picture::Slice { .. } => precision_warnings(scene, precision),
+        Picture::Julia2d => julia2d_warnings(scene, precision),
+        Picture::Mesh => precision_warnings(scene, precision)
             .into_iter()
             .filter(|w| !w.starts_with("a pixel spans"))
             .collect(),
@@ -43,12 +42,7 @@ pub fn f32_shortfalls(scene: &Scene, picture: Picture) -> Vec<String> {
 /// as `reach` from the origin: a cell below the spacing of the floats there, where neighbouring
 /// grid points sample the same point.
 pub fn mesh_warnings(cell: f64, reach: f64, precision: Precision) -> Vec<String> {
-    use crate::algebra::Real;
-    let relative = match precision {
-        Precision::F32 => f32::RELATIVE_EPSILON,
-        Precision::F64 => f64::RELATIVE_EPSILON,
-    };
-    let spacing = reach.max(1.0) * relative;
+    let spacing = reach.max(1.0) * precision.relative_spacing();
     if cell < spacing {
         vec![format!(
             "a grid cell spans {cell:.1e}, below the spacing of {} values ({spacing:.1e}): neighbouring grid points sample the same points",
@@ -63,15 +57,10 @@ pub fn mesh_warnings(cell: f64, reach: f64, precision: Precision) -> Vec<String>
 /// at the view's farthest point from 0 (|centre| + half the extent, at least 1), where
 /// neighbouring pixels iterate the same point.
 pub fn julia2d_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
-    use crate::algebra::Real;
     let v = &scene.view2d;
-    let relative = match precision {
-        Precision::F32 => f32::RELATIVE_EPSILON,
-        Precision::F64 => f64::RELATIVE_EPSILON,
-    };
     let half = 0.5 * v.extent;
     let reach = (v.center[0].abs().max(v.center[1].abs()) + half).max(1.0);
-    let spacing = reach * relative;
+    let spacing = reach * precision.relative_spacing();
     let pixel = v.extent / scene.image.width as f64;
     if pixel < spacing {
         vec![format!(
@@ -90,6 +79,11 @@ pub fn julia2d_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
 /// The precision for `choice`: as asked, or (auto) f32 where it resolves the picture and f64
 /// where it does not, the first shortfall as the reason.
 pub fn decide(choice: PrecisionChoice, scene: &Scene, picture: Picture) -> Decision {
+    decide_by(choice, &warnings(scene, picture, Precision::F32))
+}
+
+/// [`decide`], given what f32 cannot resolve (`f32_shortfalls`, one line each).
+pub fn decide_by(choice: PrecisionChoice, f32_shortfalls: &[String]) -> Decision {
     match choice {
         PrecisionChoice::F32 => Decision {
             precision: Precision::F32,
@@ -99,7 +93,7 @@ pub fn decide(choice: PrecisionChoice, scene: &Scene, picture: Picture) -> Decis
             precision: Precision::F64,
             reason: "asked for (--precision f64)".into(),
         },
-        PrecisionChoice::Auto => match f32_shortfalls(scene, picture).first() {
+        PrecisionChoice::Auto => match f32_shortfalls.first() {
             None => Decision {
                 precision: Precision::F32,
                 reason: "auto: f32 resolves the scene".into(),

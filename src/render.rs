@@ -37,6 +37,15 @@ impl Precision {
             Precision::F64 => "f64",
         }
     }
+
+    /// The relative spacing of its values that the precision warnings hold settings to
+    /// ([`Real::RELATIVE_EPSILON`]: 8 ulps).
+    pub fn relative_spacing(self) -> f64 {
+        match self {
+            Precision::F32 => f32::RELATIVE_EPSILON,
+            Precision::F64 => f64::RELATIVE_EPSILON,
+        }
+    }
 }
 
 /// What is rendered of a scene.
