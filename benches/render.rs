@@ -10,9 +10,33 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
 
-use qjulia::gpu::{GpuContext, GpuTracer};
+use qjulia::gpu::{GpuContext, GpuKernels, GpuTracer};
 use qjulia::scene::SceneLoader;
-use qjulia::{Picture, Precision, Renderer, Scene, TraceParams, cpu};
+use qjulia::{
+    Backend, Picture, Planner, Precision, PrecisionChoice, Renderer, Scene, TraceParams, cpu,
+};
+
+/// The renderer of a plan on `backend` in `precision` (a GPU one on `kernels`), as the
+/// command line plans it.
+fn planned(kernels: Option<GpuKernels>, backend: Backend, precision: Precision) -> Renderer {
+    let choice = match precision {
+        Precision::F32 => PrecisionChoice::F32,
+        Precision::F64 => PrecisionChoice::F64,
+    };
+    let mut planner = match kernels {
+        Some(kernels) => Planner::on_device(Arc::new(kernels), backend, choice),
+        None => Planner::new(backend, choice),
+    };
+    planner
+        .plan(&Scene::default(), Picture::SHADED.into(), &mut |_| {})
+        .expect("a plan")
+        .renderer
+}
+
+/// The CPU renderer in `precision`.
+fn cpu_renderer(precision: Precision) -> Renderer {
+    planned(None, Backend::Cpu, precision)
+}
 
 fn scene(sets: &[&str]) -> Scene {
     let mut loader = SceneLoader::new();
@@ -65,8 +89,16 @@ fn gpus() -> Option<Gpus> {
             generic.set_specialise(false);
             Some(Gpus {
                 adapter: specialised.context().adapter_label(),
-                specialised: Renderer::on_tracer(Arc::new(specialised)),
-                generic: Renderer::on_tracer(Arc::new(generic)),
+                specialised: planned(
+                    Some(GpuKernels::with_tracer(Arc::new(specialised))),
+                    Backend::Gpu,
+                    Precision::F32,
+                ),
+                generic: planned(
+                    Some(GpuKernels::with_tracer(Arc::new(generic))),
+                    Backend::Gpu,
+                    Precision::F32,
+                ),
             })
         }
         (Err(e), _) | (_, Err(e)) => {
@@ -96,7 +128,7 @@ fn criterion_benches(c: &mut Criterion, gpus: Option<&Gpus>) {
             }
         }
         for (label, precision) in [("cpu f32", Precision::F32), ("cpu f64", Precision::F64)] {
-            let cpu = Renderer::cpu(precision);
+            let cpu = cpu_renderer(precision);
             group.bench_function(label, |b| b.iter(|| render(&cpu)));
         }
         group.finish();
@@ -123,7 +155,7 @@ fn gpu_seconds(renderer: &Renderer, scene: &Scene) -> f64 {
 
 /// Render seconds on the CPU, median of 3.
 fn cpu_seconds(scene: &Scene, precision: Precision) -> f64 {
-    let renderer = Renderer::cpu(precision);
+    let renderer = cpu_renderer(precision);
     let seconds = || {
         let (_, s) = renderer
             .render_frame(scene, Picture::SHADED)
@@ -170,7 +202,7 @@ fn summary(gpus: Option<&Gpus>) {
                 cpu32 / s
             );
         }
-        let (_, stats) = Renderer::cpu(Precision::F32)
+        let (_, stats) = cpu_renderer(Precision::F32)
             .render_frame(&scene, Picture::SHADED)
             .expect("CPU render");
         out += &format!(

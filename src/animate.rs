@@ -2,10 +2,12 @@
 //! (`DIR/frame-NNNNN.png`) carrying its own frame's resolved scene, written whole or not at all,
 //! and optionally a video of them through ffmpeg ([`crate::video`]).
 //!
-//! Frame k's bytes depend only on the scene options and k (on one backend and adapter): every
-//! frame is rendered alone by the same [`Renderer`], chosen once by the caller, on the same path
-//! as `qjulia render`, so any split of the frames (`--frames A..B`) gives byte-identical files and
-//! `render --scene DIR/frame-NNNNN.png` writes that frame again, byte for byte.
+//! Frame k's bytes depend only on the scene options and k (on one backend and adapter): each
+//! frame's renderer is decided by its own scene ([`Planner::plan`], as `qjulia render` decides
+//! it: with `--precision auto` deep frames run in f64), runs of frames of one renderer stream
+//! on the same path as `qjulia render`, so any split of the frames (`--frames A..B`) gives
+//! byte-identical files and `render --scene DIR/frame-NNNNN.png` writes that frame again, byte
+//! for byte.
 //!
 //! The frames are pipelined: this thread renders them one after another, reading back only the
 //! colour; a pool of threads encodes and writes the PNGs, and one more feeds ffmpeg in order.
@@ -21,8 +23,9 @@ use serde::Serialize;
 
 use crate::animation::Animation;
 use crate::error::{Error, Result};
+use crate::gpu::Readback;
 use crate::output::{read_png_rgb, write_png};
-use crate::render::{Picture, Readback, Renderer};
+use crate::render::{Picture, Planner, Renderer};
 use crate::scene::{Scene, SceneError, SceneSource, View};
 use crate::video::VideoWriter;
 
@@ -199,11 +202,13 @@ struct PngJob {
 type Written = (u32, PathBuf, f64, Result<()>);
 
 /// Renders frames `job.range` of `job.animation` over `job.base`, each with the renderer
-/// `renderers` gives for its scene (its precision may depend on the frame): PNGs into
+/// `planner` decides for its scene (its precision may depend on the frame; `notice` hears what
+/// the planner says the first time it makes each renderer): PNGs into
 /// `job.out`, skipping complete frames when `job.resume` is set, and the video. Frames already
 /// written stay when a later one fails; the video is written whole or not at all.
 pub fn run(
-    renderers: &mut dyn FnMut(&Scene) -> Result<Renderer>,
+    planner: &mut Planner,
+    notice: &mut dyn FnMut(&str),
     job: &Job,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<AnimateStats> {
@@ -309,10 +314,10 @@ pub fn run(
             // one renderer (frames may differ in precision), each run one stream.
             let chosen: Vec<Renderer> = to_render
                 .iter()
-                .map(|f| renderers(&f.1))
+                .map(|f| Ok(planner.plan(&f.1, picture.into(), notice)?.renderer))
                 .collect::<Result<_>>()?;
             let mut first = 0;
-            for run in chosen.chunk_by(same_renderer) {
+            for run in chosen.chunk_by(Renderer::same_tracer) {
                 if stop() {
                     break;
                 }
@@ -372,11 +377,6 @@ pub fn run(
         width: job.base.image.width,
         height: job.base.image.height,
     })
-}
-
-/// Whether two renderers are the same tracer: the frames of one may share a stream.
-fn same_renderer(a: &Renderer, b: &Renderer) -> bool {
-    a.backend_name() == b.backend_name() && a.precision() == b.precision()
 }
 
 /// What the renderers used say of themselves, each once, in order of use, joined by ", "

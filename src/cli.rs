@@ -8,9 +8,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use qjulia::animate::{self, FrameRange, Progress};
 use qjulia::animation::Animation;
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
-use qjulia::precision::{self, Decision, PrecisionChoice};
+use qjulia::precision::PrecisionChoice;
 use qjulia::scene::{SceneLoader, View};
-use qjulia::{Backend, Picture, Precision, Renderer, Scene};
+use qjulia::{Backend, Picture, Planner, Precision, Scene};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -279,48 +279,9 @@ impl PrecisionArg {
 }
 
 impl TracerArgs {
-    /// The precision of `picture` of `scene` (`--precision`, auto deciding by the scene) and
-    /// its renderer (`--backend`); `notice` hears the choice, why f64 runs where auto chose
-    /// it, and the warnings of the precision that runs.
-    fn renderer(
-        &self,
-        scene: &Scene,
-        picture: Picture,
-        notice: &mut dyn FnMut(&str),
-    ) -> anyhow::Result<(Renderer, Decision)> {
-        self.renderer_with(scene, picture, &|_| Vec::new(), notice)
-    }
-
-    /// As [`Self::renderer`], with `more` warnings of each precision than the scene's own (a
-    /// mesh's grid cell).
-    fn renderer_with(
-        &self,
-        scene: &Scene,
-        picture: Picture,
-        more: &dyn Fn(Precision) -> Vec<String>,
-        notice: &mut dyn FnMut(&str),
-    ) -> anyhow::Result<(Renderer, Decision)> {
-        let warnings = |p: Precision| {
-            let mut all = precision::warnings(scene, picture, p);
-            all.extend(more(p));
-            all
-        };
-        let choice = self.precision.choice();
-        let decision = precision::decide_by(choice, &warnings(Precision::F32));
-        if choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
-            let doing = match picture {
-                Picture::Mesh => "sampling",
-                Picture::Slice { .. } | Picture::Julia2d => "rendering",
-            };
-            notice(&format!("{doing} in f64: {}", decision.reason));
-        }
-        let backend = self.backend.backend();
-        let (renderer, decision) =
-            precision::choose_renderer(backend, choice, decision, picture, notice)?;
-        for warning in warnings(decision.precision) {
-            notice(&format!("warning: {warning}"));
-        }
-        Ok((renderer, decision))
+    /// The planner of `--backend` and `--precision` ([`Planner::plan`] decides each work).
+    fn planner(&self) -> Planner {
+        Planner::new(self.backend.backend(), self.precision.choice())
     }
 }
 
@@ -403,10 +364,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if heat_map {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
-        let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
-        paths.depth_f64 = decision.precision == Precision::F64;
-        let (frame, mut stats) = renderer.render_frame(&scene, picture)?;
-        stats.precision_reason = decision.reason;
+        let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
+        paths.depth_f64 = plan.decision.precision == Precision::F64;
+        let (frame, stats) = plan.renderer.render_frame(&scene, picture)?;
         write_view_outputs(&paths, &frame, &stats, &scene)?;
         report_render(&stats);
         return Ok(());
@@ -428,14 +388,13 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         indicatif::ProgressBar::hidden()
     };
     let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
-    let (renderer, decision) = args.tracer.renderer(&scene, picture, notice)?;
-    paths.depth_f64 = decision.precision == Precision::F64;
+    let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
+    paths.depth_f64 = plan.decision.precision == Precision::F64;
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
-    let mut stats = renderer.render(&scene, picture, &mut |band| {
+    let stats = plan.renderer.render(&scene, picture, &mut |band| {
         bar.inc(band.height as u64);
         outputs.write_band(band)
     })?;
-    stats.precision_reason = decision.reason;
     bar.finish_and_clear();
     outputs.finish(&stats)?;
     report_render(&stats);
@@ -492,25 +451,14 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
     );
     // Each frame's precision by the rule of `render` (auto: by the frame's own scene), its
     // renderer made once per precision; the notices and warnings once per precision.
-    let mut renderers: Vec<(Precision, Renderer)> = Vec::new();
-    let mut renderer_for = |scene: &Scene| -> qjulia::Result<Renderer> {
-        let choice = args.tracer.precision.choice();
-        let wanted = precision::decide(choice, scene, picture).precision;
-        if let Some((_, r)) = renderers.iter().find(|(p, _)| *p == wanted) {
-            return Ok(r.clone());
-        }
-        let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
-        let (renderer, _) = args.tracer.renderer(scene, picture, notice).map_err(|e| {
-            match e.downcast::<qjulia::Error>() {
-                Ok(e) => e,
-                Err(e) => qjulia::Error::Unsupported(format!("{e:#}")),
-            }
-        })?;
-        renderers.push((wanted, renderer.clone()));
-        Ok(renderer)
-    };
     // Everything the run needs is there before the first frame: the first frame's renderer.
-    renderer_for(&animation.scene_at(&base, range.first))?;
+    let mut planner = args.tracer.planner();
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    planner.plan(
+        &animation.scene_at(&base, range.first),
+        picture.into(),
+        notice,
+    )?;
     let job = animate::Job {
         base: &base,
         animation: &animation,
@@ -520,7 +468,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         video: args.video.as_deref(),
         stop: None,
     };
-    let stats = animate::run(&mut renderer_for, &job, &mut |p| match p {
+    let stats = animate::run(&mut planner, notice, &job, &mut |p| match p {
         Progress::Start { to_render, skipped } => {
             if skipped > 0 {
                 bar.suspend(|| {
@@ -574,12 +522,16 @@ pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     let notice = &mut |n: &str| eprintln!("qjulia: {n}");
-    let (renderer, decision) = args.tracer.renderer(&scene, Picture::Julia2d, notice)?;
+    let plan = args
+        .tracer
+        .planner()
+        .plan(&scene, Picture::Julia2d.into(), notice)?;
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
-    let mut stats = renderer.render(&scene, Picture::Julia2d, &mut |band| {
-        outputs.write_band(band)
-    })?;
-    stats.precision_reason = decision.reason;
+    let stats = plan
+        .renderer
+        .render(&scene, Picture::Julia2d, &mut |band| {
+            outputs.write_band(band)
+        })?;
     outputs.finish(&stats)?;
     eprintln!(
         "qjulia: 2D Julia set of c = {} + {} i, {}x{} on {} ({}) in {:.3} s, {:.1}% in the set, {:.1} iterations/pixel",
@@ -630,20 +582,9 @@ pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
     );
     // The precision: as for render, the grid cell playing the pixel's part.
     let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
-    let cell_warnings = |p: Precision| match qjulia::mesh::grid_for(&scene, &options) {
-        Some(grid) => {
-            let cell = grid.step.iter().copied().fold(f64::INFINITY, f64::min);
-            let far = [0, 1, 2].map(|k| {
-                let end = grid.origin[k] + grid.step[k] * (grid.size[k] - 1) as f64;
-                grid.origin[k].abs().max(end.abs())
-            });
-            precision::mesh_warnings(cell, far.iter().copied().fold(0.0, f64::max), p)
-        }
-        None => Vec::new(),
-    };
-    let (renderer, _) = args
-        .tracer
-        .renderer_with(&scene, Picture::Mesh, &cell_warnings, notice)?;
+    let work = qjulia::mesh::work(&scene, &options);
+    let plan = args.tracer.planner().plan(&scene, work, notice)?;
+    let renderer = plan.renderer;
     let (mesh, stats) =
         qjulia::mesh::make_mesh(&renderer, &scene, &options, &mut |done, total| {
             bar.set_length(total as u64);
@@ -687,11 +628,18 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     use qjulia::report::stability;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let gpu = match qjulia::gpu::GpuContext::new().and_then(qjulia::gpu::GpuTracer::new) {
-        Ok(t) => {
-            eprintln!("qjulia: GPU runs on {}", t.context().adapter_label());
-            Some(std::sync::Arc::new(t))
-        }
+    // One device for every GPU case, its kernels built once and shared.
+    let gpu = match qjulia::gpu::GpuContext::new().map(qjulia::gpu::GpuKernels::new) {
+        Ok(kernels) => match kernels.tracer() {
+            Ok(_) => {
+                eprintln!("qjulia: GPU runs on {}", kernels.context().adapter_label());
+                Some(std::sync::Arc::new(kernels))
+            }
+            Err(e) => {
+                eprintln!("qjulia: {e}; CPU cases only");
+                None
+            }
+        },
         Err(e) => {
             eprintln!("qjulia: {e}; CPU cases only");
             None
@@ -727,7 +675,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
 
 fn dimensions(
     args: &ReportArgs,
-    gpu: Option<&std::sync::Arc<qjulia::gpu::GpuTracer>>,
+    gpu: Option<&std::sync::Arc<qjulia::gpu::GpuKernels>>,
 ) -> anyhow::Result<()> {
     use qjulia::report::dimensions;
     let size = args.size.unwrap_or(128);
@@ -742,7 +690,7 @@ fn dimensions(
 
 fn work_precision(
     args: &ReportArgs,
-    gpu: Option<std::sync::Arc<qjulia::gpu::GpuTracer>>,
+    gpu: Option<std::sync::Arc<qjulia::gpu::GpuKernels>>,
 ) -> anyhow::Result<()> {
     use qjulia::report::stability::Runner;
     use qjulia::report::work_precision as wp;

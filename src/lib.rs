@@ -2,8 +2,8 @@
 //! compute and on the CPU with a pure-Rust twin of the shader that the GPU is held to.
 //!
 //! The flow: a [`Scene`] (plain data) becomes [`TraceParams`]; a [`Renderer`] (the [`gpu`] or
-//! [`cpu`] tracer, chosen in one place) turns those into a [`Frame`] and its [`RenderStats`];
-//! [`output`] writes them.
+//! [`cpu`] tracer, chosen in one place: [`Planner::plan`]) turns those into a [`Frame`] and its
+//! [`RenderStats`]; [`output`] writes them.
 
 pub mod algebra;
 pub mod animate;
@@ -14,6 +14,7 @@ pub mod error;
 pub mod explore;
 pub mod frame;
 pub mod gpu;
+pub mod grid;
 pub mod heatmap;
 pub mod mesh;
 pub mod output;
@@ -28,8 +29,9 @@ pub mod video;
 pub use error::{Error, Result};
 pub use frame::Frame;
 pub use params::{Julia2dParams, TraceParams};
+pub use precision::{Precision, PrecisionChoice};
 pub use render::{
-    Backend, GPU_F64_UNSUPPORTED, Picture, Precision, Renderer, band_pixels, precision_warnings,
+    Backend, GPU_F64_UNSUPPORTED, Picture, Plan, Planner, Renderer, Work, band_pixels,
 };
 pub use scene::Scene;
 pub use stats::{RenderStats, Summary};

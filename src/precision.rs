@@ -1,12 +1,57 @@
-//! `--precision auto|f32|f64`: which float type a render runs in, and why. `auto` (the default)
-//! is f32 wherever f32 resolves the picture (no precision warning), and f64 otherwise: on the
-//! GPU where the adapter has it, else on the CPU, with a notice; with `--backend gpu` on an
-//! adapter without f64 it stays on the GPU in f32, with f32's warnings, since the GPU was asked
-//! for. The reason goes to `--stats` as `precision_reason`.
+//! Which float type a render runs in, and why: [`Precision`] (what runs), [`PrecisionChoice`]
+//! (what `--precision auto|f32|f64` asks for), the typed [`Warning`]s of what a precision cannot
+//! resolve, and the [`Decision`] between them. `auto` (the default) is f32 wherever f32
+//! resolves the picture (no precision warning), and f64 otherwise. Which tracer then runs it is
+//! [`crate::render::Planner`]'s, which takes this decision; its reason goes to `--stats` as
+//! `precision_reason`.
 
-use crate::error::{Error, Result};
-use crate::render::{Backend, Picture, Precision, Renderer, precision_warnings};
+use std::fmt;
+
+use crate::algebra::Real;
+use crate::grid::GridSpec;
+use crate::render::{Picture, Work};
 use crate::scene::Scene;
+
+/// The float type the tracer runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Precision {
+    F32,
+    F64,
+}
+
+impl Precision {
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+
+    /// The relative spacing of its values that the precision warnings hold settings to
+    /// ([`Real::RELATIVE_EPSILON`]: 8 ulps).
+    pub fn relative_spacing(self) -> f64 {
+        match self {
+            Precision::F32 => f32::RELATIVE_EPSILON,
+            Precision::F64 => f64::RELATIVE_EPSILON,
+        }
+    }
+
+    /// The largest escape radius squared its iterations can square without overflow.
+    fn escape_limit(self) -> f64 {
+        match self {
+            Precision::F32 => f32::ESCAPE_LIMIT,
+            Precision::F64 => f64::ESCAPE_LIMIT,
+        }
+    }
+
+    /// What a warning of this precision advises.
+    fn remedy(self) -> &'static str {
+        match self {
+            Precision::F32 => "use --precision f64 (or auto)",
+            Precision::F64 => "this is beyond f64 too",
+        }
+    }
+}
 
 /// What the user asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -16,6 +61,51 @@ pub enum PrecisionChoice {
     F64,
 }
 
+/// What a precision cannot resolve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WarningKind {
+    /// `fractal.epsilon` below the spacing of the floats where the rays work: hits are taken
+    /// at the spacing instead.
+    Epsilon,
+    /// A 3D pixel's footprint at the target below the spacing: neighbouring pixels trace the
+    /// same points.
+    Pixel,
+    /// `fractal.escape_radius_squared` beyond what the iterations can square: a limit is used.
+    EscapeRadius,
+    /// A 2D pixel (`view2d.extent / image.width`) below the spacing at the view's reach.
+    Pixel2d,
+    /// A mesh's grid cell below the spacing at the grid's reach.
+    GridCell,
+}
+
+/// One thing a precision cannot resolve in a scene: its kind, and the line the user reads.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    pub kind: WarningKind,
+    /// What falls short, e.g. "fractal.epsilon = 1e-9 is below the spacing of f32 values at
+    /// distance 3.000 (2.9e-6)": `auto`'s reason for f64.
+    pub shortfall: String,
+    /// The whole line: the shortfall, what is done about it, and the remedy.
+    pub text: String,
+}
+
+impl Warning {
+    fn new(kind: WarningKind, shortfall: String, consequence: &str) -> Self {
+        let text = format!("{shortfall}: {consequence}");
+        Self {
+            kind,
+            shortfall,
+            text,
+        }
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.text)
+    }
+}
+
 /// The precision a picture is rendered in, and why (`precision_reason`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Decision {
@@ -23,30 +113,88 @@ pub struct Decision {
     pub reason: String,
 }
 
-/// What `precision` cannot resolve in this picture of `scene`, one line each with its remedy
-/// (empty: it is enough): the 3D view's warnings ([`precision_warnings`]), the 2D view's pixel
-/// against the spacing ([`julia2d_warnings`]), or for a mesh what the scene alone asks (its
-/// grid cell plays the pixel's part: the caller adds [`mesh_warnings`]).
-pub fn warnings(scene: &Scene, picture: Picture, precision: Precision) -> Vec<String> {
-    match picture {
-        Picture::Slice { .. } => precision_warnings(scene, precision),
-        Picture::Julia2d => julia2d_warnings(scene, precision),
-        Picture::Mesh => precision_warnings(scene, precision)
-            .into_iter()
-            .filter(|w| !w.starts_with("a pixel spans"))
-            .collect(),
+/// What `precision` cannot resolve in this work on `scene` (empty: it is enough): for the 3D
+/// slice its [`slice_warnings`]; for the 2D view its pixel against the spacing
+/// ([`julia2d_warnings`]); for a mesh the slice's warnings but the pixel's, whose part the grid
+/// cell plays ([`grid_warnings`]).
+pub fn warnings(scene: &Scene, work: &Work, precision: Precision) -> Vec<Warning> {
+    match work {
+        Work::Picture(Picture::Slice { .. }) => slice_warnings(scene, precision),
+        Work::Picture(Picture::Julia2d) => julia2d_warnings(scene, precision),
+        Work::Mesh(grid) => {
+            let mut all: Vec<Warning> = slice_warnings(scene, precision)
+                .into_iter()
+                .filter(|w| w.kind != WarningKind::Pixel)
+                .collect();
+            if let Some(grid) = grid {
+                all.extend(grid_warnings(grid, precision));
+            }
+            all
+        }
     }
 }
 
-/// The mesh's precision warnings for a grid cell of `cell` (slice units) around points as far
-/// as `reach` from the origin: a cell below the spacing of the floats there, where neighbouring
-/// grid points sample the same point.
-pub fn mesh_warnings(cell: f64, reach: f64, precision: Precision) -> Vec<String> {
-    let spacing = reach.max(1.0) * precision.relative_spacing();
+/// What the user should know before a 3D render in this precision: settings the floats cannot
+/// resolve (and what is done about it), each with the remedy.
+pub fn slice_warnings(scene: &Scene, precision: Precision) -> Vec<Warning> {
+    let name = precision.name();
+    let remedy = precision.remedy();
+    let f = &scene.fractal;
+    let eye = glam::DVec3::from_array(scene.camera.eye);
+    let target = glam::DVec3::from_array(scene.camera.target);
+    // The largest coordinate the rays work with, and the float spacing there.
+    let reach = eye.length().max(f.bounding_radius_squared.sqrt()).max(1.0);
+    let spacing = reach * precision.relative_spacing();
+    let mut warnings = Vec::new();
+    if f.epsilon < spacing {
+        warnings.push(Warning::new(
+            WarningKind::Epsilon,
+            format!(
+                "fractal.epsilon = {:e} is below the spacing of {name} values at distance {reach:.3} ({spacing:.1e})",
+                f.epsilon
+            ),
+            &format!("hits are taken there instead; {remedy}"),
+        ));
+    }
+    let footprint =
+        2.0 * (target - eye).length() * (scene.camera.fov_y_degrees.to_radians() * 0.5).tan()
+            / scene.image.height as f64;
+    if footprint < spacing {
+        warnings.push(Warning::new(
+            WarningKind::Pixel,
+            format!(
+                "a pixel spans {footprint:.1e} at the target, below the spacing of {name} values ({spacing:.1e})"
+            ),
+            &format!("neighbouring pixels trace the same points; {remedy}"),
+        ));
+    }
+    let escape_limit = precision.escape_limit();
+    if f.escape_radius_squared > escape_limit {
+        warnings.push(Warning::new(
+            WarningKind::EscapeRadius,
+            format!(
+                "fractal.escape_radius_squared = {:e} would overflow {name} iterations",
+                f.escape_radius_squared
+            ),
+            &format!("{escape_limit:e} is used; {remedy}"),
+        ));
+    }
+    warnings
+}
+
+/// The mesh's precision warnings: a grid cell below the spacing of the floats at the grid's
+/// reach, where neighbouring grid points sample the same point.
+pub fn grid_warnings(grid: &GridSpec, precision: Precision) -> Vec<Warning> {
+    let cell = grid.cell();
+    let spacing = grid.reach().max(1.0) * precision.relative_spacing();
     if cell < spacing {
-        vec![format!(
-            "a grid cell spans {cell:.1e}, below the spacing of {} values ({spacing:.1e}): neighbouring grid points sample the same points",
-            precision.name()
+        vec![Warning::new(
+            WarningKind::GridCell,
+            format!(
+                "a grid cell spans {cell:.1e}, below the spacing of {} values ({spacing:.1e})",
+                precision.name()
+            ),
+            "neighbouring grid points sample the same points",
         )]
     } else {
         Vec::new()
@@ -56,95 +204,41 @@ pub fn mesh_warnings(cell: f64, reach: f64, precision: Precision) -> Vec<String>
 /// The 2D view's precision warnings: a pixel (extent / width) below the spacing of the floats
 /// at the view's farthest point from 0 (|centre| + half the extent, at least 1), where
 /// neighbouring pixels iterate the same point.
-pub fn julia2d_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
+pub fn julia2d_warnings(scene: &Scene, precision: Precision) -> Vec<Warning> {
     let v = &scene.view2d;
     let half = 0.5 * v.extent;
     let reach = (v.center[0].abs().max(v.center[1].abs()) + half).max(1.0);
     let spacing = reach * precision.relative_spacing();
     let pixel = v.extent / scene.image.width as f64;
     if pixel < spacing {
-        vec![format!(
-            "a pixel spans {pixel:.1e} (view2d.extent / image.width), below the spacing of {} values ({spacing:.1e}): neighbouring pixels iterate the same points; {}",
-            precision.name(),
-            match precision {
-                Precision::F32 => "use --precision f64",
-                Precision::F64 => "this is beyond f64 too",
-            }
+        let remedy = match precision {
+            Precision::F32 => "use --precision f64",
+            Precision::F64 => "this is beyond f64 too",
+        };
+        vec![Warning::new(
+            WarningKind::Pixel2d,
+            format!(
+                "a pixel spans {pixel:.1e} (view2d.extent / image.width), below the spacing of {} values ({spacing:.1e})",
+                precision.name()
+            ),
+            &format!("neighbouring pixels iterate the same points; {remedy}"),
         )]
     } else {
         Vec::new()
     }
 }
 
-/// The precision for `choice`: as asked, or (auto) f32 where it resolves the picture and f64
+/// The precision for `choice`: as asked, or (auto) f32 where it resolves the work and f64
 /// where it does not, the first shortfall as the reason.
-pub fn decide(choice: PrecisionChoice, scene: &Scene, picture: Picture) -> Decision {
-    decide_by(choice, &warnings(scene, picture, Precision::F32))
-}
-
-/// [`decide`], given what f32 cannot resolve (`f32_shortfalls`, one line each).
-pub fn decide_by(choice: PrecisionChoice, f32_shortfalls: &[String]) -> Decision {
+pub fn decide(choice: PrecisionChoice, scene: &Scene, work: &Work) -> Decision {
+    let decision = |precision: Precision, reason: String| Decision { precision, reason };
     match choice {
-        PrecisionChoice::F32 => Decision {
-            precision: Precision::F32,
-            reason: "asked for (--precision f32)".into(),
+        PrecisionChoice::F32 => decision(Precision::F32, "asked for (--precision f32)".into()),
+        PrecisionChoice::F64 => decision(Precision::F64, "asked for (--precision f64)".into()),
+        PrecisionChoice::Auto => match warnings(scene, work, Precision::F32).first() {
+            None => decision(Precision::F32, "auto: f32 resolves the scene".into()),
+            Some(shortfall) => decision(Precision::F64, format!("auto: {}", shortfall.shortfall)),
         },
-        PrecisionChoice::F64 => Decision {
-            precision: Precision::F64,
-            reason: "asked for (--precision f64)".into(),
-        },
-        PrecisionChoice::Auto => match f32_shortfalls.first() {
-            None => Decision {
-                precision: Precision::F32,
-                reason: "auto: f32 resolves the scene".into(),
-            },
-            Some(shortfall) => Decision {
-                precision: Precision::F64,
-                // The warning up to its consequence: what is below which spacing.
-                reason: format!(
-                    "auto: {}",
-                    shortfall.split(": ").next().unwrap_or(shortfall)
-                ),
-            },
-        },
-    }
-}
-
-/// The renderer for a decision, and the decision as it stands: with `choice` auto and
-/// `--backend gpu`, an adapter without f64 keeps the render on the GPU in f32 (`notice` says
-/// so, and the reason records it); everything else is [`Renderer::choose`]'s.
-pub fn choose_renderer(
-    backend: Backend,
-    choice: PrecisionChoice,
-    decision: Decision,
-    picture: Picture,
-    notice: &mut dyn FnMut(&str),
-) -> Result<(Renderer, Decision)> {
-    let wants_f64 = decision.precision == Precision::F64;
-    if !(wants_f64 && backend == Backend::Gpu && choice == PrecisionChoice::Auto) {
-        let renderer = Renderer::choose(backend, decision.precision, picture, notice)?;
-        return Ok((renderer, decision));
-    }
-    match Renderer::choose(Backend::Gpu, Precision::F64, picture, notice) {
-        Ok(renderer) => Ok((renderer, decision)),
-        Err(Error::Unsupported(why)) => {
-            notice(&format!(
-                "f64 would resolve this scene, but {why}; staying on the GPU in f32 as --backend gpu asks"
-            ));
-            let renderer = Renderer::choose(Backend::Gpu, Precision::F32, picture, notice)?;
-            let reason = format!(
-                "{}; the adapter has no f64, so f32 on the GPU (--backend gpu)",
-                decision.reason
-            );
-            Ok((
-                renderer,
-                Decision {
-                    precision: Precision::F32,
-                    reason,
-                },
-            ))
-        }
-        Err(e) => Err(e),
     }
 }
 
@@ -162,17 +256,17 @@ mod tests {
 
     #[test]
     fn auto_is_f32_where_f32_resolves_the_picture() {
-        let d = decide(PrecisionChoice::Auto, &scene(&[]), Picture::SHADED);
+        let d = decide(PrecisionChoice::Auto, &scene(&[]), &Picture::SHADED.into());
         assert_eq!(d.precision, Precision::F32);
         assert_eq!(d.reason, "auto: f32 resolves the scene");
-        let d = decide(PrecisionChoice::Auto, &scene(&[]), Picture::Julia2d);
+        let d = decide(PrecisionChoice::Auto, &scene(&[]), &Picture::Julia2d.into());
         assert_eq!(d.precision, Precision::F32);
     }
 
     #[test]
     fn auto_is_f64_below_f32s_spacing_and_says_why() {
         let deep = scene(&["fractal.epsilon=1e-9"]);
-        let d = decide(PrecisionChoice::Auto, &deep, Picture::SHADED);
+        let d = decide(PrecisionChoice::Auto, &deep, &Picture::SHADED.into());
         assert_eq!(d.precision, Precision::F64);
         assert!(
             d.reason.starts_with("auto: fractal.epsilon = 1e-9"),
@@ -181,11 +275,11 @@ mod tests {
         );
         assert!(!d.reason.contains("use --precision"), "{}", d.reason);
         let deep2d = scene(&["view2d.extent=1e-9", "view2d.center=[-0.12, 0.75]"]);
-        let d = decide(PrecisionChoice::Auto, &deep2d, Picture::Julia2d);
+        let d = decide(PrecisionChoice::Auto, &deep2d, &Picture::Julia2d.into());
         assert_eq!(d.precision, Precision::F64);
         assert!(d.reason.contains("a pixel spans"), "{}", d.reason);
         // Asked for: as asked, whatever the scene.
-        let d = decide(PrecisionChoice::F32, &deep, Picture::SHADED);
+        let d = decide(PrecisionChoice::F32, &deep, &Picture::SHADED.into());
         assert_eq!(d.precision, Precision::F32);
         assert_eq!(d.reason, "asked for (--precision f32)");
     }

@@ -1,16 +1,30 @@
-//! One render path. [`Renderer::choose`] makes the backend x precision decision, the one place
-//! it is made; [`Renderer::render`] then renders any [`Picture`] of a scene on that tracer, in
-//! bands of whole rows handed to a sink, and returns its [`RenderStats`]. `render`, `render2d`,
-//! the reports, the stability suite, the bench and the explorer's export all go through it.
+//! One decision, one render path. [`Planner::plan`] is the one place that decides how a work is
+//! made of a scene (a [`Picture`], or a mesh's levels): the precision by the scene
+//! ([`crate::precision`]), then the backend, and returns the [`Renderer`] with the decision, its
+//! reason and the warnings of the precision that runs. A [`Renderer`] can be had no other way.
+//! It then renders any [`Picture`] of a scene in bands of whole rows handed to a sink, or
+//! samples a mesh's grid, and returns its [`RenderStats`]. `render`, `render2d`, `animate`,
+//! `mesh`, the reports, the bench and the explorer all go through it.
+//!
+//! ```compile_fail
+//! // Outside this module a renderer is only made by a plan: no constructor, no fields.
+//! let renderer = qjulia::Renderer::cpu(qjulia::Precision::F32);
+//! ```
+//!
+//! ```compile_fail
+//! let renderer = qjulia::Renderer { gpu: None, precision: qjulia::Precision::F32, reason: String::new() };
+//! ```
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use crate::algebra::Real;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::gpu::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
+use crate::gpu::{GpuContext, GpuKernels, Readback};
+use crate::grid::GridSpec;
 use crate::params::{Julia2dParams, TraceParams};
+use crate::precision::{self, Decision, Precision, PrecisionChoice, Warning};
 use crate::scene::Scene;
 use crate::stats::{RenderStats, SummaryBuilder};
 
@@ -23,44 +37,17 @@ pub enum Backend {
     Cpu,
 }
 
-/// The float type the tracer runs in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Precision {
-    F32,
-    F64,
-}
-
-impl Precision {
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        }
-    }
-
-    /// The relative spacing of its values that the precision warnings hold settings to
-    /// ([`Real::RELATIVE_EPSILON`]: 8 ulps).
-    pub fn relative_spacing(self) -> f64 {
-        match self {
-            Precision::F32 => f32::RELATIVE_EPSILON,
-            Precision::F64 => f64::RELATIVE_EPSILON,
-        }
-    }
-}
-
 /// What is rendered of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Picture {
-    /// The 3D slice (`qjulia render`). `shade` false asks for depth and steps only: the GPU then
-    /// runs a pipeline without the shading code, and the colour is the background.
+    /// The 3D slice (`qjulia render`). `shade` false asks for depth and steps only: the GPU runs
+    /// a pipeline without the shading code, the CPU skips it too, and the colour is the
+    /// background.
     Slice { shade: bool },
     /// The 2D Julia set of c[0] + c[1] i (`qjulia render2d`): colour the grey, depth 0 in the
     /// set and NaN outside it, steps the iterations made. Its stats count points in the set as
     /// hits and iterations as steps.
     Julia2d,
-    /// No picture: the levels of `qjulia mesh`'s grid ([`crate::mesh`]), which
-    /// [`Renderer::sampler`] samples; [`Renderer::render`] refuses it.
-    Mesh,
 }
 
 impl Picture {
@@ -68,152 +55,204 @@ impl Picture {
     pub const SHADED: Picture = Picture::Slice { shade: true };
 }
 
-/// Which outputs of a render come back to the host.
+/// What a plan is for: a picture, or the levels of a mesh's grid (`qjulia mesh`; None: the
+/// bounding region is empty and there is nothing to sample). The grid's cell plays the part of
+/// the pixel in the precision rule.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Work {
+    Picture(Picture),
+    Mesh(Option<GridSpec>),
+}
+
+impl From<Picture> for Work {
+    fn from(picture: Picture) -> Self {
+        Work::Picture(picture)
+    }
+}
+
+/// The kernel a work needs: renderers are made once per kernel and precision.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Readback {
-    /// Colour, depth and steps, and the stats' [`Summary`](crate::stats::Summary) of them.
-    All,
-    /// The colour only (a picture that is only written as an image: an animation's frames):
-    /// the bands' depth and steps are empty and the stats' summary is left at zero. The GPU
-    /// reads back a quarter of the bytes.
-    Colour,
+enum Kernel {
+    Slice,
+    Julia2d,
+    Sampler,
+}
+
+impl Work {
+    fn kernel(&self) -> Kernel {
+        match self {
+            Work::Picture(Picture::Slice { .. }) => Kernel::Slice,
+            Work::Picture(Picture::Julia2d) => Kernel::Julia2d,
+            Work::Mesh(_) => Kernel::Sampler,
+        }
+    }
 }
 
 /// Why f64 is refused on a GPU (CONTRACT.md: only where the adapter has SHADER_F64 and the
 /// start-up check passes); the check's reason follows it.
 pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU";
 
-/// The GPU kernels of one device, each built on first use.
-pub struct GpuKernels {
-    ctx: GpuContext,
-    tracer: Mutex<Option<Arc<GpuTracer>>>,
-    julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
-    tracer64: Mutex<Option<Arc<GpuTracer<f64>>>>,
-    julia2d64: Mutex<Option<Arc<GpuJulia2d<f64>>>>,
-    sampler: Mutex<Option<Arc<GpuSampler>>>,
-}
-
-impl GpuKernels {
-    /// No kernel built yet.
-    pub fn new(ctx: GpuContext) -> Self {
-        Self {
-            ctx,
-            tracer: Mutex::new(None),
-            julia2d: Mutex::new(None),
-            tracer64: Mutex::new(None),
-            julia2d64: Mutex::new(None),
-            sampler: Mutex::new(None),
-        }
-    }
-
-    /// Kernels already built (the explorer's, the report's); the others are built on use.
-    pub fn with(tracer: Option<Arc<GpuTracer>>, julia2d: Option<Arc<GpuJulia2d>>) -> Self {
-        let ctx = match (&tracer, &julia2d) {
-            (Some(t), _) => t.context().clone(),
-            (None, Some(j)) => j.context().clone(),
-            (None, None) => panic!("GpuKernels::with needs a kernel"),
-        };
-        Self {
-            ctx,
-            tracer: Mutex::new(tracer),
-            julia2d: Mutex::new(julia2d),
-            tracer64: Mutex::new(None),
-            julia2d64: Mutex::new(None),
-            sampler: Mutex::new(None),
-        }
-    }
-
-    pub fn context(&self) -> &GpuContext {
-        &self.ctx
-    }
-
-    pub fn tracer(&self) -> Result<Arc<GpuTracer>> {
-        built(&self.tracer, || GpuTracer::new(self.ctx.clone()))
-    }
-
-    pub fn julia2d(&self) -> Result<Arc<GpuJulia2d>> {
-        built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
-    }
-
-    pub fn sampler(&self) -> Result<Arc<GpuSampler>> {
-        built(&self.sampler, || GpuSampler::new(self.ctx.clone()))
-    }
-
-    /// The f64 tracer, where the device passes the start-up check of f64.
-    pub fn tracer64(&self) -> Result<Arc<GpuTracer<f64>>> {
-        built(&self.tracer64, || GpuTracer::new_f64(self.ctx.clone()))
-    }
-
-    /// The f64 2D view, where the device passes the start-up check of f64.
-    pub fn julia2d64(&self) -> Result<Arc<GpuJulia2d<f64>>> {
-        built(&self.julia2d64, || GpuJulia2d::new_f64(self.ctx.clone()))
-    }
-
-    /// Whether f64 runs on this device: SHADER_F64 and the start-up check
-    /// ([`GpuContext::f64_support`], run once per device).
-    pub fn has_f64(&self) -> bool {
-        self.ctx.f64_support().is_ok()
-    }
-
-    /// Builds the kernel a picture needs in `precision` (so that a shader the device rejects,
-    /// or f64 failing its check, shows up now).
-    fn prepare(&self, picture: Picture, precision: Precision) -> Result<()> {
-        match (picture, precision) {
-            (Picture::Slice { .. }, Precision::F32) => self.tracer().map(drop),
-            (Picture::Julia2d, Precision::F32) => self.julia2d().map(drop),
-            (Picture::Slice { .. }, Precision::F64) => self.tracer64().map(drop),
-            (Picture::Julia2d, Precision::F64) => self.julia2d64().map(drop),
-            (Picture::Mesh, Precision::F32) => self.sampler().map(drop),
-            (Picture::Mesh, Precision::F64) => Err(Error::Unsupported(
-                "the mesh sampler runs in f32 on the GPU".into(),
-            )),
-        }
-    }
-}
-
-fn built<T>(slot: &Mutex<Option<Arc<T>>>, make: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
-    let mut slot = slot.lock().expect("kernel slot");
-    if let Some(k) = slot.as_ref() {
-        return Ok(k.clone());
-    }
-    let k = Arc::new(make()?);
-    *slot = Some(k.clone());
-    Ok(k)
-}
-
-/// Where renders run: the GPU or the CPU, in a precision (f64 on the GPU only where the device
-/// passed the start-up check).
+/// How a work is made: the renderer, the precision decided and why, and what that precision
+/// cannot resolve in the scene.
 #[derive(Clone)]
-pub struct Renderer {
-    gpu: Option<Arc<GpuKernels>>,
-    precision: Precision,
+pub struct Plan {
+    pub renderer: Renderer,
+    pub decision: Decision,
+    pub warnings: Vec<Warning>,
 }
 
-impl Renderer {
-    /// The one backend x precision decision. `picture` says which kernel to build (a shader the
-    /// device rejects sends `Auto` to the CPU); `notice` hears what the user should know: which
-    /// backend was chosen and why.
-    pub fn choose(
+/// A renderer made for one kernel in one precision, kept for the next work that needs it.
+struct Made {
+    kernel: Kernel,
+    /// The precision the decision asked for (the renderer's may differ: see `fell_back`).
+    asked: Precision,
+    renderer: Renderer,
+    /// f64 was wanted on `--backend gpu` by auto, and the device has none: f32 on the GPU.
+    fell_back: bool,
+}
+
+/// The backend and precision asked for, and the device they run on, opened on first need (or
+/// given: the explorer's, the report's); [`Self::plan`] makes the decision for each work.
+pub struct Planner {
+    backend: Backend,
+    choice: PrecisionChoice,
+    /// None: not opened yet. Some(Err): with `Backend::Auto`, why there is no GPU.
+    device: Option<std::result::Result<Arc<GpuKernels>, String>>,
+    made: Vec<Made>,
+}
+
+impl Planner {
+    /// A planner that opens the GPU (wgpu's choice of adapter) when a work first needs it.
+    pub fn new(backend: Backend, choice: PrecisionChoice) -> Self {
+        Self {
+            backend,
+            choice,
+            device: None,
+            made: Vec::new(),
+        }
+    }
+
+    /// A planner on a device already open, whose kernels it shares (`Backend::Auto`: this
+    /// device where it can do the work, else the CPU).
+    pub fn on_device(kernels: Arc<GpuKernels>, backend: Backend, choice: PrecisionChoice) -> Self {
+        Self {
+            device: Some(Ok(kernels)),
+            ..Self::new(backend, choice)
+        }
+    }
+
+    /// The one decision: the precision of `work` on `scene` (`auto`: by the scene), then its
+    /// renderer on the backend asked for. `notice` hears, the first time a renderer is made for
+    /// a kernel and precision, what the user should know: why f64 runs where auto chose it,
+    /// which backend was chosen and why, and the warnings of the precision that runs.
+    pub fn plan(
+        &mut self,
+        scene: &Scene,
+        work: Work,
+        notice: &mut dyn FnMut(&str),
+    ) -> Result<Plan> {
+        let mut decision = precision::decide(self.choice, scene, &work);
+        let kernel = work.kernel();
+        let asked = decision.precision;
+        let index = match self
+            .made
+            .iter()
+            .position(|m| m.kernel == kernel && m.asked == asked)
+        {
+            Some(index) => index,
+            None => {
+                let made = self.make(scene, &work, &decision, notice)?;
+                self.made.push(made);
+                self.made.len() - 1
+            }
+        };
+        let made = &self.made[index];
+        if made.fell_back {
+            decision = Decision {
+                precision: Precision::F32,
+                reason: format!(
+                    "{}; the adapter has no f64, so f32 on the GPU (--backend gpu)",
+                    decision.reason
+                ),
+            };
+        }
+        let warnings = precision::warnings(scene, &work, decision.precision);
+        let renderer = Renderer {
+            reason: decision.reason.clone(),
+            ..made.renderer.clone()
+        };
+        Ok(Plan {
+            renderer,
+            decision,
+            warnings,
+        })
+    }
+
+    /// A renderer for `work` in the precision decided, telling `notice` what it chose.
+    fn make(
+        &mut self,
+        scene: &Scene,
+        work: &Work,
+        decision: &Decision,
+        notice: &mut dyn FnMut(&str),
+    ) -> Result<Made> {
+        let kernel = work.kernel();
+        if self.choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
+            let doing = match kernel {
+                Kernel::Sampler => "sampling",
+                Kernel::Slice | Kernel::Julia2d => "rendering",
+            };
+            notice(&format!("{doing} in f64: {}", decision.reason));
+        }
+        let wants_f64 = decision.precision == Precision::F64;
+        let mut fell_back = false;
+        let renderer = if wants_f64
+            && self.backend == Backend::Gpu
+            && self.choice == PrecisionChoice::Auto
+        {
+            // Auto on `--backend gpu`: an adapter without f64 keeps the work on the GPU in f32.
+            match self.choose(Backend::Gpu, Precision::F64, kernel, notice) {
+                Err(Error::Unsupported(why)) => {
+                    notice(&format!(
+                        "f64 would resolve this scene, but {why}; staying on the GPU in f32 as --backend gpu asks"
+                    ));
+                    fell_back = true;
+                    self.choose(Backend::Gpu, Precision::F32, kernel, notice)?
+                }
+                chosen => chosen?,
+            }
+        } else {
+            self.choose(self.backend, decision.precision, kernel, notice)?
+        };
+        for warning in precision::warnings(scene, work, renderer.precision) {
+            notice(&format!("warning: {warning}"));
+        }
+        Ok(Made {
+            kernel,
+            asked: decision.precision,
+            renderer,
+            fell_back,
+        })
+    }
+
+    /// The renderer of `kernel` in `precision` on `backend`: `Auto` goes to the CPU where the
+    /// GPU cannot do it (no adapter, a shader the device rejects, f64 failing its check).
+    fn choose(
+        &mut self,
         backend: Backend,
         precision: Precision,
-        picture: Picture,
+        kernel: Kernel,
         notice: &mut dyn FnMut(&str),
-    ) -> Result<Self> {
-        // f64 on the GPU needs the device to pass the start-up check of f64 (prepare runs it).
-        let on_gpu = || -> Result<Self> {
-            let kernels = GpuKernels::new(GpuContext::new()?);
-            kernels
-                .prepare(picture, precision)
-                .map_err(|e| match precision {
-                    Precision::F64 => Error::Unsupported(format!("{GPU_F64_UNSUPPORTED}: {e}")),
-                    Precision::F32 => e,
-                })?;
-            Ok(Self::gpu_in(Arc::new(kernels), precision))
+    ) -> Result<Renderer> {
+        let cpu = Renderer {
+            gpu: None,
+            precision,
+            reason: String::new(),
         };
         match backend {
-            Backend::Cpu => Ok(Self::cpu(precision)),
-            Backend::Gpu => on_gpu(),
-            Backend::Auto => match on_gpu() {
+            Backend::Cpu => Ok(cpu),
+            Backend::Gpu => self.on_gpu(precision, kernel),
+            Backend::Auto => match self.on_gpu(precision, kernel) {
                 Ok(renderer) => {
                     let f64_note = match precision {
                         Precision::F64 => " in f64",
@@ -227,56 +266,79 @@ impl Renderer {
                 }
                 Err(e) => {
                     notice(&format!("{e}; rendering on the CPU"));
-                    Ok(Self::cpu(precision))
+                    Ok(cpu)
                 }
             },
         }
     }
 
-    /// The CPU tracer in `precision`.
-    pub fn cpu(precision: Precision) -> Self {
-        Self {
-            gpu: None,
-            precision,
-        }
-    }
-
-    /// The GPU kernels of a device (f32).
-    pub fn gpu(kernels: Arc<GpuKernels>) -> Self {
-        Self::gpu_in(kernels, Precision::F32)
-    }
-
-    /// The GPU kernels of a device in `precision` (f64: renders fail where the device does not
-    /// pass the start-up check; see [`Self::gpu_has_f64`]).
-    pub fn gpu_in(kernels: Arc<GpuKernels>, precision: Precision) -> Self {
-        Self {
+    /// The GPU renderer of `kernel` in `precision`, its kernel built now (so that a shader the
+    /// device rejects, or f64 failing its check, shows up here).
+    fn on_gpu(&mut self, precision: Precision, kernel: Kernel) -> Result<Renderer> {
+        let kernels = self.device()?;
+        let built = match (kernel, precision) {
+            (Kernel::Slice, Precision::F32) => kernels.tracer().map(drop),
+            (Kernel::Julia2d, Precision::F32) => kernels.julia2d().map(drop),
+            (Kernel::Sampler, Precision::F32) => kernels.sampler().map(drop),
+            (Kernel::Slice, Precision::F64) => kernels.tracer64().map(drop),
+            (Kernel::Julia2d, Precision::F64) => kernels.julia2d64().map(drop),
+            (Kernel::Sampler, Precision::F64) => Err(Error::Unsupported(
+                "the mesh sampler runs in f32 on the GPU".into(),
+            )),
+        };
+        built.map_err(|e| match precision {
+            Precision::F64 => Error::Unsupported(format!("{GPU_F64_UNSUPPORTED}: {e}")),
+            Precision::F32 => e,
+        })?;
+        Ok(Renderer {
             gpu: Some(kernels),
             precision,
+            reason: String::new(),
+        })
+    }
+
+    /// The device, opened on first need. With `Backend::Auto` a failure to open one is kept
+    /// (the CPU is used from then on); otherwise it is the error.
+    fn device(&mut self) -> Result<Arc<GpuKernels>> {
+        match &self.device {
+            Some(Ok(kernels)) => return Ok(kernels.clone()),
+            Some(Err(why)) if self.backend == Backend::Auto => {
+                return Err(Error::Unsupported(why.clone()));
+            }
+            _ => {}
+        }
+        match GpuContext::new() {
+            Ok(ctx) => {
+                let kernels = Arc::new(GpuKernels::new(ctx));
+                self.device = Some(Ok(kernels.clone()));
+                Ok(kernels)
+            }
+            Err(e) => {
+                self.device = Some(Err(e.to_string()));
+                Err(e)
+            }
         }
     }
+}
 
-    /// Whether this renderer's GPU runs f64 (SHADER_F64 and the start-up check of f64, run
-    /// once per device on the first call); false on the CPU. For `--precision auto`: a GPU
-    /// renderer in f32 can ask before it switches a scene to f64 ([`Self::with_precision`]).
-    pub fn gpu_has_f64(&self) -> bool {
-        self.gpu.as_ref().is_some_and(|k| k.has_f64())
-    }
+/// Where renders run: the GPU or the CPU, in a precision (f64 on the GPU only where the device
+/// passed the start-up check), made by [`Planner::plan`] alone.
+#[derive(Clone)]
+pub struct Renderer {
+    gpu: Option<Arc<GpuKernels>>,
+    precision: Precision,
+    /// Why this precision (`precision_reason` of its stats).
+    reason: String,
+}
 
-    /// The same backend (and device) in another precision.
-    pub fn with_precision(&self, precision: Precision) -> Self {
-        Self {
-            gpu: self.gpu.clone(),
-            precision,
-        }
-    }
-
-    /// A GPU tracer already built (f32).
-    pub fn on_tracer(tracer: Arc<GpuTracer>) -> Self {
-        Self::gpu(Arc::new(GpuKernels::with(Some(tracer), None)))
-    }
-
+impl Renderer {
     pub fn precision(&self) -> Precision {
         self.precision
+    }
+
+    /// Why the render runs in its precision.
+    pub fn reason(&self) -> &str {
+        &self.reason
     }
 
     /// "gpu" or "cpu".
@@ -292,9 +354,15 @@ impl Renderer {
         }
     }
 
-    /// The GPU's voxel sampler (built on first use), or None on the CPU.
-    pub fn sampler(&self) -> Option<Result<Arc<GpuSampler>>> {
-        self.gpu.as_ref().map(|k| k.sampler())
+    /// Whether two renderers are the same tracer in the same precision on the same device: the
+    /// frames of one may share a stream.
+    pub fn same_tracer(&self, other: &Renderer) -> bool {
+        let same_device = match (&self.gpu, &other.gpu) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        same_device && self.precision == other.precision
     }
 
     /// Renders a validated scene, handing the image to `sink` in bands of whole rows, top to
@@ -316,11 +384,6 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
-        if picture == Picture::Mesh {
-            return Err(Error::Unsupported(
-                "a mesh is not rendered: qjulia::mesh::make_mesh makes it".into(),
-            ));
-        }
         let mut summary = SummaryBuilder::new(scene.image.width);
         let mut counted = |band: &Frame| {
             if readback == Readback::All {
@@ -356,7 +419,6 @@ impl Renderer {
                         readback,
                         &mut owned,
                     )?,
-                    (Picture::Mesh, _) => unreachable!("refused above"),
                 };
                 (times.seconds, times.gpu_seconds)
             }
@@ -368,17 +430,31 @@ impl Renderer {
                 (seconds, None)
             }
         };
-        Ok(RenderStats {
+        Ok(self.stats(
+            (scene.image.width, scene.image.height),
+            (render_seconds, gpu_seconds),
+            summary.finish(),
+        ))
+    }
+
+    /// The stats of a render of this renderer.
+    fn stats(
+        &self,
+        (width, height): (u32, u32),
+        (render_seconds, gpu_seconds): (f64, Option<f64>),
+        summary: crate::stats::Summary,
+    ) -> RenderStats {
+        RenderStats {
             backend: self.backend_name().into(),
             adapter: self.adapter(),
             precision: self.precision.name().into(),
-            precision_reason: format!("asked for (--precision {})", self.precision.name()),
-            width: scene.image.width,
-            height: scene.image.height,
+            precision_reason: self.reason.clone(),
+            width,
+            height,
             render_seconds,
             gpu_seconds,
-            summary: summary.finish(),
-        })
+            summary,
+        }
     }
 
     /// Renders a picture of each of `scenes` (validated, of one size) one after another and
@@ -409,17 +485,11 @@ impl Renderer {
                 Readback::All => crate::stats::Summary::of(&frame),
                 Readback::Colour => SummaryBuilder::new(frame.width).finish(),
             };
-            let stats = RenderStats {
-                backend: self.backend_name().into(),
-                adapter: self.adapter(),
-                precision: self.precision.name().into(),
-                precision_reason: format!("asked for (--precision {})", self.precision.name()),
-                width: frame.width,
-                height: frame.height,
-                render_seconds: times.seconds,
-                gpu_seconds: times.gpu_seconds,
+            let stats = self.stats(
+                (frame.width, frame.height),
+                (times.seconds, times.gpu_seconds),
                 summary,
-            };
+            );
             sink(frame, stats)
         };
         match self.precision {
@@ -447,6 +517,34 @@ impl Renderer {
         })?;
         Ok((frame, stats))
     }
+
+    /// Samples the level of `qjulia mesh`'s surface at every point of `grid` (shaders/sample.wgsl
+    /// or its CPU twin), handing the levels to `sink` in order (row after row, layer after
+    /// layer) in pieces of any length, as f32 with their sign kept; returns the seconds spent
+    /// sampling (the sink's time left out).
+    pub fn sample_levels(
+        &self,
+        scene: &Scene,
+        grid: &GridSpec,
+        sink: &mut dyn FnMut(&[f32]) -> Result<()>,
+    ) -> Result<f64> {
+        match (&self.gpu, self.precision) {
+            (Some(kernels), Precision::F32) => {
+                let times = kernels.sampler()?.sample(
+                    &TraceParams::<f32>::new(scene),
+                    &grid.in_precision(),
+                    grid.size[1] * grid.size[2],
+                    &mut |_, levels| sink(levels),
+                )?;
+                Ok(times.seconds)
+            }
+            (Some(_), Precision::F64) => Err(Error::Unsupported(
+                "the mesh sampler runs in f32 on the GPU".into(),
+            )),
+            (None, Precision::F32) => sample_cpu::<f32>(scene, grid, sink),
+            (None, Precision::F64) => sample_cpu::<f64>(scene, grid, sink),
+        }
+    }
 }
 
 /// A picture on the CPU in `F`, band by band; returns the seconds spent rendering (the sink's
@@ -457,11 +555,11 @@ fn render_cpu<F: Real>(
     sink: &mut dyn FnMut(&Frame) -> Result<()>,
 ) -> Result<f64> {
     match picture {
-        Picture::Slice { .. } => {
+        Picture::Slice { shade } => {
             let p = TraceParams::<F>::new(scene);
             cpu_bands(
                 (p.width, p.height),
-                &|rows| cpu::render_rows(&p, rows),
+                &|rows| cpu::render_rows(&p, shade, rows),
                 sink,
             )
         }
@@ -470,7 +568,37 @@ fn render_cpu<F: Real>(
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
             cpu_bands((p.width, p.height), &rows, sink)
         }
-        Picture::Mesh => unreachable!("Renderer::render_with refuses a mesh"),
+    }
+}
+
+/// Samples the grid on the CPU in `F`, a layer at a time; the seconds spent sampling.
+fn sample_cpu<F: Real>(
+    scene: &Scene,
+    grid: &GridSpec,
+    sink: &mut dyn FnMut(&[f32]) -> Result<()>,
+) -> Result<f64> {
+    let params = TraceParams::<F>::new(scene);
+    let sample_grid = grid.in_precision::<F>();
+    let (rows, layers) = (grid.size[1], grid.size[2]);
+    let mut seconds = 0.0;
+    for z in 0..layers {
+        let start = std::time::Instant::now();
+        let levels = cpu::sample::sample_rows(&params, &sample_grid, z * rows..(z + 1) * rows);
+        let layer: Vec<f32> = levels.into_iter().map(to_f32_level).collect();
+        seconds += start.elapsed().as_secs_f64();
+        sink(&layer)?;
+    }
+    Ok(seconds)
+}
+
+/// A level in f32 with its sign kept: a negative level too small for f32 stays negative.
+fn to_f32_level<F: Real>(level: F) -> f32 {
+    let l = level.to_f64();
+    let r = l as f32;
+    if l < 0.0 && r == 0.0 {
+        -f32::MIN_POSITIVE
+    } else {
+        r
     }
 }
 
@@ -502,45 +630,4 @@ fn cpu_bands(
         row += rows;
     }
     Ok(seconds)
-}
-
-/// What the user should know before a render in this precision: settings the floats cannot
-/// resolve (and what is done about it), each with the remedy.
-pub fn precision_warnings(scene: &Scene, precision: Precision) -> Vec<String> {
-    let (relative, escape_limit, name) = match precision {
-        Precision::F32 => (f32::RELATIVE_EPSILON, f32::ESCAPE_LIMIT, "f32"),
-        Precision::F64 => (f64::RELATIVE_EPSILON, f64::ESCAPE_LIMIT, "f64"),
-    };
-    let remedy = match precision {
-        Precision::F32 => "use --precision f64 (or auto)",
-        Precision::F64 => "this is beyond f64 too",
-    };
-    let f = &scene.fractal;
-    let eye = glam::DVec3::from_array(scene.camera.eye);
-    let target = glam::DVec3::from_array(scene.camera.target);
-    // The largest coordinate the rays work with, and the float spacing there.
-    let reach = eye.length().max(f.bounding_radius_squared.sqrt()).max(1.0);
-    let spacing = reach * relative;
-    let mut warnings = Vec::new();
-    if f.epsilon < spacing {
-        warnings.push(format!(
-            "fractal.epsilon = {:e} is below the spacing of {name} values at distance {reach:.3} ({spacing:.1e}): hits are taken there instead; {remedy}",
-            f.epsilon
-        ));
-    }
-    let footprint =
-        2.0 * (target - eye).length() * (scene.camera.fov_y_degrees.to_radians() * 0.5).tan()
-            / scene.image.height as f64;
-    if footprint < spacing {
-        warnings.push(format!(
-            "a pixel spans {footprint:.1e} at the target, below the spacing of {name} values ({spacing:.1e}): neighbouring pixels trace the same points; {remedy}"
-        ));
-    }
-    if f.escape_radius_squared > escape_limit {
-        warnings.push(format!(
-            "fractal.escape_radius_squared = {:e} would overflow {name} iterations: {escape_limit:e} is used; {remedy}",
-            f.escape_radius_squared
-        ));
-    }
-    warnings
 }

@@ -383,7 +383,7 @@ fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
     let mut loader = qjulia::scene::SceneLoader::new();
     loader.file(&dir.path().join("anim.toml")).unwrap();
     let (base, animation) = loader.build_animated().unwrap();
-    let renderer = qjulia::Renderer::cpu(qjulia::Precision::F32);
+    let mut planner = qjulia::Planner::new(qjulia::Backend::Cpu, qjulia::PrecisionChoice::F32);
     let stop = AtomicBool::new(false);
     let (out, video) = (dir.path().join("f"), dir.path().join("v.mp4"));
     let job = qjulia::animate::Job {
@@ -399,7 +399,7 @@ fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
         stop: Some(&stop),
     };
     // Stop as soon as the first frame is written.
-    let stats = qjulia::animate::run(&mut |_| Ok(renderer.clone()), &job, &mut |p| {
+    let stats = qjulia::animate::run(&mut planner, &mut |_| {}, &job, &mut |p| {
         if let qjulia::animate::Progress::Frame { .. } = p {
             stop.store(true, Ordering::Relaxed);
         }

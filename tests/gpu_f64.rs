@@ -41,7 +41,7 @@ fn deep_scene(sets: &[&str], (i, j): (u32, u32), footprint: f64) -> (Scene, f64)
     let base_refs: Vec<&str> = base.iter().map(|s| s.as_str()).collect();
     let scene = common::scene(&base_refs);
     let p = TraceParams::<f64>::new(&scene);
-    let pixel = p.trace_pixel(i, j, 0, 0.0);
+    let pixel = p.trace_pixel(i, j, 0, 0.0, true);
     assert!(pixel.hit, "the base view's pixel ({i}, {j}) hits the set");
     let dir = p.camera_ray(i, j, 0);
     let hit = p.eye + dir * pixel.depth;

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use qjulia::cpu::sample::sample_rows;
 use qjulia::mesh::{Mesh, MeshOptions, grid_for, make_mesh, sample_grid};
-use qjulia::{Picture, Precision, Renderer, Scene, TraceParams};
+use qjulia::{Picture, Precision, Scene, TraceParams};
 
 /// The mesh of a scene on the CPU in f32 at N points per axis.
 fn cpu_mesh(scene: &Scene, n: u32) -> Mesh {
@@ -18,7 +18,7 @@ fn cpu_mesh(scene: &Scene, n: u32) -> Mesh {
         region: None,
     };
     make_mesh(
-        &Renderer::cpu(Precision::F32),
+        &common::cpu_renderer(scene, Precision::F32),
         scene,
         &options,
         &mut |_, _| {},
@@ -126,7 +126,7 @@ fn the_unit_ball_is_a_closed_sphere_of_the_right_radius_volume_and_normals() {
 
 /// Pixels of `render`'s hit mask of a scene (CPU, f32, depth only).
 fn hit_mask(scene: &Scene) -> Vec<bool> {
-    let renderer = Renderer::cpu(Precision::F32);
+    let renderer = common::cpu_renderer(scene, Precision::F32);
     let (frame, _) = renderer
         .render_frame(scene, Picture::Slice { shade: false })
         .expect("render");
@@ -495,7 +495,7 @@ fn a_box_meshes_a_detail_open_only_where_it_cuts_the_surface() {
         region: Some([[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]]),
     };
     let (mesh, stats) = make_mesh(
-        &Renderer::cpu(Precision::F32),
+        &common::cpu_renderer(&scene, Precision::F32),
         &scene,
         &options,
         &mut |_, _| {},

@@ -6,10 +6,10 @@
 mod common;
 
 use qjulia::compare::CONTRACT_TOLERANCE;
-use qjulia::{Picture, Precision, Renderer, Scene, TraceParams, cpu};
+use qjulia::{Picture, Precision, Scene, TraceParams, cpu};
 
 fn render(scene: &Scene, precision: Precision) -> qjulia::Frame {
-    Renderer::cpu(precision)
+    common::cpu_renderer(scene, precision)
         .render_frame(scene, Picture::SHADED)
         .expect("CPU render")
         .0

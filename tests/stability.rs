@@ -15,8 +15,8 @@ fn every_case_finishes_finite_and_repeatable_on_every_tracer() {
     let gpu = common::gpu("stability").map(|_| {
         Arc::new(
             qjulia::gpu::GpuContext::new()
-                .and_then(qjulia::gpu::GpuTracer::new)
-                .expect("a second GPU tracer"),
+                .map(qjulia::gpu::GpuKernels::new)
+                .expect("a second GPU device"),
         )
     });
     let limit = Duration::from_secs(120);

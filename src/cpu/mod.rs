@@ -49,7 +49,7 @@ pub fn count_work<F: Real>(params: &TraceParams<F>) -> Work {
                 .get((i / trace::CONE_BLOCK) as usize)
                 .copied()
                 .unwrap_or(F::zero());
-            params.trace_pixel(i, j, 0, t_min);
+            params.trace_pixel(i, j, 0, t_min, true);
         }
     }
     Work {
@@ -73,14 +73,19 @@ use crate::scene::Tracing;
 /// it took.
 pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
     let start = Instant::now();
-    let frame = render_rows(params, 0..params.height);
+    let frame = render_rows(params, true, 0..params.height);
     (frame, start.elapsed().as_secs_f64())
 }
 
 /// Renders the rows `rows` (0 at the top) of the image, in parallel over rows: a frame of
 /// `rows.len()` rows. With several samples a pixel's colour is the mean of its samples' clamped
-/// colours; depth and steps are sample 0's.
-pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>) -> Frame {
+/// colours; depth and steps are sample 0's. `shade` false traces depth and steps only, as the
+/// GPU's pipelines without the shading code: the colour is the background.
+pub fn render_rows<F: Real>(
+    params: &TraceParams<F>,
+    shade: bool,
+    rows: std::ops::Range<u32>,
+) -> Frame {
     fill_rows(params.width, rows, is_f64::<F>(), |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
         // hand them over in. Their estimates are not the pixels' (the GPU counts them apart).
@@ -91,7 +96,7 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
                 .copied()
                 .unwrap_or(F::zero());
             let before = ESTIMATES.get();
-            let first = params.trace_pixel(i, j, 0, t_min);
+            let first = params.trace_pixel(i, j, 0, t_min, true);
             let mut non_finite = non_finite_values(&first);
             let colour = if params.samples <= 1 {
                 trace::pack_colour(first.colour)
@@ -103,7 +108,7 @@ pub fn render_rows<F: Real>(params: &TraceParams<F>, rows: std::ops::Range<u32>)
                 // The running mean, as the kernel keeps it: exact where all samples agree.
                 let mut mean = clamp(first.colour);
                 for k in 1..params.samples {
-                    let pixel = params.trace_pixel(i, j, k, t_min);
+                    let pixel = params.trace_pixel(i, j, k, t_min, shade);
                     non_finite += non_finite_values(&pixel);
                     mean = mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64);
                 }

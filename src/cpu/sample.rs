@@ -1,23 +1,14 @@
 //! The CPU twin of shaders/sample.wgsl, the voxel sampler of `qjulia mesh`: the same functions
 //! with the same names in the same order (tests/twins.rs), generic over the float type. WGSL's
-//! `params` is `self` (the tracer's parameters) and its grid fields are a [`SampleGrid`] here;
-//! the kernel's entry point `sample` is [`sample_rows`] (rows in parallel).
+//! `params` is `self` (the tracer's parameters) and its grid fields are a [`SampleGrid`] here
+//! (src/grid.rs, shared with the GPU sampler); the kernel's entry point `sample` is
+//! [`sample_rows`] (rows in parallel).
 
 use rayon::prelude::*;
 
 use crate::algebra::{Real, Vec3};
+use crate::grid::SampleGrid;
 use crate::params::TraceParams;
-
-/// The sampled grid in the working precision: its first point (the low corner of its box), the
-/// spacing of its points along x, y and z, and its points per row and rows per layer. Row j of
-/// the grid (rows of rows) is the row y = j % rows of layer z = j / rows.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SampleGrid<F> {
-    pub origin: Vec3<F>,
-    pub step: Vec3<F>,
-    pub width: u32,
-    pub rows: u32,
-}
 
 impl<F: Real> TraceParams<F> {
     /// The grid point at column i of the grid's row j (rows of rows), in slice coordinates.

@@ -609,7 +609,7 @@ impl<F: Real> TraceParams<F> {
 
     /// Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the
     /// cone's start, or 0), normal, Phong, shadow.
-    pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F) -> Pixel<F> {
+    pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F, shade: bool) -> Pixel<F> {
         let miss = |steps| Pixel {
             colour: self.background,
             depth: -F::one(),
@@ -626,6 +626,16 @@ impl<F: Real> TraceParams<F> {
         let trace = self.sphere_trace(self.eye, dir, t_start, bounds.t_exit, eps_slope);
         if !trace.hit {
             return miss(trace.steps);
+        }
+        // `shade` is the kernel's SHADE override (false: depth and steps only, as a
+        // specialised pipeline without the shading code): the colour is the background.
+        if !shade {
+            return Pixel {
+                colour: self.background,
+                depth: trace.t,
+                steps: trace.steps,
+                hit: true,
+            };
         }
         let p = self.eye + dir * trace.t;
         let n = self.estimate_normal(p, dir);

@@ -17,8 +17,10 @@ use super::julia2d_texture::Julia2dTexture;
 use super::persistence::{load_persisted, load_persisted_timeline};
 use super::slice_texture::SliceTexture;
 use super::timeline::Timeline;
-use crate::gpu::{GpuContext, GpuJulia2d, GpuTracer};
+use crate::gpu::{GpuContext, GpuKernels};
 use crate::heatmap::Legend;
+use crate::precision::PrecisionChoice;
+use crate::render::{Backend, Planner};
 use crate::scene::rotation::{planes, rotate_basis};
 use crate::scene::{Camera, Scene, View};
 
@@ -50,6 +52,8 @@ pub struct ExplorerApp {
     /// 3D view or 2D Julia set.
     pub mode: Mode,
     pub(super) heat: Option<HeatTexture>,
+    /// The UI device's kernels: the views' and the exports' (None without a GPU).
+    pub(super) kernels: Option<Arc<GpuKernels>>,
     pub(super) gpu_error: Option<String>,
     pub(super) adapter_label: String,
     pub animation: Animation,
@@ -109,19 +113,16 @@ impl ExplorerApp {
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
         let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
         self.adapter_label = ctx.adapter_label();
-        match GpuJulia2d::new(ctx.clone()) {
-            Ok(julia) => {
-                self.julia2d_texture =
-                    Some(Julia2dTexture::new(Arc::new(julia), rs.renderer.clone()))
-            }
+        let kernels = Arc::new(GpuKernels::new(ctx));
+        match Julia2dTexture::new(kernels.clone(), rs.renderer.clone()) {
+            Ok(view) => self.julia2d_texture = Some(view),
             Err(e) => self.gpu_error = Some(e.to_string()),
         }
-        match GpuTracer::new(ctx) {
-            Ok(tracer) => {
-                self.slice_texture = Some(SliceTexture::new(Arc::new(tracer), rs.renderer.clone()))
-            }
+        match SliceTexture::new(kernels.clone(), rs.renderer.clone()) {
+            Ok(view) => self.slice_texture = Some(view),
             Err(e) => self.gpu_error = Some(e.to_string()),
         }
+        self.kernels = Some(kernels);
     }
 
     /// The app's state for a scene, with no GPU attached.
@@ -147,6 +148,7 @@ impl ExplorerApp {
             julia2d_texture: None,
             mode: Mode::Slice3d,
             heat: None,
+            kernels: None,
             gpu_error: None,
             adapter_label: String::new(),
             resolution_scale: 1.0,
@@ -163,6 +165,17 @@ impl ExplorerApp {
             view_rect: egui::Rect::NOTHING,
             log_frames: 0,
             log_since: None,
+        }
+    }
+
+    /// The planner of what the explorer writes (PNG, animation, mesh): as the command line's
+    /// defaults (`--backend auto --precision auto`) decide, on the UI's device where it can,
+    /// so an export is the bytes `qjulia render`, `animate` or `mesh` writes of its scene.
+    pub fn planner(&self) -> Planner {
+        let (backend, choice) = (Backend::Auto, PrecisionChoice::Auto);
+        match &self.kernels {
+            Some(kernels) => Planner::on_device(kernels.clone(), backend, choice),
+            None => Planner::new(backend, choice),
         }
     }
 
@@ -212,7 +225,8 @@ impl ExplorerApp {
             self.julia2d_texture.take(),
             self.mode,
         );
-        let (gpu_error, adapter) = (
+        let (kernels, gpu_error, adapter) = (
+            self.kernels.take(),
             self.gpu_error.take(),
             std::mem::take(&mut self.adapter_label),
         );
@@ -222,6 +236,7 @@ impl ExplorerApp {
             slice_texture,
             julia2d_texture,
             mode,
+            kernels,
             gpu_error,
             adapter_label: adapter,
             resolution_scale: resolution,

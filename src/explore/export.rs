@@ -1,7 +1,7 @@
-//! Export: what the view shows, at the scene's image size, through the same kernel as the
-//! headless commands, written as a PNG on a thread of its own while the UI goes on; or the
-//! set's surface as a mesh (`qjulia mesh`), sampled on the view's GPU with its progress in the
-//! status line.
+//! Export: what the view shows, at the scene's image size, decided and rendered as the
+//! headless commands do ([`crate::render::Planner::plan`], on the UI's device), written as a
+//! PNG on a thread of its own while the UI goes on; or the set's surface as a mesh (`qjulia
+//! mesh`), with its progress in the status line.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -10,7 +10,8 @@ use std::sync::mpsc::{Receiver, channel};
 
 use super::app::{ExplorerApp, Mode};
 use crate::output::{OutputPaths, write_outputs, write_view_outputs};
-use crate::render::{GpuKernels, Picture, Renderer};
+use crate::precision::Precision;
+use crate::render::Picture;
 use crate::scene::View;
 
 /// An export running on its own thread.
@@ -41,34 +42,26 @@ impl ExplorerApp {
             png: Some(path.clone()),
             ..Default::default()
         };
-        let job: Box<dyn FnOnce() -> crate::Result<()> + Send> = match self.mode {
-            Mode::Slice3d => {
-                let Some(view) = &self.slice_texture else {
-                    return;
-                };
-                let renderer = Renderer::on_tracer(view.tracer().clone());
-                Box::new(move || {
-                    let picture = Picture::Slice {
-                        shade: scene.image.view == View::Shaded,
-                    };
-                    let (frame, stats) = renderer.render_frame(&scene, picture)?;
-                    write_view_outputs(&paths, &frame, &stats, &scene)
-                })
-            }
-            Mode::Julia2d => {
-                let Some(view2d) = &self.julia2d_texture else {
-                    return;
-                };
-                let kernels = GpuKernels::with(None, Some(view2d.julia().clone()));
-                let renderer = Renderer::gpu(Arc::new(kernels));
-                Box::new(move || {
-                    let (frame, stats) = renderer.render_frame(&scene, Picture::Julia2d)?;
-                    write_outputs(&paths, &frame, &stats, &scene)
-                })
-            }
+        let picture = match self.mode {
+            Mode::Slice3d => Picture::Slice {
+                shade: scene.image.view == View::Shaded,
+            },
+            Mode::Julia2d => Picture::Julia2d,
         };
+        let mut planner = self.planner();
         std::thread::spawn(move || {
-            send.send(job().map_err(|e| e.to_string())).ok();
+            // Decided by the scene exported, at its image size, as `render` decides it.
+            let export = || -> crate::Result<()> {
+                let plan = planner.plan(&scene, picture.into(), &mut |_| {})?;
+                let (frame, stats) = plan.renderer.render_frame(&scene, picture)?;
+                let mut paths = paths;
+                paths.depth_f64 = plan.decision.precision == Precision::F64;
+                match picture {
+                    Picture::Slice { .. } => write_view_outputs(&paths, &frame, &stats, &scene),
+                    Picture::Julia2d => write_outputs(&paths, &frame, &stats, &scene),
+                }
+            };
+            send.send(export().map_err(|e| e.to_string())).ok();
         });
         self.export = Some(Export {
             path,
@@ -77,30 +70,31 @@ impl ExplorerApp {
         });
     }
 
-    /// Exports the 3D slice's surface as a mesh at `mesh_resolution` points per axis (as
-    /// `qjulia mesh`: the format by the file's extension), sampled on the view's GPU, on
-    /// another thread.
+    /// Exports the 3D slice's surface as a mesh at `mesh_resolution` points per axis, as
+    /// `qjulia mesh` makes it (the format by the file's extension, the precision by the grid
+    /// cell), on the view's GPU where it can, on another thread.
     pub fn start_mesh_export(&mut self, path: PathBuf) {
-        let Some(view) = &self.slice_texture else {
-            return;
-        };
         let scene = self.scene.clone();
         let options = crate::mesh::MeshOptions {
             resolution: self.mesh_resolution,
             region: None,
         };
-        let kernels = GpuKernels::new(view.tracer().context().clone());
-        let renderer = Renderer::gpu(Arc::new(kernels));
+        let mut planner = self.planner();
         let progress = Arc::new([AtomicU32::new(0), AtomicU32::new(0)]);
         let shared = progress.clone();
         let (send, done) = channel();
         let out = path.clone();
         std::thread::spawn(move || {
-            let result = crate::mesh::make_mesh(&renderer, &scene, &options, &mut |k, n| {
-                shared[0].store(k, Ordering::Relaxed);
-                shared[1].store(n, Ordering::Relaxed);
-            })
-            .and_then(|(mesh, _)| crate::mesh::write_outputs(&out, &mesh, 1.0, None));
+            let work = crate::mesh::work(&scene, &options);
+            let result = planner
+                .plan(&scene, work, &mut |_| {})
+                .and_then(|plan| {
+                    crate::mesh::make_mesh(&plan.renderer, &scene, &options, &mut |k, n| {
+                        shared[0].store(k, Ordering::Relaxed);
+                        shared[1].store(n, Ordering::Relaxed);
+                    })
+                })
+                .and_then(|(mesh, _)| crate::mesh::write_outputs(&out, &mesh, 1.0, None));
             send.send(result.map_err(|e| e.to_string())).ok();
         });
         self.export = Some(Export {

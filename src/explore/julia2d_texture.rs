@@ -10,9 +10,10 @@ use std::time::Instant;
 
 use super::kernel_texture::KernelTarget;
 use super::precision_switch::{Either, PrecisionSwitch};
-use crate::gpu::{GpuJulia2d, GpuReal};
+use crate::gpu::{GpuJulia2d, GpuKernels, GpuReal};
 use crate::params::Julia2dParams;
-use crate::render::{Picture, Precision};
+use crate::precision::Precision;
+use crate::render::Picture;
 use crate::scene::Scene;
 
 /// The 2D view in one precision.
@@ -136,32 +137,36 @@ impl<F: GpuReal> Julia2dView<F> {
 
 /// The explorer's 2D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]).
 pub struct Julia2dTexture {
+    /// The device's kernels, shared with the explorer's exports.
+    kernels: Arc<GpuKernels>,
     views: PrecisionSwitch<Julia2dView<f32>, Julia2dView<f64>>,
     /// Seconds the last finished render of the view shown took (submission to completion).
     pub render_seconds: f64,
 }
 
 impl Julia2dTexture {
+    /// The view on the f32 2D kernel of `kernels` (built now: a shader the device rejects is an
+    /// error); the f64 one is taken from them at the first deep view.
     pub fn new(
-        julia: Arc<GpuJulia2d>,
+        kernels: Arc<GpuKernels>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
-    ) -> Self {
-        Self {
-            views: PrecisionSwitch::new(Julia2dView::new(julia, renderer)),
+    ) -> crate::Result<Self> {
+        let view = Julia2dView::new(kernels.julia2d()?, renderer);
+        Ok(Self {
+            kernels,
+            views: PrecisionSwitch::new(view),
             render_seconds: 0.0,
-        }
-    }
-
-    /// The f32 kernel (exports build their renderers on its device).
-    pub fn julia(&self) -> &Arc<GpuJulia2d> {
-        self.views.f32_view().julia()
+        })
     }
 
     /// Asks for the 2D view of `scene` in the precision it needs; call once per UI frame.
     pub fn update(&mut self, scene: &Scene) {
+        let kernels = &self.kernels;
         let build = |view: &Julia2dView<f32>| {
-            let julia = GpuJulia2d::<f64>::new_f64(view.julia().context().clone())?;
-            Ok(Julia2dView::new(Arc::new(julia), view.renderer.clone()))
+            Ok(Julia2dView::new(
+                kernels.julia2d64()?,
+                view.renderer.clone(),
+            ))
         };
         self.render_seconds = match self.views.pick(scene, Picture::Julia2d, build) {
             Either::F32(view) => {

@@ -5,8 +5,9 @@
 //! why. The 3D view ([`super::slice_texture::SliceTexture`]) and the 2D view
 //! ([`super::julia2d_texture::Julia2dTexture`]) both switch through it.
 
+use crate::precision::Precision;
 use crate::precision::{self, PrecisionChoice};
-use crate::render::{Picture, Precision};
+use crate::render::Picture;
 use crate::scene::Scene;
 
 /// One of the two views.
@@ -48,7 +49,7 @@ impl<A, B> PrecisionSwitch<A, B> {
         picture: Picture,
         build: impl FnOnce(&A) -> crate::Result<B>,
     ) -> Either<&mut A, &mut B> {
-        let decision = precision::decide(PrecisionChoice::Auto, scene, picture);
+        let decision = precision::decide(PrecisionChoice::Auto, scene, &picture.into());
         self.reason = decision.reason;
         self.active = Precision::F32;
         if decision.precision == Precision::F64 {

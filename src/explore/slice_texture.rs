@@ -12,9 +12,10 @@ use std::time::{Duration, Instant};
 use super::kernel_texture::KernelTarget;
 use super::precision_switch::{Either, PrecisionSwitch};
 use crate::gpu::kernel::Band;
-use crate::gpu::{GpuReal, GpuTracer, WORKGROUP_SIZE};
+use crate::gpu::{GpuKernels, GpuReal, GpuTracer, WORKGROUP_SIZE};
 use crate::params::TraceParams;
-use crate::render::{Picture, Precision};
+use crate::precision::Precision;
+use crate::render::Picture;
 use crate::scene::Scene;
 use crate::stats::{Summary, SummaryBuilder};
 
@@ -465,30 +466,30 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
 
 /// The explorer's 3D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]).
 pub struct SliceTexture {
+    /// The device's kernels, shared with the explorer's exports.
+    kernels: Arc<GpuKernels>,
     views: PrecisionSwitch<SliceView<f32>, SliceView<f64>>,
 }
 
 impl SliceTexture {
+    /// The view on the f32 tracer of `kernels` (built now: a shader the device rejects is an
+    /// error); the f64 one is taken from them at the first deep view.
     pub fn new(
-        tracer: Arc<GpuTracer>,
+        kernels: Arc<GpuKernels>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
-    ) -> Self {
-        Self {
-            views: PrecisionSwitch::new(SliceView::new(tracer, renderer)),
-        }
-    }
-
-    /// The f32 tracer (exports and animations build their renderers on its device).
-    pub fn tracer(&self) -> &Arc<GpuTracer> {
-        self.views.f32_view().tracer()
+    ) -> crate::Result<Self> {
+        let view = SliceView::new(kernels.tracer()?, renderer);
+        Ok(Self {
+            kernels,
+            views: PrecisionSwitch::new(view),
+        })
     }
 
     /// Renders `scene` at `size` in the precision it needs, as [`SliceView::update`].
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
-        let build = |view: &SliceView<f32>| {
-            let tracer = GpuTracer::<f64>::new_f64(view.tracer().context().clone())?;
-            Ok(SliceView::new(Arc::new(tracer), view.renderer.clone()))
-        };
+        let kernels = &self.kernels;
+        let build =
+            |view: &SliceView<f32>| Ok(SliceView::new(kernels.tracer64()?, view.renderer.clone()));
         match self.views.pick(scene, Picture::SHADED, build) {
             Either::F32(view) => view.update(scene, size, interacting),
             Either::F64(view) => view.update(scene, size, interacting),

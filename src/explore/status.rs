@@ -29,8 +29,8 @@ impl ExplorerApp {
                     ));
                     ui.label(format!("render {:.0} ms", view2d.render_seconds * 1e3));
                     let precision = match view2d.precision() {
-                        crate::render::Precision::F64 => "f64 (deep zoom)",
-                        crate::render::Precision::F32 => "f32",
+                        crate::precision::Precision::F64 => "f64 (deep zoom)",
+                        crate::precision::Precision::F32 => "f32",
                     };
                     ui.label(precision).on_hover_text(view2d.precision_note());
                 }
@@ -47,8 +47,8 @@ impl ExplorerApp {
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
                 // The precision the view runs in: f64 by itself where f32 cannot resolve it.
                 let precision = match view.precision() {
-                    crate::render::Precision::F64 => "f64 (deep zoom)",
-                    crate::render::Precision::F32 => "f32",
+                    crate::precision::Precision::F64 => "f64 (deep zoom)",
+                    crate::precision::Precision::F32 => "f32",
                 };
                 ui.label(precision).on_hover_text(view.precision_note());
                 if s.refined {

@@ -19,7 +19,7 @@ use std::time::Instant;
 use super::app::ExplorerApp;
 use crate::animate::{FrameRange, Progress};
 use crate::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, get_value, scene_file};
-use crate::render::Renderer;
+use crate::render::Planner;
 use crate::scene::schema::{self, Kind};
 use crate::scene::{Scene, SceneLoader, SceneSource, Slice};
 
@@ -394,7 +394,7 @@ struct JobSpec {
 /// The job's thread: the frames as `qjulia animate` renders them (the one call of
 /// [`crate::animate::run`] in the explorer), counted into the shared progress; Cancel stops it
 /// after the frames in hand, the frames written staying and an incomplete video not written.
-fn run_job(renderer: Renderer, spec: JobSpec, shared: Arc<Shared>) -> (String, bool) {
+fn run_job(mut planner: Planner, spec: JobSpec, shared: Arc<Shared>) -> (String, bool) {
     let (progress, cancel) = (&shared.progress, &shared.cancel);
     let job = crate::animate::Job {
         base: &spec.base,
@@ -405,7 +405,7 @@ fn run_job(renderer: Renderer, spec: JobSpec, shared: Arc<Shared>) -> (String, b
         video: spec.video.as_deref(),
         stop: Some(cancel),
     };
-    let result = crate::animate::run(&mut |_| Ok(renderer.clone()), &job, &mut |p| {
+    let result = crate::animate::run(&mut planner, &mut |_| {}, &job, &mut |p| {
         let mut p_ = progress.lock().unwrap();
         match p {
             Progress::Start { skipped, .. } => p_.done += skipped,
@@ -783,8 +783,8 @@ impl ExplorerApp {
     }
 
     /// Starts the render job of the window's choice: the animation as its saved file reads
-    /// back (checked as `animate` checks it), on the view's GPU tracer (as exports), else on
-    /// the renderer `animate` would choose.
+    /// back (checked as `animate` checks it), each frame decided as `animate` decides it, on
+    /// the view's device where it can (as exports).
     fn start_render(&mut self) {
         let (_, base, animation) = match self.timeline.checked_file(&self.scene) {
             Ok(checked) => checked,
@@ -793,6 +793,7 @@ impl ExplorerApp {
                 return;
             }
         };
+        let planner = self.planner();
         let r = &mut self.timeline.render;
         let last = r.last.unwrap_or(animation.frames - 1);
         if r.first > last {
@@ -824,10 +825,6 @@ impl ExplorerApp {
                 return;
             }
         }
-        let renderer = self
-            .slice_texture
-            .as_ref()
-            .map(|view| Renderer::on_tracer(view.tracer().clone()));
         let shared = Arc::new(Shared::default());
         let job = RenderJob {
             total: range.len(),
@@ -844,23 +841,7 @@ impl ExplorerApp {
             video,
         };
         std::thread::spawn(move || {
-            let base = &spec.base;
-            let picture = crate::render::Picture::Slice {
-                shade: base.image.view == crate::scene::View::Shaded,
-            };
-            let renderer = match renderer {
-                Some(renderer) => Ok(renderer),
-                None => Renderer::choose(
-                    crate::render::Backend::Auto,
-                    crate::render::Precision::F32,
-                    picture,
-                    &mut |_| {},
-                ),
-            };
-            let finished = match renderer {
-                Ok(renderer) => run_job(renderer, spec, shared.clone()),
-                Err(e) => (format!("error: render animation: {e}"), true),
-            };
+            let finished = run_job(planner, spec, shared.clone());
             shared.progress.lock().unwrap().finished = Some(finished);
         });
         r.outcome = None;

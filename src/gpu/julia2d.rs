@@ -2,6 +2,7 @@
 //! `qjulia render2d` and the explorer's 2D mode, in f32 or (where the adapter passes the
 //! start-up check) f64: [`GpuJulia2d<F>`].
 
+use super::Readback;
 use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
 use super::params::{GpuJulia2dParams, GpuJulia2dParams64};
 use super::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
@@ -9,7 +10,6 @@ use super::{GpuContext, GpuReal, IMAGE_OUTPUTS, IMAGE64_OUTPUTS, render_image_ba
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
-use crate::render::Readback;
 
 /// The 2D view: uniform [`GpuJulia2dParams`], outputs colour (the grey), the in-set marker
 /// (0 in the set, negative outside) and the iterations.

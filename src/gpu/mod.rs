@@ -3,6 +3,7 @@
 pub mod f64check;
 mod julia2d;
 pub mod kernel;
+mod kernels;
 mod params;
 mod sampler;
 pub mod shaders;
@@ -12,6 +13,7 @@ pub mod variant;
 pub use f64check::{F64Support, check_f64};
 pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL, JULIA2D64_KERNEL};
 pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
+pub use kernels::GpuKernels;
 pub use params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
 pub use sampler::{GpuSampler, SAMPLE_KERNEL};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
@@ -23,8 +25,18 @@ use crate::algebra::Real;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::params::{Julia2dParams, TraceParams};
-use crate::render::Readback;
 use kernel::{Band, BandOutput};
+
+/// Which outputs of a render come back to the host.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Readback {
+    /// Colour, depth and steps, and the stats' [`Summary`](crate::stats::Summary) of them.
+    All,
+    /// The colour only (a picture that is only written as an image: an animation's frames):
+    /// the bands' depth and steps are empty and the stats' summary is left at zero. The GPU
+    /// reads back a quarter of the bytes.
+    Colour,
+}
 
 /// The float types the GPU kernels run in: f32 on every adapter, f64 where the adapter passes
 /// the start-up check ([`GpuContext::f64_support`]). Each has its own modules of the same WGSL

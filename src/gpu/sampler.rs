@@ -6,8 +6,8 @@ use super::kernel::{Band, Kernel, KernelSpec, OutputSpec, Run, RunTimes};
 use super::params::GpuParams;
 use super::shaders::SAMPLE_MODULE;
 use super::{GpuContext, Variant};
-use crate::cpu::sample::SampleGrid;
 use crate::error::Result;
+use crate::grid::SampleGrid;
 use crate::params::TraceParams;
 
 /// The sampler's one output: each grid point's level (f32, written as its bits).

@@ -2,6 +2,7 @@
 //! scene [`Variant`], and renders into host memory band by band, in f32 or (where the adapter
 //! passes the start-up check) f64: [`GpuTracer<F>`], one kernel per precision.
 
+use super::Readback;
 use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
 use super::params::{GpuParams, GpuParams64};
 use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
@@ -13,7 +14,6 @@ use super::{
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
-use crate::render::Readback;
 
 /// The tracer: uniform [`GpuParams`], outputs colour, depth, steps, estimates and the samples'
 /// running sum.

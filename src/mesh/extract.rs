@@ -39,29 +39,7 @@ impl Mesh {
     }
 }
 
-/// The grid the levels are sampled on: its first point, the spacing, and points per axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GridSpec {
-    pub origin: [f64; 3],
-    pub step: [f64; 3],
-    pub size: [u32; 3],
-}
-
-impl GridSpec {
-    /// The point at grid index (x, y, z).
-    pub fn point(&self, x: f64, y: f64, z: f64) -> [f64; 3] {
-        [
-            self.origin[0] + x * self.step[0],
-            self.origin[1] + y * self.step[1],
-            self.origin[2] + z * self.step[2],
-        ]
-    }
-
-    /// Points in the grid.
-    pub fn points(&self) -> u64 {
-        self.size.iter().map(|&n| n as u64).product()
-    }
-}
+pub use crate::grid::GridSpec;
 
 /// A cube corner: bit 0 x, bit 1 y, bit 2 z.
 type Corner = u8;

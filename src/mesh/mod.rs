@@ -22,10 +22,10 @@ pub use extract::{GridSpec, Mesh};
 pub use write::Format;
 
 use crate::algebra::{Real, Vec3};
-use crate::cpu::sample::{SampleGrid, sample_rows};
 use crate::error::Result;
+use crate::grid::SampleGrid;
 use crate::params::TraceParams;
-use crate::render::{Precision, Renderer};
+use crate::render::{Renderer, Work};
 use crate::scene::{Scene, SceneError, SceneSource};
 
 /// Grid points per axis: the default, and the range `--resolution` accepts.
@@ -155,7 +155,7 @@ pub struct MeshStats {
 /// How far a mesh has got: grid layers sampled and meshed, of the total.
 pub type Progress<'a> = &'a mut dyn FnMut(u32, u32);
 
-/// Meshes a validated scene on `renderer`'s backend and precision.
+/// Meshes a validated scene on `renderer`'s backend and precision (a plan of [`work`]).
 pub fn make_mesh(
     renderer: &Renderer,
     scene: &Scene,
@@ -188,44 +188,28 @@ pub fn make_mesh(
     );
     stats.grid_points = grid.points();
     let exact = TraceParams::<f64>::new(scene);
-    let h = 0.1 * grid.step.iter().copied().fold(f64::INFINITY, f64::min);
+    let h = 0.1 * grid.cell();
     let gradient = |p: [f64; 3]| level_gradient(&exact, p, h);
     let mut extractor = extract::Extractor::new(grid, &gradient);
     let layers = grid.size[2];
     let layer_points = grid.size[0] as usize * grid.size[1] as usize;
-    let sample_seconds = match (renderer.sampler(), renderer.precision()) {
-        (Some(sampler), _) => {
-            let sampler = sampler?;
-            let params = TraceParams::<f32>::new(scene);
-            let sample_grid = sample_grid::<f32>(&grid);
-            let mut partial: Vec<f32> = Vec::with_capacity(layer_points);
-            let mut done = 0;
-            let times = sampler.sample(
-                &params,
-                &sample_grid,
-                grid.size[1] * layers,
-                &mut |_, levels| {
-                    let mut levels = levels;
-                    while !levels.is_empty() {
-                        let take = (layer_points - partial.len()).min(levels.len());
-                        partial.extend_from_slice(&levels[..take]);
-                        levels = &levels[take..];
-                        if partial.len() == layer_points {
-                            let layer =
-                                std::mem::replace(&mut partial, Vec::with_capacity(layer_points));
-                            extractor.push_layer(layer);
-                            done += 1;
-                            progress(done, layers);
-                        }
-                    }
-                    Ok(())
-                },
-            )?;
-            times.seconds
+    // The levels come in pieces of any length: whole layers go to the extractor.
+    let mut partial: Vec<f32> = Vec::with_capacity(layer_points);
+    let mut done = 0;
+    let sample_seconds = renderer.sample_levels(scene, &grid, &mut |mut levels| {
+        while !levels.is_empty() {
+            let take = (layer_points - partial.len()).min(levels.len());
+            partial.extend_from_slice(&levels[..take]);
+            levels = &levels[take..];
+            if partial.len() == layer_points {
+                let layer = std::mem::replace(&mut partial, Vec::with_capacity(layer_points));
+                extractor.push_layer(layer);
+                done += 1;
+                progress(done, layers);
+            }
         }
-        (None, Precision::F32) => sample_cpu::<f32>(scene, &grid, &mut extractor, progress),
-        (None, Precision::F64) => sample_cpu::<f64>(scene, &grid, &mut extractor, progress),
-    };
+        Ok(())
+    })?;
     let mesh = extractor.finish();
     stats.vertices = mesh.positions.len() as u64;
     stats.triangles = mesh.triangles.len() as u64;
@@ -237,46 +221,13 @@ pub fn make_mesh(
 
 /// The grid in the sampler's precision, rows of rows.
 pub fn sample_grid<F: Real>(grid: &GridSpec) -> SampleGrid<F> {
-    SampleGrid {
-        origin: Vec3::from_f64(grid.origin),
-        step: Vec3::from_f64(grid.step),
-        width: grid.size[0],
-        rows: grid.size[1],
-    }
+    grid.in_precision()
 }
 
-/// Samples the grid on the CPU in `F` layer by layer into the extractor; the seconds spent
-/// sampling.
-fn sample_cpu<F: Real>(
-    scene: &Scene,
-    grid: &GridSpec,
-    extractor: &mut extract::Extractor<'_>,
-    progress: Progress<'_>,
-) -> f64 {
-    let params = TraceParams::<F>::new(scene);
-    let sample_grid = sample_grid::<F>(grid);
-    let (rows, layers) = (grid.size[1], grid.size[2]);
-    let mut seconds = 0.0;
-    for z in 0..layers {
-        let start = Instant::now();
-        let levels = sample_rows(&params, &sample_grid, z * rows..(z + 1) * rows);
-        let layer = levels.into_iter().map(to_f32_level).collect();
-        seconds += start.elapsed().as_secs_f64();
-        extractor.push_layer(layer);
-        progress(z + 1, layers);
-    }
-    seconds
-}
-
-/// A level in f32 with its sign kept: a negative level too small for f32 stays negative.
-fn to_f32_level<F: Real>(level: F) -> f32 {
-    let l = level.to_f64();
-    let r = l as f32;
-    if l < 0.0 && r == 0.0 {
-        -f32::MIN_POSITIVE
-    } else {
-        r
-    }
+/// The work of meshing `scene` with `options`, for [`crate::render::Planner::plan`]: the grid's cell plays
+/// the pixel's part in the precision rule.
+pub fn work(scene: &Scene, options: &MeshOptions) -> Work {
+    Work::Mesh(grid_for(scene, options))
 }
 
 /// The gradient of the level at p by tetrahedral differences of step h (four estimates), in

@@ -7,7 +7,7 @@
 use crate::compare::{Agreement, CONTRACT_TOLERANCE};
 use std::sync::Arc;
 
-use crate::gpu::GpuTracer;
+use crate::gpu::GpuKernels;
 use crate::params::TraceParams;
 use crate::report::stability::Runner;
 use crate::scene::{Algebra, Scene};
@@ -124,7 +124,7 @@ pub struct Row {
 }
 
 /// Runs every case at `size` x `size`.
-pub fn run(size: u32, gpu: Option<&Arc<GpuTracer>>) -> crate::Result<Vec<Row>> {
+pub fn run(size: u32, gpu: Option<&Arc<GpuKernels>>) -> crate::Result<Vec<Row>> {
     let mut rows = Vec::new();
     for case in cases() {
         let scene = case.scene(size);

@@ -7,7 +7,7 @@ pub mod stability;
 pub mod work_precision;
 
 /// The machine, for a report's header: CPU model and cores, and the adapter.
-pub fn machine(gpu: Option<&crate::gpu::GpuTracer>) -> String {
+pub fn machine(gpu: Option<&crate::gpu::GpuKernels>) -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|t| {

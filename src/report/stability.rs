@@ -7,9 +7,11 @@ use std::sync::mpsc::channel;
 use std::time::{Duration, Instant};
 
 use crate::compare::{Agreement, CONTRACT_TOLERANCE};
-use crate::gpu::GpuTracer;
+use crate::gpu::GpuKernels;
+use crate::precision::{PrecisionChoice, slice_warnings};
+use crate::render::{Backend, Plan, Planner};
 use crate::scene::{Scene, SceneLoader};
-use crate::{Frame, Picture, Precision, Renderer, Summary, precision_warnings};
+use crate::{Frame, Picture, Precision, Summary};
 
 /// One stiff or extreme setting: overrides of the default scene.
 #[derive(Clone, Debug)]
@@ -236,37 +238,40 @@ impl Runner {
     }
 
     /// The GPU tracers `gpu` can run: f32, and f64 where the device passes its check.
-    pub fn on_gpu(gpu: &Arc<GpuTracer>) -> Vec<Runner> {
+    pub fn on_gpu(gpu: &Arc<GpuKernels>) -> Vec<Runner> {
         let mut runners = vec![Runner::GpuF32];
-        if Renderer::on_tracer(gpu.clone()).gpu_has_f64() {
+        if gpu.has_f64() {
             runners.push(Runner::GpuF64);
         }
         runners
     }
 
-    /// The renderer of this tracer (the GPU one on `gpu`).
-    pub fn renderer(self, gpu: Option<&Arc<GpuTracer>>) -> crate::Result<Renderer> {
-        Ok(match self {
+    /// The plan of this tracer for a shaded picture of `scene` (the GPU one on `gpu`): the
+    /// backend and precision as asked, through the one decision.
+    pub fn plan(self, scene: &Scene, gpu: Option<&Arc<GpuKernels>>) -> crate::Result<Plan> {
+        let choice = match self.precision() {
+            Precision::F32 => PrecisionChoice::F32,
+            Precision::F64 => PrecisionChoice::F64,
+        };
+        let mut planner = match self {
             Runner::GpuF32 | Runner::GpuF64 => {
                 let gpu =
                     gpu.ok_or_else(|| crate::Error::NoAdapter("no GPU for this run".into()))?;
-                let renderer = Renderer::on_tracer(gpu.clone());
-                if self == Runner::GpuF64 && !renderer.gpu_has_f64() {
-                    return Err(crate::Error::Unsupported(crate::GPU_F64_UNSUPPORTED.into()));
-                }
-                renderer.with_precision(self.precision())
+                Planner::on_device(gpu.clone(), Backend::Gpu, choice)
             }
-            Runner::CpuF32 | Runner::CpuF64 => Renderer::cpu(self.precision()),
-        })
+            Runner::CpuF32 | Runner::CpuF64 => Planner::new(Backend::Cpu, choice),
+        };
+        planner.plan(scene, Picture::SHADED.into(), &mut |_| {})
     }
 
     /// Renders the scene (shaded) on this tracer: the frame and its render seconds.
     pub fn render(
         self,
         scene: &Scene,
-        gpu: Option<&Arc<GpuTracer>>,
+        gpu: Option<&Arc<GpuKernels>>,
     ) -> crate::Result<(Frame, f64)> {
-        let (frame, stats) = self.renderer(gpu)?.render_frame(scene, Picture::SHADED)?;
+        let plan = self.plan(scene, gpu)?;
+        let (frame, stats) = plan.renderer.render_frame(scene, Picture::SHADED)?;
         Ok((frame, stats.render_seconds))
     }
 }
@@ -327,13 +332,16 @@ pub fn run_case(
     case: &'static Case,
     size: u32,
     runner: Runner,
-    gpu: Option<Arc<GpuTracer>>,
+    gpu: Option<Arc<GpuKernels>>,
     reference: Option<&Frame>,
     limit: Duration,
 ) -> Outcome {
     let scene = case.scene(size);
     let max_steps = scene.fractal.max_steps;
-    let warnings = precision_warnings(&scene, runner.precision());
+    let warnings = slice_warnings(&scene, runner.precision())
+        .into_iter()
+        .map(|w| w.text)
+        .collect();
     let mut outcome = Outcome {
         case: case.name,
         runner,
@@ -377,7 +385,7 @@ pub fn run_case(
 /// Every case on every runner given, the f64 CPU first as the reference for the others.
 pub fn run_all(
     size: u32,
-    gpu: Option<Arc<GpuTracer>>,
+    gpu: Option<Arc<GpuKernels>>,
     limit: Duration,
     mut progress: impl FnMut(&Outcome),
 ) -> Vec<Outcome> {

@@ -14,7 +14,7 @@ use super::stability::Runner;
 use crate::TraceParams;
 use crate::algebra::{Real, Vec3};
 use crate::frame::{Frame, unpack_rgb};
-use crate::gpu::GpuTracer;
+use crate::gpu::GpuKernels;
 use crate::scene::{NormalMethod, Scene};
 
 /// One point of the sweep.
@@ -320,7 +320,7 @@ pub type TruthSeconds = Vec<(&'static str, f64)>;
 /// Runs every setting of every scene; `repeats` renders each and keeps the fastest time.
 pub fn run(
     scenes: &[(&'static str, Scene)],
-    gpu: Option<Arc<GpuTracer>>,
+    gpu: Option<Arc<GpuKernels>>,
     repeats: u32,
     mut progress: impl FnMut(&str, usize, usize),
 ) -> crate::Result<(Vec<Row>, TruthSeconds)> {
@@ -806,7 +806,7 @@ pub const ZOOM_FOOTPRINTS: [f64; 8] = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-8, 1e-10
 pub fn zoom_sweep(
     size: u32,
     runners: &[Runner],
-    gpu: Option<Arc<GpuTracer>>,
+    gpu: Option<Arc<GpuKernels>>,
     repeats: u32,
     mut progress: impl FnMut(&str, usize, usize),
 ) -> crate::Result<Vec<ZoomRow>> {
@@ -815,7 +815,8 @@ pub fn zoom_sweep(
     let total = ZOOM_FOOTPRINTS.len() * (runners.len() + 1);
     for (z, &footprint) in ZOOM_FOOTPRINTS.iter().enumerate() {
         let scene = zoom_scene(footprint, size);
-        let f32_warned = !crate::precision_warnings(&scene, crate::Precision::F32).is_empty();
+        let f32_warned =
+            !crate::precision::slice_warnings(&scene, crate::Precision::F32).is_empty();
         let timed = |runner: Runner| -> crate::Result<(Frame, f64)> {
             let mut best: Option<(Frame, f64)> = None;
             for _ in 0..repeats.max(1) {

@@ -142,3 +142,15 @@ pub fn assert_refused(dir: &std::path::Path, args: &[&str], prefix: &str, key: &
     );
     assert_eq!(files_in(dir), before, "{context} wrote a file");
 }
+
+/// The CPU renderer in `precision` for `scene`, as `--backend cpu --precision P` plans it.
+pub fn cpu_renderer(scene: &Scene, precision: qjulia::Precision) -> qjulia::Renderer {
+    let choice = match precision {
+        qjulia::Precision::F32 => qjulia::PrecisionChoice::F32,
+        qjulia::Precision::F64 => qjulia::PrecisionChoice::F64,
+    };
+    qjulia::Planner::new(qjulia::Backend::Cpu, choice)
+        .plan(scene, qjulia::Picture::SHADED.into(), &mut |_| {})
+        .expect("a CPU plan")
+        .renderer
+}
