@@ -582,4 +582,170 @@ fn export_mesh_writes_a_closed_mesh_of_the_view_with_progress() {
         edges.values().all(|&n| n == 2),
         "the exported mesh is not closed"
     );
+    // The very bytes `qjulia mesh` writes of the same scene at the same resolution.
+    std::fs::write(
+        dir.path().join("view.toml"),
+        harness.state().scene.to_toml(),
+    )
+    .unwrap();
+    let out = common::qjulia(
+        dir.path(),
+        &[
+            "mesh",
+            "--scene",
+            "view.toml",
+            "--resolution",
+            "40",
+            "-o",
+            "cli.stl",
+        ],
+    );
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    assert!(
+        std::fs::read(&path).unwrap() == std::fs::read(dir.path().join("cli.stl")).unwrap(),
+        "Export mesh and `qjulia mesh` wrote different bytes"
+    );
+}
+
+/// Steps frames until the explorer's status line says an export or render is done.
+fn wait_for_message(harness: &mut Harness<'static, ExplorerApp>, done: &str) {
+    let start = Instant::now();
+    loop {
+        harness.step();
+        match harness.state().message() {
+            Some((m, false)) if m.starts_with(done) => return,
+            Some((m, true)) => panic!("the explorer failed: {m}"),
+            _ => {}
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the explorer never said {done:?}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// The deep-zoom preset (f64 where the view shows it) at a small image size.
+fn deep_scene() -> qjulia::Scene {
+    let mut deep = qjulia::scene::presets::find("deep-zoom").unwrap().scene();
+    deep.image.width = 96;
+    deep.image.height = 72;
+    deep
+}
+
+#[test]
+fn a_deep_export_writes_the_bytes_of_qjulia_render() {
+    let Some(mut harness) = harness("explorer deep export") else {
+        return;
+    };
+    harness.state_mut().set_scene(deep_scene());
+    settle(&mut harness);
+    // Showing the panel leaves the scene as loaded (a slider's range clamps no value).
+    assert_eq!(harness.state().scene, deep_scene());
+    assert_eq!(
+        harness.state().slice_texture.as_ref().unwrap().precision(),
+        qjulia::Precision::F64,
+        "the view shows f64"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("export.png");
+    harness.state_mut().start_export(path.clone());
+    wait_for_message(&mut harness, "exported");
+    let out = common::qjulia(
+        dir.path(),
+        &[
+            "render",
+            "--preset",
+            "deep-zoom",
+            "--width",
+            "96",
+            "--height",
+            "72",
+            "-o",
+            "cli.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    assert!(
+        common::stderr(&out).contains("rendering in f64"),
+        "{}",
+        common::stderr(&out)
+    );
+    let (exported, cli) = (
+        std::fs::read(&path).unwrap(),
+        std::fs::read(dir.path().join("cli.png")).unwrap(),
+    );
+    if exported != cli {
+        let decode = |p: &std::path::Path| qjulia::output::read_png_rgb(p).unwrap();
+        let ([w, h], a) = decode(&path);
+        let (_, b) = decode(&dir.path().join("cli.png"));
+        let differ = a.chunks(3).zip(b.chunks(3)).filter(|(x, y)| x != y).count();
+        let out = common::output_dir();
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::copy(&path, out.join("explorer_deep_export_actual.png")).unwrap();
+        std::fs::copy(
+            dir.path().join("cli.png"),
+            out.join("explorer_deep_export_expected.png"),
+        )
+        .unwrap();
+        panic!(
+            "Export PNG and `qjulia render` differ: {differ} of {} pixels (both PNGs under {})",
+            w * h,
+            out.display()
+        );
+    }
+}
+
+#[test]
+fn a_deep_animation_renders_the_frames_of_qjulia_animate() {
+    let Some(mut harness) = harness("explorer deep animation") else {
+        return;
+    };
+    harness.state_mut().set_scene(deep_scene());
+    settle(&mut harness);
+    let dir = tempfile::tempdir().unwrap();
+    let (gui, cli) = (dir.path().join("gui"), dir.path().join("cli"));
+    harness.state_mut().start_render_into(&gui, 0, Some(1));
+    let start = Instant::now();
+    while harness.state().rendering() {
+        harness.step();
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the render never ended"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    if let Some((m, true)) = harness.state().message() {
+        panic!("the render failed: {m}");
+    }
+    // `animate` on the file the explorer saves, the same two frames.
+    let scene_file = dir.path().join("anim.toml");
+    harness.state_mut().save(&scene_file);
+    let out = common::qjulia(
+        dir.path(),
+        &[
+            "animate",
+            "--scene",
+            "anim.toml",
+            "--frames",
+            "0..1",
+            "--out",
+            "cli",
+        ],
+    );
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    assert_eq!(
+        common::files_in(&gui),
+        ["frame-00000.png", "frame-00001.png"]
+    );
+    assert_eq!(common::files_in(&gui), common::files_in(&cli));
+    for name in common::files_in(&cli) {
+        assert!(
+            std::fs::read(gui.join(&name)).unwrap() == std::fs::read(cli.join(&name)).unwrap(),
+            "{name}: the explorer's frame and `qjulia animate`'s differ"
+        );
+    }
+    // Both ran f64: the frame reads back as a deep scene.
+    let stats = common::stderr(&out);
+    assert!(stats.contains("(f64)"), "{stats}");
 }

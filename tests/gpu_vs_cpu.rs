@@ -232,3 +232,78 @@ fn cone_tracing_on_both_and_within_tolerance_of_the_seed() {
         assert!(steps(&b) < steps(&a), "the cone saves no steps");
     }
 }
+
+/// A plan for `scene`'s slice on `backend` in `precision`.
+fn planned(
+    scene: &Scene,
+    backend: qjulia::Backend,
+    precision: qjulia::PrecisionChoice,
+) -> qjulia::Renderer {
+    qjulia::Planner::new(backend, precision)
+        .plan(scene, qjulia::Picture::SHADED.into(), &mut |_| {})
+        .expect("a plan")
+        .renderer
+}
+
+#[test]
+fn depth_and_steps_only_leave_the_colour_at_the_background_on_every_tracer() {
+    use qjulia::{Backend, Picture, PrecisionChoice};
+    // Samples and soft shadows on: the shading code that `shade = false` drops is all there.
+    let scene = with(&[
+        "image.samples=3",
+        "light.radius=0.2",
+        "shading.occlusion=0.5",
+    ]);
+    let background = {
+        let b = scene.shading.background.map(|v| v as f32);
+        let p = TraceParams::<f32>::new(&scene).background;
+        assert_eq!([p.x, p.y, p.z], b);
+        // Packed as the kernel packs it: rounded, opaque.
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u32;
+        byte(b[0]) | byte(b[1]) << 8 | byte(b[2]) << 16 | 0xff00_0000
+    };
+    let depth_only = Picture::Slice { shade: false };
+    let mut tracers = vec![
+        (
+            "cpu f32",
+            planned(&scene, Backend::Cpu, PrecisionChoice::F32),
+        ),
+        (
+            "cpu f64",
+            planned(&scene, Backend::Cpu, PrecisionChoice::F64),
+        ),
+    ];
+    if common::gpu("shade = false on the GPU").is_some() {
+        tracers.push((
+            "gpu f32",
+            planned(&scene, Backend::Gpu, PrecisionChoice::F32),
+        ));
+    }
+    for (name, renderer) in tracers {
+        let (shaded, _) = renderer.render_frame(&scene, Picture::SHADED).unwrap();
+        let (plain, _) = renderer.render_frame(&scene, depth_only).unwrap();
+        assert!(shaded.hit_mask().iter().any(|&h| h), "{name}: no hits");
+        assert!(
+            shaded.colour.iter().any(|&c| c != background),
+            "{name}: the shaded picture is all background"
+        );
+        let coloured = plain.colour.iter().find(|&&c| c != background);
+        assert!(
+            coloured.is_none(),
+            "{name}: a depth-only render coloured a pixel {coloured:x?}, not {background:x}"
+        );
+        // Depth and steps are the shaded render's, bit for bit.
+        assert_eq!(plain.steps, shaded.steps, "{name}: steps");
+        let bits = |f: &qjulia::Frame| f.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&plain), bits(&shaded), "{name}: depth");
+        // The CPU makes fewer estimates without the shading (normal, shadow, occlusion).
+        if name.starts_with("cpu") {
+            assert!(
+                plain.estimates < shaded.estimates,
+                "{name}: {} estimates without shading, {} with",
+                plain.estimates,
+                shaded.estimates
+            );
+        }
+    }
+}

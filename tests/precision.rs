@@ -186,3 +186,98 @@ fn depth_is_float64_when_the_render_ran_in_f64() {
         "float64 keeps {as_f64} distinct depths where float32 keeps {as_f32}"
     );
 }
+
+/// The kinds of a work's warnings in a precision, through the one decision's plan.
+fn kinds(
+    sets: &[&str],
+    work: qjulia::Work,
+    precision: qjulia::Precision,
+) -> Vec<qjulia::precision::WarningKind> {
+    let choice = match precision {
+        qjulia::Precision::F32 => qjulia::PrecisionChoice::F32,
+        qjulia::Precision::F64 => qjulia::PrecisionChoice::F64,
+    };
+    let scene = common::scene(sets);
+    let plan = qjulia::Planner::new(qjulia::Backend::Cpu, choice)
+        .plan(&scene, work, &mut |_| {})
+        .expect("a CPU plan");
+    assert_eq!(plan.decision.precision, precision);
+    for w in &plan.warnings {
+        // The line is the shortfall, then what is done about it.
+        assert!(w.text.starts_with(&format!("{}: ", w.shortfall)), "{w}");
+    }
+    plan.warnings.iter().map(|w| w.kind).collect()
+}
+
+#[test]
+fn each_warning_kind_fires_where_its_precision_falls_short() {
+    use qjulia::Precision::{F32, F64};
+    use qjulia::precision::WarningKind::*;
+    let slice = qjulia::Picture::SHADED.into();
+    let plane = qjulia::Picture::Julia2d.into();
+    // Nothing in the default scene, in either precision.
+    for p in [F32, F64] {
+        assert!(kinds(&[], slice, p).is_empty());
+        assert!(kinds(&[], plane, p).is_empty());
+    }
+    // Each kind fires in f32 where f64 still resolves it, and in f64 further on.
+    let cases: [(
+        &[&str],
+        &[&str],
+        qjulia::Work,
+        qjulia::precision::WarningKind,
+    ); 4] = [
+        (
+            &["fractal.epsilon=1e-9"],
+            &["fractal.epsilon=1e-300"],
+            slice,
+            Epsilon,
+        ),
+        (
+            &["camera.fov_y_degrees=1e-5"],
+            &["camera.fov_y_degrees=1e-13"],
+            slice,
+            Pixel,
+        ),
+        (
+            &["fractal.escape_radius_squared=1e9"],
+            &["fractal.escape_radius_squared=1e101"],
+            slice,
+            EscapeRadius,
+        ),
+        (
+            &["view2d.extent=1e-4"],
+            &["view2d.extent=1e-13"],
+            plane,
+            Pixel2d,
+        ),
+    ];
+    for (f32_sets, f64_sets, work, kind) in cases {
+        assert_eq!(kinds(f32_sets, work, F32), [kind], "{f32_sets:?} in f32");
+        assert!(kinds(f32_sets, work, F64).is_empty(), "{f32_sets:?} in f64");
+        assert_eq!(kinds(f64_sets, work, F64), [kind], "{f64_sets:?} in f64");
+    }
+    // A mesh: its grid cell plays the pixel's part (a tiny pixel says nothing of it), and the
+    // scene's other shortfalls stay.
+    let grid = |step: f64| {
+        qjulia::Work::Mesh(Some(qjulia::grid::GridSpec {
+            origin: [0.5; 3],
+            step: [step; 3],
+            size: [8; 3],
+        }))
+    };
+    let tiny_pixel: &[&str] = &["camera.fov_y_degrees=1e-5"];
+    assert!(kinds(tiny_pixel, grid(0.1), F32).is_empty());
+    assert_eq!(kinds(&[], grid(1e-8), F32), [GridCell]);
+    assert!(kinds(&[], grid(1e-8), F64).is_empty());
+    assert_eq!(kinds(&[], grid(1e-17), F64), [GridCell]);
+    assert_eq!(
+        kinds(&["fractal.epsilon=1e-9"], grid(1e-8), F32),
+        [Epsilon, GridCell]
+    );
+    // No grid (an empty bounding region): the scene's own.
+    assert_eq!(
+        kinds(&["fractal.epsilon=1e-9"], qjulia::Work::Mesh(None), F32),
+        [Epsilon]
+    );
+}

@@ -96,7 +96,7 @@ pub fn render_rows<F: Real>(
                 .copied()
                 .unwrap_or(F::zero());
             let before = ESTIMATES.get();
-            let first = params.trace_pixel(i, j, 0, t_min, true);
+            let first = params.trace_pixel(i, j, 0, t_min, shade);
             let mut non_finite = non_finite_values(&first);
             let colour = if params.samples <= 1 {
                 trace::pack_colour(first.colour)

@@ -35,7 +35,7 @@ impl ExplorerApp {
     /// Exports what the view shows, at the scene's image size through the same kernel, on
     /// another thread: the 3D view (shaded or a step view, as `render`), or in 2D mode the 2D
     /// view (as `render2d`).
-    pub(super) fn start_export(&mut self, path: PathBuf) {
+    pub fn start_export(&mut self, path: PathBuf) {
         let scene = self.scene.clone();
         let (send, done) = channel();
         let paths = OutputPaths {

@@ -73,7 +73,11 @@ impl ExplorerApp {
         let mut angles = hyperspherical(&direction);
         let mut new_magnitude = magnitude;
         let mut turned = false;
-        ui.add(egui::Slider::new(&mut new_magnitude, 0.0..=2.0).text("|c|"));
+        ui.add(
+            egui::Slider::new(&mut new_magnitude, 0.0..=2.0)
+                .clamping(egui::SliderClamping::Edits)
+                .text("|c|"),
+        );
         let last = angles.len() - 1;
         for (k, angle) in angles.iter_mut().enumerate() {
             let range = if k == last {
@@ -341,13 +345,17 @@ fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
 /// The slider of a float scene key: range and scale from the scene schema.
 fn key_slider<'a>(value: &'a mut f64, path: &str) -> egui::Slider<'a> {
     let s = slider(path);
-    egui::Slider::new(value, s.range()).logarithmic(s.logarithmic)
+    egui::Slider::new(value, s.range())
+        .logarithmic(s.logarithmic)
+        .clamping(egui::SliderClamping::Edits)
 }
 
 /// The slider of an integer scene key: range and scale from the scene schema.
 fn key_slider_u32<'a>(value: &'a mut u32, path: &str) -> egui::Slider<'a> {
     let s = slider(path);
-    egui::Slider::new(value, s.range_u32()).logarithmic(s.logarithmic)
+    egui::Slider::new(value, s.range_u32())
+        .logarithmic(s.logarithmic)
+        .clamping(egui::SliderClamping::Edits)
 }
 
 #[cfg(test)]

@@ -782,6 +782,18 @@ impl ExplorerApp {
         }
     }
 
+    /// Renders frames `first..=last` (None: to the last frame) into `dir` as the *Render
+    /// animation…* window's Render button does, PNG frames only.
+    pub fn start_render_into(&mut self, dir: &Path, first: u32, last: Option<u32>) {
+        let r = &mut self.timeline.render;
+        r.dir = dir.display().to_string();
+        r.first = first;
+        r.last = last;
+        r.resume = false;
+        r.video.clear();
+        self.start_render();
+    }
+
     /// Starts the render job of the window's choice: the animation as its saved file reads
     /// back (checked as `animate` checks it), each frame decided as `animate` decides it, on
     /// the view's device where it can (as exports).
