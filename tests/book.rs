@@ -377,10 +377,10 @@ see [a](a.md#x) and ![b](img/b.png "title") and `[not](code.md)`, a span `over
     let expected: Vec<(usize, String)> = [
         (2, "a.md#x"),
         (2, "img/b.png"),
-        (12, "c.md"),
-        (13, "d.png"),
-        (13, "e f.md"),
-        (13, "g(1).md"),
+        (11, "c.md"),
+        (12, "d.png"),
+        (12, "e f.md"),
+        (12, "g(1).md"),
     ]
     .iter()
     .map(|(line, target)| (*line, target.to_string()))
