@@ -170,14 +170,14 @@ fn links(text: &str) -> Vec<Link> {
     let mut offset = 0;
     for line in text.split_inclusive('\n') {
         let trimmed = line.trim_start();
-        if line.len() - trimmed.len() <= 3 && trimmed.starts_with('[') && !trimmed.starts_with("[^")
+        if line.len() - trimmed.len() <= 3
+            && trimmed.starts_with('[')
+            && !trimmed.starts_with("[^")
+            && let Some((_, rest)) = trimmed.split_once("]:")
+            && let Some(target) = rest.split_whitespace().next()
         {
-            if let Some((_, rest)) = trimmed.split_once("]:") {
-                if let Some(target) = rest.split_whitespace().next() {
-                    let target = target.trim_start_matches('<').trim_end_matches('>');
-                    out.push((offset, target.to_string()));
-                }
-            }
+            let target = target.trim_start_matches('<').trim_end_matches('>');
+            out.push((offset, target.to_string()));
         }
         offset += line.len();
     }
@@ -228,7 +228,10 @@ fn anchors(text: &str) -> BTreeSet<String> {
         if !(1..=6).contains(&hashes) || !kept[hashes..].starts_with(' ') {
             continue;
         }
-        let words = line.trim_start()[hashes..].trim().trim_end_matches('#').trim();
+        let words = line.trim_start()[hashes..]
+            .trim()
+            .trim_end_matches('#')
+            .trim();
         let base = slug(words);
         let count = seen.entry(base.clone()).or_insert(0);
         out.insert(if *count == 0 {
@@ -279,7 +282,9 @@ fn link_problems(page: &Path, text: &str) -> Vec<String> {
         let file = if path.is_empty() {
             page.to_path_buf()
         } else if path.starts_with('/') {
-            problems.push(format!("{at}: an absolute path; make it relative to the page"));
+            problems.push(format!(
+                "{at}: an absolute path; make it relative to the page"
+            ));
             continue;
         } else {
             normalise(&dir.join(&path))
@@ -296,16 +301,15 @@ fn link_problems(page: &Path, text: &str) -> Vec<String> {
         if in_book && file.is_dir() {
             problems.push(format!("{at}: a folder; the built book has no page for it"));
         }
-        if let Some(fragment) = fragment.filter(|f| !f.is_empty()) {
-            if file.extension().is_some_and(|e| e == "md") {
-                let target_text = std::fs::read_to_string(&file).expect("a page is readable");
-                if !anchors(&target_text).contains(fragment) {
-                    problems.push(format!(
-                        "{at}: {} has no heading with the anchor #{fragment}",
-                        shown(&file)
-                    ));
-                }
-            }
+        if let Some(fragment) = fragment.filter(|f| !f.is_empty())
+            && file.extension().is_some_and(|e| e == "md")
+            && !anchors(&std::fs::read_to_string(&file).expect("a page is readable"))
+                .contains(fragment)
+        {
+            problems.push(format!(
+                "{at}: {} has no heading with the anchor #{fragment}",
+                shown(&file)
+            ));
         }
     }
     problems
@@ -335,7 +339,10 @@ fn the_summary_lists_every_page_of_the_book_once() {
     for Link { line, target } in links(&summary) {
         let file = normalise(&book_src().join(target.split('#').next().unwrap_or("")));
         if !file.is_file() {
-            problems.push(format!("docs/SUMMARY.md:{line}: no such page {}", shown(&file)));
+            problems.push(format!(
+                "docs/SUMMARY.md:{line}: no such page {}",
+                shown(&file)
+            ));
         }
         if let Some(first) = listed.insert(file.clone(), line) {
             problems.push(format!(

@@ -29,7 +29,7 @@ pub struct Key {
     pub path: &'static str,
     /// Its type and range, and where its value lives in a [`Scene`].
     pub kind: Kind,
-    /// Its comment in the README's scene-file block; `{range}` stands for its range.
+    /// Its comment in the book's scene-file block; `{range}` stands for its range.
     pub readme: &'static str,
     /// The explorer's slider for it (for a vector: for each component), where it has one.
     pub slider: Option<Slider>,
@@ -51,7 +51,7 @@ impl Key {
 #[derive(Clone, Copy, Debug)]
 pub struct Table {
     pub name: &'static str,
-    /// Its comment in the README's scene-file block ("" for none).
+    /// Its comment in the book's scene-file block ("" for none).
     pub readme: &'static str,
 }
 
@@ -112,8 +112,8 @@ impl Kind {
         }
     }
 
-    /// The range as the README states it (`1..100000`, `> 0`, `components in [0, 1]`); None
-    /// where the key has no range beyond its type.
+    /// The range as the book's scene-file block states it (`1..100000`, `> 0`,
+    /// `components in [0, 1]`); None where the key has no range beyond its type.
     pub fn range_text(&self) -> Option<String> {
         match *self {
             Kind::Integer { min, max, .. } => Some(format!("{min}..{max}")),
