@@ -1,7 +1,7 @@
 //! Draws meshes that `qjulia mesh` wrote (binary PLY), side by side, into one PNG: each read
 //! back with ply-rs, its triangles rasterised with a z-buffer and shaded by their interpolated
 //! vertex normals (diffuse and a little ambient), optionally with their edges drawn. This is
-//! how docs/mesh.png is made (README, "Meshes"):
+//! how docs/mesh.png is made (the book's docs/book/meshes.md):
 //!
 //! ```text
 //! qjulia mesh --resolution 256 -o seed256.ply

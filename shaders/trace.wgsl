@@ -603,8 +603,8 @@ fn shading_features() -> bool {
     return soft || occluded || trap || params.ambient > 0.0;
 }
 
-// The shading with the picture's features, the README's formula: with base colour B (diffuse,
-// or the palette's colour of the orbit trap),
+// The shading with the picture's features, the book's formula (docs/book/scene-file.md): with
+// base colour B (diffuse, or the palette's colour of the orbit trap),
 // the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is

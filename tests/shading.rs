@@ -1,7 +1,8 @@
 //! The picture's shading features (issue 11): soft shadows (`light.radius`), ambient light and
 //! occlusion (`shading.ambient`, `shading.occlusion`) and orbit-trap colour
 //! (`shading.colouring`). Each is held to the CPU twin on the GPU, to the seed where it is off,
-//! and to its README formula computed here from the definitions.
+//! and to its formula in the book (docs/book/scene-file.md, "Shading features (exact)")
+//! computed here from the definitions.
 
 mod common;
 
@@ -211,7 +212,7 @@ fn the_unit_ball_is_not_occluded() {
     }
 }
 
-/// The occlusion factor by the README's formula, from the tracer's distance estimate:
+/// The occlusion factor by the book's formula, from the tracer's distance estimate:
 /// A = 1 - occlusion (1/K) sum_{k=1..K} clamp(1 - 2 d(p + k h n) / (k h), 0, 1).
 fn occlusion_formula(p: &TraceParams<f64>, x: Vec3<f64>, n: Vec3<f64>) -> f64 {
     let k_max = OCCLUSION_SAMPLES;

@@ -1,7 +1,7 @@
 //! The scene's keys, declared once. `scene_schema!` turns one declaration per key (its field,
 //! type, default, kind and range, README comment and explorer slider) into the scene's structs,
 //! their defaults and the tables [`SCHEMA`], [`TABLES`] and [`KEYS`] that loading, `--set`,
-//! validation, the README's scene-file block and the explorer read.
+//! validation, the scene-file block of the book (docs/book/scene-file.md) and the explorer read.
 //!
 //! Adding a key is one entry in the declaration in `src/scene/mod.rs`, e.g. under `[light]`:
 //!
@@ -11,7 +11,8 @@
 //!     "soft shadows' light radius, {range} (0 = a point light)";
 //! ```
 //!
-//! plus its use; the test `readme_scene_block_is_the_schemas` then prints the README line to add.
+//! plus its use; the test `book_scene_block_is_the_schemas` then prints the line to add to the
+//! book's scene-file block.
 
 use std::fmt;
 use std::ops::RangeInclusive;
@@ -28,7 +29,7 @@ pub struct Key {
     pub path: &'static str,
     /// Its type and range, and where its value lives in a [`Scene`].
     pub kind: Kind,
-    /// Its comment in the README's scene-file block; `{range}` stands for its range.
+    /// Its comment in the book's scene-file block; `{range}` stands for its range.
     pub readme: &'static str,
     /// The explorer's slider for it (for a vector: for each component), where it has one.
     pub slider: Option<Slider>,
@@ -50,7 +51,7 @@ impl Key {
 #[derive(Clone, Copy, Debug)]
 pub struct Table {
     pub name: &'static str,
-    /// Its comment in the README's scene-file block ("" for none).
+    /// Its comment in the book's scene-file block ("" for none).
     pub readme: &'static str,
 }
 
@@ -111,8 +112,8 @@ impl Kind {
         }
     }
 
-    /// The range as the README states it (`1..100000`, `> 0`, `components in [0, 1]`); None
-    /// where the key has no range beyond its type.
+    /// The range as the book's scene-file block states it (`1..100000`, `> 0`,
+    /// `components in [0, 1]`); None where the key has no range beyond its type.
     pub fn range_text(&self) -> Option<String> {
         match *self {
             Kind::Integer { min, max, .. } => Some(format!("{min}..{max}")),
@@ -255,8 +256,8 @@ pub fn slider(path: &str) -> Option<Slider> {
     key(path)?.slider
 }
 
-/// The README's scene-file block (between its ```` ```toml ```` fences): every table and key
-/// with its default and comment, comments aligned in one column.
+/// The scene-file block of the book's docs/book/scene-file.md (between its ```` ```toml ````
+/// fences): every table and key with its default and comment, comments aligned in one column.
 pub fn readme_block() -> String {
     let defaults = Scene::default();
     let mut out = String::new();
@@ -456,17 +457,22 @@ pub(crate) use {scene_key_kind, scene_key_slider, scene_schema};
 mod tests {
     use super::*;
 
-    /// The block between the ```` ```toml ```` fences under README.md's "## The scene file".
-    fn readme_scene_block() -> String {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/README.md");
-        let readme = std::fs::read_to_string(path).expect("README.md is readable");
-        let section = readme
-            .split_once("\n## The scene file\n")
-            .expect("README.md has a \"## The scene file\" section")
+    /// The book's scene-file chapter, whose first ```` ```toml ```` block is the scene file.
+    const BOOK_SCENE_FILE: &str = "docs/book/scene-file.md";
+
+    /// The block between the first ```` ```toml ```` fences under the chapter's "# The scene
+    /// file".
+    fn book_scene_block() -> String {
+        let path = format!("{}/{BOOK_SCENE_FILE}", env!("CARGO_MANIFEST_DIR"));
+        let chapter = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("{BOOK_SCENE_FILE} is readable: {e}"));
+        let section = chapter
+            .split_once("# The scene file\n")
+            .unwrap_or_else(|| panic!("{BOOK_SCENE_FILE} has a \"# The scene file\" heading"))
             .1;
         let block = section
             .split_once("```toml\n")
-            .expect("the scene file section has a ```toml block")
+            .unwrap_or_else(|| panic!("{BOOK_SCENE_FILE} has a ```toml block"))
             .1;
         block
             .split_once("```")
@@ -476,16 +482,17 @@ mod tests {
     }
 
     #[test]
-    fn readme_scene_block_is_the_schemas() {
-        let readme = readme_scene_block();
+    fn book_scene_block_is_the_schemas() {
+        let book = book_scene_block();
         let schema = readme_block();
-        if readme == schema {
+        if book == schema {
             return;
         }
-        let old: Vec<&str> = readme.lines().collect();
+        let old: Vec<&str> = book.lines().collect();
         let new: Vec<&str> = schema.lines().collect();
         panic!(
-            "README.md's scene-file block (-) differs from the schema in src/scene/mod.rs (+):\n\
+            "{BOOK_SCENE_FILE}'s scene-file block (-) differs from the schema in src/scene/mod.rs \
+             (+):\n\
              {}\nthe block should read:\n```toml\n{schema}```",
             line_diff(&old, &new)
         );
