@@ -22,11 +22,11 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::animation::Animation;
-use crate::error::{Error, Result};
+use crate::error::{Error, FlagError, Result};
 use crate::gpu::Readback;
 use crate::output::{read_png_rgb, write_png};
 use crate::render::{Picture, Planner, Renderer};
-use crate::scene::{Scene, SceneError, SceneSource, View};
+use crate::scene::{Scene, View};
 use crate::video::VideoWriter;
 
 /// The folder frames go to when none is given.
@@ -50,12 +50,8 @@ impl FrameRange {
 
     /// Parses `--frames A..B`: 0-based, inclusive, `A <= B < frames`. The error names the flag
     /// as typed (exit 2 as bad input).
-    pub fn parse(text: &str, frames: u32) -> Result<Self, SceneError> {
-        let bad = |message: String| SceneError {
-            origin: SceneSource::Flag(format!("--frames {text}")),
-            key: None,
-            message,
-        };
+    pub fn parse(text: &str, frames: u32) -> Result<Self, FlagError> {
+        let bad = |message: String| FlagError::new(format!("--frames {text}"), message);
         let expected = || {
             bad(format!(
                 "expected A..B, the first and last frame (0-based, inclusive; the animation has {frames} frames, 0..{})",

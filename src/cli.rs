@@ -557,8 +557,7 @@ pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
         MeshOptions::check_resolution(resolution)
     } else {
         MeshOptions::check_resolution(0).map_err(|mut e| {
-            e.origin =
-                qjulia::scene::SceneSource::Flag(format!("--resolution {}", args.resolution));
+            e.flag = format!("--resolution {}", args.resolution);
             e
         })
     }

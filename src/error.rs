@@ -4,15 +4,37 @@ use std::path::PathBuf;
 
 use crate::scene::SceneError;
 
+/// A bad command-line flag that is not a scene key (`--resolution`, `--box`, `--scale`,
+/// `--frames`, an output's extension): one line naming the flag as typed and the reason.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{flag}: {message}")]
+pub struct FlagError {
+    /// The flag and its value, as typed, e.g. `--resolution 3`.
+    pub flag: String,
+    pub message: String,
+}
+
+impl FlagError {
+    pub fn new(flag: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            flag: flag.into(),
+            message: message.into(),
+        }
+    }
+}
+
 /// How to get an adapter on a machine without a GPU, for every "no adapter" message.
 pub const INSTALL_ADAPTER_HINT: &str = "install Mesa's software Vulkan driver (lavapipe): \
     `sudo apt-get install mesa-vulkan-drivers`";
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// Bad input: a scene file, `--set`, a flag. Exit 2.
+    /// Bad input: a scene file, `--set`, a shorthand of a scene key. Exit 2.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// Bad input: a flag that is not a scene key. Exit 2.
+    #[error(transparent)]
+    Flag(#[from] FlagError),
     /// wgpu found no adapter (or none matching WGPU_ADAPTER_NAME). Exit 1.
     #[error("no GPU adapter: {0}; {INSTALL_ADAPTER_HINT}")]
     NoAdapter(String),
@@ -37,7 +59,7 @@ impl Error {
     /// The process exit code for this error: 2 for bad input, 1 for anything else.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scene(_) => 2,
+            Error::Scene(_) | Error::Flag(_) => 2,
             _ => 1,
         }
     }

@@ -10,11 +10,8 @@ use tempfile::NamedTempFile;
 
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::scene::Scene;
+use crate::scene::{SCENE_PNG_KEYWORD, Scene};
 use crate::stats::RenderStats;
-
-/// The keyword of the PNG iTXt chunk that holds the scene as TOML.
-pub const SCENE_PNG_KEYWORD: &str = "qjulia-scene";
 
 /// Which files a render writes; `None` for those not asked for.
 #[derive(Clone, Debug, Default)]

@@ -7,8 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::thread::JoinHandle;
 
-use crate::error::{Error, Result};
-use crate::scene::{SceneError, SceneSource};
+use crate::error::{Error, FlagError, Result};
 
 /// How to get ffmpeg, for the error when it is not on PATH.
 pub const INSTALL_FFMPEG_HINT: &str = "install it (Debian/Ubuntu: `sudo apt-get install ffmpeg`; \
@@ -26,7 +25,7 @@ pub enum Codec {
 impl Codec {
     /// The codec of `--video FILE` by its extension (case-insensitive); any other is bad input
     /// (exit 2) naming the flag.
-    pub fn for_path(path: &Path) -> Result<Self, SceneError> {
+    pub fn for_path(path: &Path) -> Result<Self, FlagError> {
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
@@ -34,11 +33,10 @@ impl Codec {
         match extension.as_deref() {
             Some("mp4") => Ok(Codec::H264),
             Some("webm") => Ok(Codec::Vp9),
-            _ => Err(SceneError {
-                origin: SceneSource::Flag(format!("--video {}", path.display())),
-                key: None,
-                message: "the video must end in .mp4 (H.264) or .webm (VP9)".into(),
-            }),
+            _ => Err(FlagError::new(
+                format!("--video {}", path.display()),
+                "the video must end in .mp4 (H.264) or .webm (VP9)",
+            )),
         }
     }
 

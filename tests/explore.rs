@@ -481,8 +481,12 @@ fn a_deep_view_switches_to_f64_by_itself_and_back() {
         &shown_view(&mut harness),
         &qjulia::compare::CONTRACT_TOLERANCE,
     );
-    // Zooming back out returns to f32.
+    // Zoomed back out, the preset's epsilon (1e-12) still asks for f64, as `render` would
+    // decide; with an epsilon f32 resolves too, the view returns to f32.
     harness.state_mut().scene.camera.fov_y_degrees = 40.0;
+    settle(&mut harness);
+    assert_eq!(precision(&harness), qjulia::Precision::F64);
+    harness.state_mut().scene.fractal.epsilon = 1e-4;
     settle(&mut harness);
     assert_eq!(precision(&harness), qjulia::Precision::F32);
 }

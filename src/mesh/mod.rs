@@ -22,11 +22,11 @@ pub use extract::{GridSpec, Mesh};
 pub use write::Format;
 
 use crate::algebra::{Real, Vec3};
-use crate::error::Result;
+use crate::error::{FlagError, Result};
 use crate::grid::SampleGrid;
 use crate::params::TraceParams;
 use crate::render::{Renderer, Work};
-use crate::scene::{Scene, SceneError, SceneSource};
+use crate::scene::Scene;
 
 /// Grid points per axis: the default, and the range `--resolution` accepts.
 pub const DEFAULT_RESOLUTION: u32 = 256;
@@ -52,7 +52,7 @@ impl Default for MeshOptions {
 
 impl MeshOptions {
     /// Checks `--resolution`.
-    pub fn check_resolution(n: u32) -> Result<u32, SceneError> {
+    pub fn check_resolution(n: u32) -> Result<u32, FlagError> {
         if (MIN_RESOLUTION..=MAX_RESOLUTION).contains(&n) {
             return Ok(n);
         }
@@ -63,7 +63,7 @@ impl MeshOptions {
     }
 
     /// Parses `--box X0,Y0,Z0,X1,Y1,Z1`: six finite numbers, each min below its max.
-    pub fn parse_box(text: &str) -> Result<[[f64; 3]; 2], SceneError> {
+    pub fn parse_box(text: &str) -> Result<[[f64; 3]; 2], FlagError> {
         let bad = |why: &str| flag_error(format!("--box {text}"), why.to_string());
         let numbers: Vec<f64> = text
             .split(',')
@@ -85,7 +85,7 @@ impl MeshOptions {
     }
 
     /// Checks `--scale`: finite and > 0.
-    pub fn check_scale(s: f64) -> Result<f64, SceneError> {
+    pub fn check_scale(s: f64) -> Result<f64, FlagError> {
         if s.is_finite() && s > 0.0 {
             return Ok(s);
         }
@@ -96,12 +96,8 @@ impl MeshOptions {
     }
 }
 
-fn flag_error(flag: String, message: String) -> SceneError {
-    SceneError {
-        origin: SceneSource::Flag(flag),
-        key: None,
-        message,
-    }
+fn flag_error(flag: String, message: String) -> FlagError {
+    FlagError::new(flag, message)
 }
 
 /// The grid of a scene: N points per axis over the box, or the cube around the bounding ball;

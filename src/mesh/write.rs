@@ -8,8 +8,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::Mesh;
-use crate::error::Result;
-use crate::scene::{SceneError, SceneSource};
+use crate::error::{FlagError, Result};
 
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,7 +20,7 @@ pub enum Format {
 
 impl Format {
     /// The format of a file by its extension (case-insensitive); any other is bad input.
-    pub fn for_path(path: &Path) -> Result<Self, SceneError> {
+    pub fn for_path(path: &Path) -> Result<Self, FlagError> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -30,11 +29,10 @@ impl Format {
             Some("ply") => Ok(Format::Ply),
             Some("stl") => Ok(Format::Stl),
             Some("obj") => Ok(Format::Obj),
-            _ => Err(SceneError {
-                origin: SceneSource::Flag(format!("-o {}", path.display())),
-                key: None,
-                message: "the mesh file must end in .ply, .stl or .obj".into(),
-            }),
+            _ => Err(FlagError::new(
+                format!("-o {}", path.display()),
+                "the mesh file must end in .ply, .stl or .obj",
+            )),
         }
     }
 }

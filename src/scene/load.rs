@@ -4,86 +4,16 @@
 //! from.
 
 use std::collections::BTreeMap;
-use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use toml::Value;
 
 use super::Scene;
+use super::error::{SceneError, SceneSource};
+use super::png::scene_from_png;
+use super::presets::Preset;
 use super::schema::{KEYS, Key, Kind, SCHEMA};
 use crate::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, animatable};
-
-/// Where a scene value came from, so that an error can name it.
-#[derive(Clone, Debug, PartialEq)]
-pub enum SceneSource {
-    /// The built-in defaults.
-    Default,
-    /// A preset (src/scene/presets.rs), by its slug.
-    Preset(String),
-    /// A scene file (TOML, or a PNG carrying its scene).
-    File(PathBuf),
-    /// A shorthand flag, as typed, e.g. `--width 0`.
-    Flag(String),
-    /// One `--set`, its `KEY=VALUE` as typed.
-    Set(String),
-}
-
-impl fmt::Display for SceneSource {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SceneSource::Default => write!(f, "default scene"),
-            SceneSource::Preset(slug) => write!(f, "preset {slug}"),
-            SceneSource::File(p) => write!(f, "{}", p.display()),
-            SceneSource::Flag(s) => write!(f, "{s}"),
-            SceneSource::Set(s) => write!(f, "--set {s}"),
-        }
-    }
-}
-
-/// A bad scene: one line naming the source (file or flag), the key and the reason.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{origin}: {message}")]
-pub struct SceneError {
-    /// Where the bad value came from.
-    pub origin: SceneSource,
-    /// The dotted key at fault, where there is one.
-    pub key: Option<String>,
-    pub message: String,
-}
-
-impl SceneError {
-    fn general(source: &SceneSource, message: impl Into<String>) -> Self {
-        Self {
-            origin: source.clone(),
-            key: None,
-            message: message.into(),
-        }
-    }
-
-    /// A value of `key` is wrong: in a file, `key = value: reason`; on the command line, where
-    /// the value is already in view, `key reason`.
-    fn value(source: &SceneSource, key: &str, value: &Value, reason: &str) -> Self {
-        let message = match source {
-            SceneSource::File(_) | SceneSource::Default | SceneSource::Preset(_) => {
-                format!("{key} = {value}: {reason}")
-            }
-            SceneSource::Flag(_) | SceneSource::Set(_) => format!("{key} {reason}"),
-        };
-        Self {
-            origin: source.clone(),
-            key: Some(key.to_string()),
-            message,
-        }
-    }
-
-    fn key(source: &SceneSource, key: &str, message: String) -> Self {
-        Self {
-            origin: source.clone(),
-            key: Some(key.to_string()),
-            message,
-        }
-    }
-}
 
 /// Collects scene layers, later ones overriding earlier ones key by key, then builds and
 /// validates the [`Scene`].
@@ -243,28 +173,15 @@ fn describe_toml_error(text: &str, e: &toml::de::Error) -> String {
     }
 }
 
-/// Reads the PNG's embedded scene (an iTXt chunk with keyword `qjulia-scene`).
-pub fn scene_from_png(path: &Path) -> Result<String, SceneError> {
-    let source = SceneSource::File(path.to_path_buf());
-    let file = std::fs::File::open(path)
-        .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?;
-    let reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .map_err(|e| SceneError::general(&source, format!("not a readable PNG: {e}")))?;
-    let chunk = reader
-        .info()
-        .utf8_text
-        .iter()
-        .find(|c| c.keyword == crate::output::SCENE_PNG_KEYWORD)
-        .ok_or_else(|| {
-            SceneError::general(
-                &source,
-                "holds no qjulia scene (no qjulia-scene iTXt chunk)",
-            )
-        })?;
-    chunk
-        .get_text()
-        .map_err(|e| SceneError::general(&source, format!("unreadable qjulia-scene chunk: {e}")))
+impl Preset {
+    /// The preset's scene, validated.
+    pub fn scene(&self) -> Scene {
+        let mut loader = SceneLoader::new();
+        loader
+            .toml_str(self.toml, SceneSource::Preset(self.slug.to_string()))
+            .and_then(|()| loader.clone().build())
+            .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
+    }
 }
 
 /// Takes typed values out of the merged layers, remembering where each came from.

@@ -2,12 +2,16 @@
 //! validation. Every key is declared once, below, with its type, default, range, README comment
 //! and explorer slider ([`schema`]); loading from TOML, `--set` and PNGs lives in [`load`].
 
+mod error;
 mod load;
+mod png;
 pub mod presets;
 pub mod rotation;
 pub mod schema;
 
-pub use load::{SceneError, SceneLoader, SceneSource, scene_from_png};
+pub use error::{SceneError, SceneSource};
+pub use load::SceneLoader;
+pub use png::{SCENE_PNG_KEYWORD, scene_from_png};
 
 use schema::{Range, scene_schema};
 use serde::Serialize;

@@ -1,8 +1,6 @@
 //! Named scenes that show the range of quaternion Julia sets, as TOML over the defaults: the
 //! explorer's Presets menu, and `--preset SLUG` on the command line.
 
-use super::{Scene, SceneLoader, SceneSource};
-
 /// A named scene.
 pub struct Preset {
     pub name: &'static str,
@@ -132,20 +130,10 @@ pub fn slugs() -> String {
         .join(", ")
 }
 
-impl Preset {
-    /// The preset's scene, validated.
-    pub fn scene(&self) -> Scene {
-        let mut loader = SceneLoader::new();
-        loader
-            .toml_str(self.toml, SceneSource::Preset(self.slug.to_string()))
-            .and_then(|()| loader.clone().build())
-            .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Scene;
 
     #[test]
     fn every_preset_is_a_valid_scene_and_they_differ() {
