@@ -35,11 +35,8 @@ fn assert_layout_is_nagas(layout: &Value, module: &ShaderModuleSource, name: &st
             ty: f["type"].as_str().unwrap().to_string(),
         })
         .collect();
-    assert_eq!(
-        json, members,
-        "{}: gpu-params' layout is not WGSL's",
-        module.name
-    );
+    let context = format!("{}: gpu-params' layout is not WGSL's", module.name);
+    common::assert_members_eq(&context, &members, &json);
     assert_eq!(
         layout["size"].as_u64(),
         Some(size as u64),

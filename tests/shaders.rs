@@ -85,11 +85,11 @@ fn assert_layout_matches(module: &ShaderModuleSource, host: &Layout) {
             ty: f.ty.to_string(),
         })
         .collect();
-    assert_eq!(
-        shader, host_members,
-        "{}: the host's table and WGSL {} disagree: keep them in sync",
+    let context = format!(
+        "{}: the host's table and WGSL {} disagree (keep them in sync)",
         module.name, host.name
     );
+    common::assert_members_eq(&context, &shader, &host_members);
     assert_eq!((size, align), (host.size, host.align), "{}", module.name);
 }
 

@@ -205,3 +205,14 @@ fn wgsl_type(module: &naga::Module, inner: &naga::TypeInner) -> String {
         other => format!("{other:?}"),
     }
 }
+
+/// Two struct layouts agree member by member; a failure names the first member that differs.
+pub fn assert_members_eq(context: &str, shader: &[WgslMember], host: &[WgslMember]) {
+    if let Some(k) = (0..shader.len().max(host.len())).find(|&k| shader.get(k) != host.get(k)) {
+        panic!(
+            "{context}: member {k} differs: WGSL {:?}, host {:?}",
+            shader.get(k),
+            host.get(k)
+        );
+    }
+}
