@@ -8,7 +8,9 @@
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
-// Keep in sync with `GpuJulia2dParams` and `GpuJulia2dParams64` in src/gpu/params.rs.
+// Keep in sync with the table of `Julia2dParams` in src/params.rs, which makes the host's f32 and
+// f64 images of it, `GpuJulia2dParams` and `GpuJulia2dParams64` (tests/shaders.rs compares their
+// layouts with this struct's). The last four are each dispatch's: its band and where it lands.
 struct Julia2dParams {
     c: vec2<Real>,
     center: vec2<Real>,
@@ -21,7 +23,6 @@ struct Julia2dParams {
     row_count: u32,
     row_stride: u32,
     out_row: u32,
-    pad: u32,
 }
 
 // |z|^2 above this counts as escaped: |z| > 16, far enough out that the smooth count is smooth

@@ -10,9 +10,11 @@
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
-// Keep in sync with `GpuParams` and `GpuParams64` in src/gpu/params.rs (one macro makes both).
-// Ordered so that neither precision has padding inside: the numbers of the algebra, the
-// vec3s each followed by a scalar filling its slot, the other scalars, then the integers.
+// Keep in sync with the table of `TraceParams` in src/params.rs, which makes the host's f32 and
+// f64 images of it, `GpuParams` and `GpuParams64` (tests/shaders.rs compares their layouts with
+// this struct's). Ordered so that neither precision has padding inside: the numbers of the
+// algebra, the vec3s each followed by a scalar filling its slot, the other scalars, the
+// integers, then the integers each dispatch sets (its band, where it lands, its samples).
 struct Params {
     c: Hyper,
     slice_x: Hyper,
@@ -56,20 +58,22 @@ struct Params {
     width: u32,
     height: u32,
     shadows: u32,
-    row_offset: u32,
-    row_count: u32,
-    row_stride: u32,
-    out_row: u32,
     normal_method: u32,
     tracing: u32,
     // Quaternion parts of a number of the scene's algebra: 1 quaternion, 2 octonion, 4 sedenion.
     algebra_parts: u32,
-    // Rays per pixel; this dispatch adds the samples [sample_start, sample_end).
+    // Rays per pixel.
     samples: u32,
-    sample_start: u32,
-    sample_end: u32,
     colouring: u32,
     cut: u32,
+    // This dispatch's: the band of rows, where it lands (row_stride, out_row: see the outputs
+    // below), and the samples it adds, [sample_start, sample_end).
+    row_offset: u32,
+    row_count: u32,
+    row_stride: u32,
+    out_row: u32,
+    sample_start: u32,
+    sample_end: u32,
 }
 
 // params.normal_method: the seed's central differences, a tetrahedron of four samples, or the

@@ -45,6 +45,9 @@ pub enum Command {
     Info,
     /// Accuracy and stability reports.
     Report(ReportArgs),
+    /// Print the tracer's uniform for a scene as data: its layout (WGSL `struct Params`), its
+    /// bytes and the override constants of the scene's pipeline (for a host that packs them).
+    GpuParams(GpuParamsArgs),
 }
 
 /// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
@@ -152,6 +155,18 @@ pub struct Render2dArgs {
     pub stats: Option<PathBuf>,
     #[command(flatten)]
     pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct GpuParamsArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The module and layout (the browser's host is f32-only).
+    #[arg(long, value_parser = ["f32", "f64"], default_value = "f32")]
+    pub precision: String,
+    /// Print JSON (the only format, so required): see README.md.
+    #[arg(long, required = true)]
+    pub json: bool,
 }
 
 #[derive(Args, Debug)]
@@ -791,6 +806,19 @@ pub fn info() -> anyhow::Result<()> {
     println!(
         "render uses: {}",
         qjulia::gpu::adapter_label(&chosen.get_info())
+    );
+    Ok(())
+}
+
+pub fn gpu_params(args: &GpuParamsArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let precision = match args.precision.as_str() {
+        "f64" => Precision::F64,
+        _ => Precision::F32,
+    };
+    println!(
+        "{}",
+        qjulia::uniform::json::GpuParamsJson::new(&scene, precision).to_json()
     );
     Ok(())
 }

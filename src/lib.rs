@@ -24,6 +24,7 @@ pub mod render;
 pub mod report;
 pub mod scene;
 pub mod stats;
+pub mod uniform;
 pub mod video;
 
 pub use error::{Error, Result};

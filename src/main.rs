@@ -14,7 +14,18 @@ fn main() -> ExitCode {
         Err(e) if !e.use_stderr() => e.exit(),
         Err(e) => {
             let text = e.render().to_string();
-            let line = text.lines().next().unwrap_or("error: bad command line");
+            let mut lines = text.lines();
+            let mut line = lines
+                .next()
+                .unwrap_or("error: bad command line")
+                .to_string();
+            if line.ends_with(':') {
+                // The missing arguments, listed on the lines after.
+                let listed: Vec<&str> = lines
+                    .map_while(|l| Some(l.trim()).filter(|l| !l.is_empty()))
+                    .collect();
+                line = format!("{line} {}", listed.join(", "));
+            }
             eprintln!("{line} (see qjulia --help)");
             return ExitCode::from(2);
         }
@@ -27,6 +38,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Info) => cli::info(),
         Some(cli::Command::Report(args)) => cli::report(args),
         Some(cli::Command::Explore(args)) => cli::explore(args),
+        Some(cli::Command::GpuParams(args)) => cli::gpu_params(args),
         None if qjulia::explore::display_available() => cli::explore(&cli::ExploreArgs::default()),
         None => {
             // No display to explore on: help, on stdout, exit 0.

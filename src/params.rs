@@ -1,122 +1,96 @@
-//! What the tracer needs of a scene, precomputed once on the host (in f64) and then rounded to
-//! the precision the tracer runs in: the twin of the WGSL `Params` uniform, with the camera
-//! frame and the slice's bounding ball already worked out.
+//! What the kernels need of a scene, precomputed once on the host (in f64) and then rounded to
+//! the precision they run in, each uniform declared once ([`crate::uniform`]): the host
+//! parameters the CPU twin reads, with the camera frame and the slice's bounding ball already
+//! worked out, and their images, the uniforms the GPU reads (`Params` of shaders/trace.wgsl,
+//! `Julia2dParams` of shaders/julia2d.wgsl).
 
-use crate::algebra::{Hyper, Real, Vec2, Vec3, hyper_from_f64};
-use crate::scene::{Colouring, NormalMethod, Scene, Tracing};
+use crate::algebra::{Vec2, Vec3, hyper_from_f64};
+use crate::scene::{Colouring, NormalMethod, Tracing};
+use crate::uniform::uniform;
 
-/// The tracer's inputs in precision `F`. Field names are those of `Params` in
-/// shaders/trace.wgsl; [`crate::gpu::GpuParams`] is its `#[repr(C)]` f32 image.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TraceParams<F> {
-    pub c: Hyper<F>,
-    pub slice_x: Hyper<F>,
-    pub slice_y: Hyper<F>,
-    pub slice_z: Hyper<F>,
-    pub slice_offset: Hyper<F>,
-    pub eye: Vec3<F>,
-    pub epsilon: F,
-    pub cam_forward: Vec3<F>,
-    pub tan_half_fov_y: F,
-    pub cam_right: Vec3<F>,
-    /// width / height
-    pub aspect: F,
-    pub cam_up: Vec3<F>,
-    pub escape_radius_squared: F,
-    pub light: Vec3<F>,
-    /// The slice's bounding ball; <= 0 when the slice misses the 4D ball.
-    pub bounds_radius_squared: F,
-    pub bounds_center: Vec3<F>,
-    pub normal_tint: F,
-    pub diffuse: Vec3<F>,
-    pub specular: F,
-    pub background: Vec3<F>,
-    pub shininess: F,
-    pub max_iterations: u32,
-    pub max_steps: u32,
-    pub width: u32,
-    pub height: u32,
-    pub shadows: bool,
-    pub shadow_factor: F,
-    pub normal_method: NormalMethod,
-    pub normal_delta: F,
-    pub step_scale: F,
-    pub pixel_epsilon: F,
-    /// A pixel's footprint per unit distance, 2 tan(fov/2) / height.
-    pub pixel_angle: F,
-    pub tracing: Tracing,
-    /// Quaternion parts of a number of the algebra: 1 quaternion, 2 octonion, 4 sedenion.
-    pub algebra_parts: u32,
-    /// Rays per pixel (`image.samples`).
-    pub samples: u32,
-    /// The light's radius (`light.radius`): 0 is a point light.
-    pub light_radius: F,
-    pub ambient: F,
-    pub occlusion: F,
-    pub colouring: Colouring,
-    pub trap_radius: F,
-    pub trap_scale: F,
-    pub palette_phase: Vec3<F>,
-    /// Whether the set is cut by the half-space cut_normal . p <= cut_offset.
-    pub cut: bool,
-    /// Unit length.
-    pub cut_normal: Vec3<F>,
-    pub cut_offset: F,
-}
-
-impl<F: Real> TraceParams<F> {
-    /// The parameters of a validated scene, rounded to `F`.
-    pub fn new(scene: &Scene) -> Self {
+uniform! {
+    /// The tracer's inputs in precision `F`, as the CPU twin reads them. Field names are those
+    /// of `Params` in shaders/trace.wgsl, in its order; [`GpuParams`] and [`GpuParams64`] are
+    /// its images, made from this one table.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct TraceParams<F> for "Params";
+    /// The tracer's uniform in f32: `struct Params` of the f32 module of shaders/trace.wgsl
+    /// (the tests compare [`Self::LAYOUT`] with naga's).
+    pub struct GpuParams<f32>;
+    /// [`GpuParams`] in f64, for the f64 module of the same shaders/trace.wgsl.
+    pub struct GpuParams64<f64>;
+    fn new(scene) {
         let frame = scene.camera_frame();
         let bounds = scene.slice_bounds();
         let (f, s, sh) = (&scene.fractal, &scene.slice, &scene.shading);
-        Self {
-            c: hyper_from_f64(&f.c),
-            slice_x: hyper_from_f64(&s.x),
-            slice_y: hyper_from_f64(&s.y),
-            slice_z: hyper_from_f64(&s.z),
-            slice_offset: hyper_from_f64(&s.offset),
-            eye: Vec3::from_f64(scene.camera.eye),
-            epsilon: F::lit(f.epsilon),
-            cam_forward: Vec3::from_f64(frame.forward),
-            tan_half_fov_y: F::lit(frame.tan_half_fov_y),
-            cam_right: Vec3::from_f64(frame.right),
-            aspect: F::lit(scene.image.width as f64 / scene.image.height as f64),
-            cam_up: Vec3::from_f64(frame.up),
-            escape_radius_squared: F::lit(f.escape_radius_squared.min(F::ESCAPE_LIMIT)),
-            light: Vec3::from_f64(scene.light.position),
-            bounds_radius_squared: F::lit(bounds.radius_squared),
-            bounds_center: Vec3::from_f64(bounds.center),
-            normal_tint: F::lit(sh.normal_tint),
-            diffuse: Vec3::from_f64(sh.diffuse),
-            specular: F::lit(sh.specular),
-            background: Vec3::from_f64(sh.background),
-            shininess: F::lit(sh.shininess),
-            max_iterations: f.max_iterations,
-            max_steps: f.max_steps,
-            width: scene.image.width,
-            height: scene.image.height,
-            shadows: sh.shadows,
-            shadow_factor: F::lit(sh.shadow_factor),
-            normal_method: sh.normal,
-            normal_delta: F::lit(sh.normal_delta),
-            step_scale: F::lit(f.step_scale),
-            pixel_epsilon: F::lit(f.pixel_epsilon),
-            pixel_angle: F::lit(scene.pixel_angle()),
-            tracing: f.tracing,
-            algebra_parts: f.algebra.parts(),
-            samples: scene.image.samples,
-            light_radius: F::lit(scene.light.radius),
-            ambient: F::lit(sh.ambient),
-            occlusion: F::lit(sh.occlusion),
-            colouring: sh.colouring,
-            trap_radius: F::lit(sh.trap_radius),
-            trap_scale: F::lit(sh.trap_scale),
-            palette_phase: Vec3::from_f64(sh.palette_phase),
-            cut: scene.cut.enabled,
-            cut_normal: Vec3::from_f64(unit(scene.cut.normal)),
-            cut_offset: F::lit(scene.cut.offset),
-        }
+    }
+    fields {
+        c: Hyper = hyper_from_f64(&f.c),
+        slice_x: Hyper = hyper_from_f64(&s.x),
+        slice_y: Hyper = hyper_from_f64(&s.y),
+        slice_z: Hyper = hyper_from_f64(&s.z),
+        slice_offset: Hyper = hyper_from_f64(&s.offset),
+        eye: Vec3 = Vec3::from_f64(scene.camera.eye),
+        epsilon: Real = F::lit(f.epsilon),
+        cam_forward: Vec3 = Vec3::from_f64(frame.forward),
+        tan_half_fov_y: Real = F::lit(frame.tan_half_fov_y),
+        cam_right: Vec3 = Vec3::from_f64(frame.right),
+        /// width / height
+        aspect: Real = F::lit(scene.image.width as f64 / scene.image.height as f64),
+        cam_up: Vec3 = Vec3::from_f64(frame.up),
+        escape_radius_squared: Real = F::lit(f.escape_radius_squared.min(F::ESCAPE_LIMIT)),
+        light: Vec3 = Vec3::from_f64(scene.light.position),
+        /// The slice's bounding ball; <= 0 when the slice misses the 4D ball.
+        bounds_radius_squared: Real = F::lit(bounds.radius_squared),
+        bounds_center: Vec3 = Vec3::from_f64(bounds.center),
+        normal_tint: Real = F::lit(sh.normal_tint),
+        diffuse: Vec3 = Vec3::from_f64(sh.diffuse),
+        specular: Real = F::lit(sh.specular),
+        background: Vec3 = Vec3::from_f64(sh.background),
+        shininess: Real = F::lit(sh.shininess),
+        palette_phase: Vec3 = Vec3::from_f64(sh.palette_phase),
+        trap_scale: Real = F::lit(sh.trap_scale),
+        /// Unit length.
+        cut_normal: Vec3 = Vec3::from_f64(unit(scene.cut.normal)),
+        cut_offset: Real = F::lit(scene.cut.offset),
+        shadow_factor: Real = F::lit(sh.shadow_factor),
+        normal_delta: Real = F::lit(sh.normal_delta),
+        step_scale: Real = F::lit(f.step_scale),
+        pixel_epsilon: Real = F::lit(f.pixel_epsilon),
+        /// A pixel's footprint per unit distance, 2 tan(fov/2) / height.
+        pixel_angle: Real = F::lit(scene.pixel_angle()),
+        /// The light's radius (`light.radius`): 0 is a point light.
+        light_radius: Real = F::lit(scene.light.radius),
+        ambient: Real = F::lit(sh.ambient),
+        occlusion: Real = F::lit(sh.occlusion),
+        trap_radius: Real = F::lit(sh.trap_radius),
+        max_iterations: u32 = f.max_iterations,
+        max_steps: u32 = f.max_steps,
+        width: u32 = scene.image.width,
+        height: u32 = scene.image.height,
+        shadows: bool = sh.shadows,
+        normal_method: NormalMethod = sh.normal,
+        tracing: Tracing = f.tracing,
+        /// Quaternion parts of a number of the algebra: 1 quaternion, 2 octonion, 4 sedenion.
+        algebra_parts: u32 = f.algebra.parts(),
+        /// Rays per pixel (`image.samples`).
+        samples: u32 = scene.image.samples,
+        colouring: Colouring = sh.colouring,
+        /// Whether the set is cut by the half-space cut_normal . p <= cut_offset.
+        cut: bool = scene.cut.enabled,
+    }
+    per_dispatch(p, row_offset, row_count) {
+        /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).
+        row_offset: u32 = row_offset,
+        row_count: u32 = row_count,
+        /// Pixels per row of the output arrays (>= width; a multiple of 64 where the rows are
+        /// copied into a texture).
+        row_stride: u32 = p.width,
+        /// The output row that the band's first row lands in.
+        out_row: u32 = 0,
+        /// The samples this dispatch adds: [sample_start, sample_end) of `samples`.
+        sample_start: u32 = 0,
+        sample_end: u32 = p.samples,
     }
 }
 
@@ -133,36 +107,43 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// What the 2D Julia kernel needs of a scene (`view2d` and the first two components of
-/// `fractal.c`), precomputed in f64 and rounded to `F`. Field names are those of
-/// `Julia2dParams` in shaders/julia2d.wgsl; [`crate::gpu::GpuJulia2dParams`] is its f32 image.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Julia2dParams<F> {
-    /// c = c.x + c.y i.
-    pub c: Vec2<F>,
-    /// The complex number at the image's centre.
-    pub center: Vec2<F>,
-    /// Half the image's width and height in the complex plane: extent / 2 and
-    /// extent / 2 * height / width.
-    pub half_extent: Vec2<F>,
-    pub max_iterations: u32,
-    pub width: u32,
-    pub height: u32,
-}
-
-impl<F: Real> Julia2dParams<F> {
-    /// The parameters of a validated scene, rounded to `F`.
-    pub fn new(scene: &Scene) -> Self {
+uniform! {
+    /// What the 2D Julia kernel needs of a scene (`view2d` and the first two components of
+    /// `fractal.c`), precomputed in f64 and rounded to `F`. Field names are those of
+    /// `Julia2dParams` in shaders/julia2d.wgsl, in its order; [`GpuJulia2dParams`] and
+    /// [`GpuJulia2dParams64`] are its images.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Julia2dParams<F> for "Julia2dParams";
+    /// The 2D view's uniform in f32: `struct Julia2dParams` of shaders/julia2d.wgsl's f32
+    /// module (the tests compare [`Self::LAYOUT`] with naga's).
+    pub struct GpuJulia2dParams<f32>;
+    /// [`GpuJulia2dParams`] in f64, for the f64 module of shaders/julia2d.wgsl.
+    pub struct GpuJulia2dParams64<f64>;
+    fn new(scene) {
         let v = &scene.view2d;
         let (w, h) = (scene.image.width, scene.image.height);
         let half = 0.5 * v.extent;
-        Self {
-            c: Vec2::from_f64([scene.fractal.c[0], scene.fractal.c[1]]),
-            center: Vec2::from_f64(v.center),
-            half_extent: Vec2::from_f64([half, half * h as f64 / w as f64]),
-            max_iterations: v.max_iterations,
-            width: w,
-            height: h,
-        }
+    }
+    fields {
+        /// c = c.x + c.y i.
+        c: Vec2 = Vec2::from_f64([scene.fractal.c[0], scene.fractal.c[1]]),
+        /// The complex number at the image's centre.
+        center: Vec2 = Vec2::from_f64(v.center),
+        /// Half the image's width and height in the complex plane: extent / 2 and
+        /// extent / 2 * height / width.
+        half_extent: Vec2 = Vec2::from_f64([half, half * h as f64 / w as f64]),
+        max_iterations: u32 = v.max_iterations,
+        width: u32 = w,
+        height: u32 = h,
+    }
+    per_dispatch(p, row_offset, row_count) {
+        /// The band of rows this dispatch computes: [row_offset, row_offset + row_count).
+        row_offset: u32 = row_offset,
+        row_count: u32 = row_count,
+        /// Pixels per row of the output arrays (>= width; a multiple of 64 where the rows are
+        /// copied into a texture).
+        row_stride: u32 = p.width,
+        /// The output row that the band's first row lands in.
+        out_row: u32 = 0,
     }
 }

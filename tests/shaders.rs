@@ -1,12 +1,17 @@
 //! Every WGSL file parses and validates with naga (wgpu's version), and the host's view of the
-//! shader (uniform layout, shared constants) matches the shader's own.
+//! shader (the uniforms' layout tables, shared constants) matches the shader's own.
 
 use std::mem::offset_of;
 
 use qjulia::algebra::Real;
 use qjulia::cpu::trace::{NORMAL_LIMIT, TINY};
-use qjulia::gpu::GpuParams;
-use qjulia::gpu::shaders::{ALGEBRA_WGSL, ALL_MODULES, TRACE_MODULE, validate_wgsl};
+use qjulia::gpu::shaders::{
+    ALGEBRA_WGSL, ALL_MODULES, ShaderModuleSource, TRACE_MODULE, validate_wgsl,
+};
+use qjulia::uniform::Layout;
+
+mod common;
+use common::WgslMember;
 
 #[test]
 fn every_module_validates() {
@@ -65,43 +70,51 @@ macro_rules! host_offsets {
     };
 }
 
-/// GpuParams's fields in WGSL's order (the padding at the end is the host's alone).
-macro_rules! trace_fields {
-    ($ty:ty) => {
-        host_offsets!($ty: c, slice_x, slice_y, slice_z, slice_offset, eye, epsilon, cam_forward,
-            tan_half_fov_y, cam_right, aspect, cam_up, escape_radius_squared, light,
-            bounds_radius_squared, bounds_center, normal_tint, diffuse, specular, background,
-            shininess, palette_phase, trap_scale, cut_normal, cut_offset, shadow_factor,
-            normal_delta, step_scale, pixel_epsilon, pixel_angle, light_radius, ambient,
-            occlusion, trap_radius, max_iterations, max_steps, width, height, shadows,
-            row_offset, row_count, row_stride, out_row, normal_method, tracing, algebra_parts,
-            samples, sample_start, sample_end, colouring, cut)
-    };
+/// A host layout table against naga's reflection of the WGSL struct: the same members in the
+/// same order (names, offsets, sizes, types), the same size and alignment.
+fn assert_layout_matches(module: &ShaderModuleSource, host: &Layout) {
+    let ir = validate_wgsl(&module.source()).unwrap();
+    let (shader, size, align) = common::wgsl_struct(&ir, host.name);
+    let host_members: Vec<WgslMember> = host
+        .fields
+        .iter()
+        .map(|f| WgslMember {
+            name: f.name.to_string(),
+            offset: f.offset,
+            size: f.size,
+            ty: f.ty.to_string(),
+        })
+        .collect();
+    let context = format!(
+        "{}: the host's table and WGSL {} disagree (keep them in sync)",
+        module.name, host.name
+    );
+    common::assert_members_eq(&context, &shader, &host_members);
+    assert_eq!((size, align), (host.size, host.align), "{}", module.name);
 }
 
 #[test]
 fn uniform_layout_matches_the_shader() {
-    use qjulia::gpu::GpuParams64;
     use qjulia::gpu::shaders::TRACE64_MODULE;
-    for (module, host, host_size) in [
-        (
-            TRACE_MODULE,
-            trace_fields!(GpuParams),
-            size_of::<GpuParams>(),
-        ),
-        (
-            TRACE64_MODULE,
-            trace_fields!(GpuParams64),
-            size_of::<GpuParams64>(),
-        ),
+    use qjulia::gpu::{GpuParams, GpuParams64};
+    assert_layout_matches(&TRACE_MODULE, &GpuParams::LAYOUT);
+    assert_layout_matches(&TRACE64_MODULE, &GpuParams64::LAYOUT);
+    // The table is the bytemuck struct's: the struct is the table's size, and a field written
+    // through the struct lands at the table's offset.
+    for (layout, size) in [
+        (GpuParams::LAYOUT, size_of::<GpuParams>()),
+        (GpuParams64::LAYOUT, size_of::<GpuParams64>()),
     ] {
-        let (shader, span) = shader_layout(&validate_wgsl(&module.source()).unwrap(), "Params");
-        assert_eq!(
-            shader, host,
-            "{}: the host's params and WGSL Params disagree: keep them in sync",
-            module.name
-        );
-        assert_eq!(span, host_size, "{}", module.name);
+        assert_eq!(layout.size, size);
+    }
+    let gpu = GpuParams {
+        cut: 7,
+        sample_end: 9,
+        ..Default::default()
+    };
+    for (name, value) in [("cut", 7u32), ("sample_end", 9)] {
+        let at = GpuParams::LAYOUT.field(name).unwrap().offset;
+        assert_eq!(gpu.bytes()[at..at + 4], value.to_le_bytes(), "{name}");
     }
 }
 
@@ -256,32 +269,21 @@ fn f64_constants_match_the_cpu_twin() {
 fn julia2d_uniform_layout_and_constants_match_the_host() {
     use qjulia::gpu::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
     use qjulia::gpu::{GpuJulia2dParams, GpuJulia2dParams64};
-    macro_rules! julia2d_fields {
-        ($ty:ty) => {
-            host_offsets!($ty: c, center, half_extent, max_iterations, width, height, row_offset,
-                row_count, row_stride, out_row, pad)
-        };
-    }
     for (module, host, host_size) in [
         (
             JULIA2D_MODULE,
-            julia2d_fields!(GpuJulia2dParams),
+            GpuJulia2dParams::LAYOUT,
             size_of::<GpuJulia2dParams>(),
         ),
         (
             JULIA2D64_MODULE,
-            julia2d_fields!(GpuJulia2dParams64),
+            GpuJulia2dParams64::LAYOUT,
             size_of::<GpuJulia2dParams64>(),
         ),
     ] {
+        assert_layout_matches(&module, &host);
+        assert_eq!(host.size, host_size, "{}", module.name);
         let module_ir = validate_wgsl(&module.source()).unwrap();
-        let (shader, span) = shader_layout(&module_ir, "Julia2dParams");
-        assert_eq!(
-            shader, host,
-            "{}: the host's params and WGSL Julia2dParams disagree: keep them in sync",
-            module.name
-        );
-        assert_eq!(span, host_size, "{}", module.name);
         let (_, bailout) = module_ir
             .constants
             .iter()

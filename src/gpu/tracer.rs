@@ -219,8 +219,14 @@ impl<F: GpuReal> GpuTracer<F> {
     /// that thousands of samples of a big image never stall the device.
     pub fn samples_per_dispatch(&self, params: &TraceParams<F>) -> u32 {
         let rows = self.kernel.band_rows(params.width, params.height);
-        let band_pixels = rows as u64 * params.width as u64;
+        Self::samples_per_dispatch_in(rows, params.width, params.samples)
+    }
+
+    /// Samples each dispatch adds to bands of `rows` rows of `width` pixels, of `samples` a
+    /// pixel ([`Self::samples_per_dispatch`] for this device's bands).
+    pub fn samples_per_dispatch_in(rows: u32, width: u32, samples: u32) -> u32 {
+        let band_pixels = rows as u64 * width as u64;
         let fit = (crate::band_pixels() / band_pixels.max(1)).clamp(1, u32::MAX as u64) as u32;
-        fit.min(MAX_SAMPLES_PER_DISPATCH).min(params.samples.max(1))
+        fit.min(MAX_SAMPLES_PER_DISPATCH).min(samples.max(1))
     }
 }

@@ -154,3 +154,77 @@ pub fn cpu_renderer(scene: &Scene, precision: qjulia::Precision) -> qjulia::Rend
         .expect("a CPU plan")
         .renderer
 }
+
+/// A member of a WGSL struct as naga lays it out: name, offset, size and type (written as
+/// `f32`, `vec3<f64>`, `array<vec4<f32>, 4>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WgslMember {
+    pub name: String,
+    pub offset: usize,
+    pub size: usize,
+    pub ty: String,
+}
+
+/// The members, size and alignment of struct `name` of `module`, by naga's reflection.
+pub fn wgsl_struct(module: &naga::Module, name: &str) -> (Vec<WgslMember>, usize, usize) {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .expect("naga lays out the module");
+    let (handle, members, span) = module
+        .types
+        .iter()
+        .find_map(|(handle, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+                Some((handle, members, *span))
+            }
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("struct {name} in the module"));
+    let members = members
+        .iter()
+        .map(|m| WgslMember {
+            name: m.name.clone().unwrap_or_default(),
+            offset: m.offset as usize,
+            size: layouter[m.ty].size as usize,
+            ty: wgsl_type(module, &module.types[m.ty].inner),
+        })
+        .collect();
+    let align = layouter[handle].alignment.round_up(1) as usize;
+    (members, span as usize, align)
+}
+
+/// A type as WGSL writes it (the scalars, vectors and fixed-size arrays of uniforms).
+fn wgsl_type(module: &naga::Module, inner: &naga::TypeInner) -> String {
+    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, w) => format!("f{}", 8 * w),
+        (naga::ScalarKind::Uint, w) => format!("u{}", 8 * w),
+        (naga::ScalarKind::Sint, w) => format!("i{}", 8 * w),
+        (naga::ScalarKind::Bool, _) => "bool".to_string(),
+        (kind, w) => format!("{kind:?}{w}"),
+    };
+    match inner {
+        naga::TypeInner::Scalar(s) => scalar(s),
+        naga::TypeInner::Vector { size, scalar: s } => format!("vec{}<{}>", *size as u8, scalar(s)),
+        naga::TypeInner::Array {
+            base,
+            size: naga::ArraySize::Constant(n),
+            ..
+        } => format!(
+            "array<{}, {n}>",
+            wgsl_type(module, &module.types[*base].inner)
+        ),
+        other => format!("{other:?}"),
+    }
+}
+
+/// Two struct layouts agree member by member; a failure names the first member that differs.
+pub fn assert_members_eq(context: &str, shader: &[WgslMember], host: &[WgslMember]) {
+    if let Some(k) = (0..shader.len().max(host.len())).find(|&k| shader.get(k) != host.get(k)) {
+        panic!(
+            "{context}: member {k} differs: WGSL {:?}, host {:?}",
+            shader.get(k),
+            host.get(k)
+        );
+    }
+}
