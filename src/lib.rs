@@ -19,6 +19,7 @@ pub mod heatmap;
 pub mod mesh;
 pub mod output;
 pub mod params;
+pub mod picture;
 pub mod precision;
 pub mod render;
 pub mod report;

@@ -9,7 +9,7 @@ use std::fmt;
 
 use crate::algebra::Real;
 use crate::grid::GridSpec;
-use crate::render::{Picture, Work};
+use crate::picture::{Picture, Work};
 use crate::scene::Scene;
 
 /// The float type the tracer runs in.
