@@ -1,0 +1,342 @@
+//! The commands that render, animate, mesh and explore: each loads its scene, asks the one
+//! decision for its renderer ([`qjulia::Planner::plan`]) and writes its outputs.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+
+use qjulia::animate::{self, FrameRange, Progress};
+use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
+use qjulia::scene::View;
+use qjulia::{Picture, Precision};
+
+use super::{AnimateArgs, ExploreArgs, GpuParamsArgs, MeshArgs, Render2dArgs, RenderArgs};
+
+pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load_with_view(args.view)?;
+    let mut paths = OutputPaths {
+        png: args.output.clone().or_else(|| {
+            (args.depth.is_none() && args.steps.is_none()).then(|| PathBuf::from("qjulia.png"))
+        }),
+        depth: args.depth.clone(),
+        steps: args.steps.clone(),
+        stats: args.stats.clone(),
+        depth_f64: false,
+    };
+    let heat_map = scene.image.view != View::Shaded && paths.png.is_some();
+    // A heat map needs depth and steps only; without a PNG, so do the .npy outputs.
+    let picture = Picture::Slice {
+        shade: paths.png.is_some() && !heat_map,
+    };
+    if heat_map {
+        // A heat map is scaled to the whole image's steps: rendered whole, then written.
+        let notice = &mut |n: &str| eprintln!("qjulia: {n}");
+        let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
+        paths.depth_f64 = plan.decision.precision == Precision::F64;
+        let (frame, stats) = plan.renderer.render_frame(&scene, picture)?;
+        write_view_outputs(&paths, &frame, &stats, &scene)?;
+        report_render(&stats);
+        return Ok(());
+    }
+    // Outputs are written band by band as the render goes: any size in bounded memory.
+    let rows = scene.image.height as u64;
+    let pixels = scene.image.width as u64 * rows;
+    let bar = if pixels >= 1 << 24 {
+        let bar = indicatif::ProgressBar::new(rows);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} rows, {eta} left",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
+    paths.depth_f64 = plan.decision.precision == Precision::F64;
+    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
+    let stats = plan.renderer.render(&scene, picture, &mut |band| {
+        bar.inc(band.height as u64);
+        outputs.write_band(band)
+    })?;
+    bar.finish_and_clear();
+    outputs.finish(&stats)?;
+    report_render(&stats);
+    Ok(())
+}
+
+/// One line on stderr about a finished render.
+fn report_render(stats: &qjulia::RenderStats) {
+    eprintln!(
+        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel, 8x8 tile efficiency {:.1}%",
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.render_seconds,
+        stats.summary.hit_fraction * 100.0,
+        stats.summary.steps_mean,
+        stats.summary.tile_efficiency * 100.0
+    );
+}
+
+pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
+    // Everything is checked before anything is written: the scene, the range, the video's
+    // kind; then ffmpeg is looked for, before anything is rendered.
+    let (base, animation) = args.scene.load_animated(args.view)?;
+    if args.frame_count {
+        println!("{}", animation.frames);
+        return Ok(());
+    }
+    let range = match &args.frames {
+        Some(text) => FrameRange::parse(text, animation.frames).map_err(qjulia::Error::from)?,
+        None => FrameRange::all(animation.frames),
+    };
+    if let Some(video) = &args.video {
+        qjulia::video::Codec::for_path(video).map_err(qjulia::Error::from)?;
+        qjulia::video::find_ffmpeg()?;
+    }
+    // PNG frames: into --out, or the default folder unless a video alone was asked for.
+    let out = match (&args.out, &args.video) {
+        (Some(dir), _) => Some(dir.clone()),
+        (None, Some(_)) => None,
+        (None, None) => Some(PathBuf::from(animate::DEFAULT_DIR)),
+    };
+    let picture = Picture::Slice {
+        shade: base.image.view == View::Shaded,
+    };
+    let bar = indicatif::ProgressBar::new(range.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} frames, {per_sec}, {eta} left",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    // Each frame's precision by the rule of `render` (auto: by the frame's own scene), its
+    // renderer made once per precision; the notices and warnings once per precision.
+    // Everything the run needs is there before the first frame: the first frame's renderer.
+    let mut planner = args.tracer.planner();
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    planner.plan(
+        &animation.scene_at(&base, range.first),
+        picture.into(),
+        notice,
+    )?;
+    let job = animate::Job {
+        base: &base,
+        animation: &animation,
+        range,
+        out: out.as_deref(),
+        resume: args.resume,
+        video: args.video.as_deref(),
+        stop: None,
+    };
+    let stats = animate::run(&mut planner, notice, &job, &mut |p| match p {
+        Progress::Start { to_render, skipped } => {
+            if skipped > 0 {
+                bar.suspend(|| {
+                    eprintln!("qjulia: {skipped} frames already complete, {to_render} to render")
+                });
+            }
+            bar.set_length(to_render as u64);
+            bar.reset();
+        }
+        Progress::Frame { .. } => bar.inc(1),
+    });
+    bar.finish_and_clear();
+    let stats = stats?;
+    if let Some(path) = &args.stats {
+        qjulia::output::write_json(path, &stats)?;
+    }
+    let mut wrote: Vec<String> = Vec::new();
+    if let Some(dir) = &out {
+        wrote.push(dir.display().to_string());
+    }
+    if let Some(video) = &args.video {
+        wrote.push(format!(
+            "{} ({} frames)",
+            video.display(),
+            stats.video_frames
+        ));
+    }
+    eprintln!(
+        "qjulia: frames {}..{} of {} to {}: {} rendered ({} skipped), {}x{} on {} ({}) in {:.3} s, {:.2} frames/s",
+        range.first,
+        range.last,
+        animation.frames,
+        wrote.join(" and "),
+        stats.frames,
+        stats.skipped,
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.seconds,
+        stats.frames_per_second
+    );
+    Ok(())
+}
+
+pub fn render2d(args: &Render2dArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let paths = OutputPaths {
+        png: Some(args.output.clone()),
+        stats: args.stats.clone(),
+        ..Default::default()
+    };
+    let notice = &mut |n: &str| eprintln!("qjulia: {n}");
+    let plan = args
+        .tracer
+        .planner()
+        .plan(&scene, Picture::Julia2d.into(), notice)?;
+    let mut outputs = StreamingOutputs::create(&paths, &scene)?;
+    let stats = plan
+        .renderer
+        .render(&scene, Picture::Julia2d, &mut |band| {
+            outputs.write_band(band)
+        })?;
+    outputs.finish(&stats)?;
+    eprintln!(
+        "qjulia: 2D Julia set of c = {} + {} i, {}x{} on {} ({}) in {:.3} s, {:.1}% in the set, {:.1} iterations/pixel",
+        scene.fractal.c[0],
+        scene.fractal.c[1],
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision,
+        stats.render_seconds,
+        stats.summary.hit_fraction * 100.0,
+        stats.summary.steps_mean
+    );
+    Ok(())
+}
+
+pub fn mesh(args: &MeshArgs) -> anyhow::Result<()> {
+    use qjulia::mesh::{Format, MeshOptions};
+    // Everything is checked before anything is sampled or written.
+    let scene = args.scene.load()?;
+    let resolution = u32::try_from(args.resolution).unwrap_or(0);
+    let resolution = if resolution as i64 == args.resolution {
+        MeshOptions::check_resolution(resolution)
+    } else {
+        MeshOptions::check_resolution(0).map_err(|mut e| {
+            e.flag = format!("--resolution {}", args.resolution);
+            e
+        })
+    }
+    .map_err(qjulia::Error::from)?;
+    let region = args
+        .region
+        .as_deref()
+        .map(MeshOptions::parse_box)
+        .transpose()
+        .map_err(qjulia::Error::from)?;
+    let scale = MeshOptions::check_scale(args.scale).map_err(qjulia::Error::from)?;
+    Format::for_path(&args.output).map_err(qjulia::Error::from)?;
+    let options = MeshOptions { resolution, region };
+    let bar = indicatif::ProgressBar::new(resolution as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} grid layers, {eta} left",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    // The precision: as for render, the grid cell playing the pixel's part.
+    let notice = &mut |n: &str| bar.suspend(|| eprintln!("qjulia: {n}"));
+    let work = qjulia::mesh::work(&scene, &options);
+    let plan = args.tracer.planner().plan(&scene, work, notice)?;
+    let renderer = plan.renderer;
+    let (mesh, stats) =
+        qjulia::mesh::make_mesh(&renderer, &scene, &options, &mut |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        })?;
+    bar.finish_and_clear();
+    if mesh.is_empty() {
+        eprintln!(
+            "qjulia: the surface is empty: no grid point lies inside it (d < epsilon within the bounding ball{}); writing an empty mesh",
+            if region.is_some() { ", in the box" } else { "" }
+        );
+    }
+    let stats_out = args.stats.as_deref().map(|p| (p, &stats));
+    qjulia::mesh::write_outputs(&args.output, &mesh, scale, stats_out)?;
+    eprintln!(
+        "qjulia: {n}x{n}x{n} grid on {} ({}): {} vertices, {} triangles in {:.3} s (sampling {:.3} s, {:.3e} points/s); wrote {}",
+        stats.adapter,
+        stats.precision,
+        stats.vertices,
+        stats.triangles,
+        stats.seconds,
+        stats.sample_seconds,
+        stats.grid_points_per_second,
+        args.output.display(),
+        n = resolution,
+    );
+    Ok(())
+}
+
+pub fn explore(args: &ExploreArgs) -> anyhow::Result<()> {
+    let initial = if args.scene.given() || args.view.is_some() {
+        Some(args.scene.load_animated(args.view)?)
+    } else {
+        None
+    };
+    qjulia::explore::run(initial)?;
+    Ok(())
+}
+
+pub fn info() -> anyhow::Result<()> {
+    println!("presets (--preset NAME):");
+    let width = qjulia::scene::presets::PRESETS
+        .iter()
+        .map(|p| p.slug.len())
+        .max()
+        .unwrap_or(0);
+    for p in qjulia::scene::presets::PRESETS {
+        println!("  {:width$}  {}", p.slug, p.about);
+    }
+    let adapters = pollster::block_on(qjulia::gpu::available_adapters());
+    if adapters.is_empty() {
+        println!(
+            "no GPU adapters found; {}",
+            qjulia::error::INSTALL_ADAPTER_HINT
+        );
+    }
+    for a in &adapters {
+        let info = a.get_info();
+        let f64 = a.features().contains(wgpu::Features::SHADER_F64);
+        let ts = a.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        println!(
+            "adapter: {} ({:?}, driver {} {}; f64: {f64}, timestamps: {ts})",
+            qjulia::gpu::adapter_label(&info),
+            info.device_type,
+            info.driver,
+            info.driver_info
+        );
+    }
+    let chosen =
+        pollster::block_on(qjulia::gpu::select_adapter()).context("choosing an adapter")?;
+    println!(
+        "render uses: {}",
+        qjulia::gpu::adapter_label(&chosen.get_info())
+    );
+    Ok(())
+}
+
+pub fn gpu_params(args: &GpuParamsArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let precision = match args.precision.as_str() {
+        "f64" => Precision::F64,
+        _ => Precision::F32,
+    };
+    println!(
+        "{}",
+        qjulia::uniform::json::GpuParamsJson::new(&scene, precision).to_json()
+    );
+    Ok(())
+}

@@ -1,0 +1,366 @@
+//! The command line (CONTRACT.md): argument parsing and wiring only. This file holds the
+//! arguments and how they become a scene and a planner; `commands` runs each command,
+//! `report` the reports.
+
+mod commands;
+mod report;
+
+pub use commands::{animate, explore, gpu_params, info, mesh, render, render2d};
+pub use report::report;
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use qjulia::animation::Animation;
+use qjulia::precision::PrecisionChoice;
+use qjulia::scene::{SceneLoader, View};
+use qjulia::{Backend, Planner, Scene};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "qjulia",
+    version,
+    about = "Ray tracing quaternion Julia sets on the GPU"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene headless to PNG (and optionally depth, steps and stats).
+    Render(RenderArgs),
+    /// Render the frames of the scene's [animation] to DIR/frame-NNNNN.png, each a full qjulia
+    /// PNG carrying its frame's scene.
+    Animate(AnimateArgs),
+    /// Render the 2D Julia set of c = c[0] + c[1] i (the scene's [view2d]) to a grey PNG.
+    #[command(name = "render2d")]
+    Render2d(Render2dArgs),
+    /// Mesh the set's surface, the shell d = epsilon that the renderer's rays stop in, as a
+    /// closed triangle mesh (PLY, STL or OBJ by the file's extension), sampled on a grid of N
+    /// points per axis.
+    Mesh(MeshArgs),
+    /// The desktop explorer: every scene value live (starts from the scene options when given,
+    /// else from the last scene shown, else the default).
+    Explore(ExploreArgs),
+    /// List the presets (--preset NAME) and the GPU adapters wgpu finds, and say which adapter
+    /// `render` would use.
+    Info,
+    /// Accuracy and stability reports.
+    Report(ReportArgs),
+    /// Print the tracer's uniform for a scene as data: its layout (WGSL `struct Params`), its
+    /// bytes and the override constants of the scene's pipeline (for a host that packs them).
+    GpuParams(GpuParamsArgs),
+}
+
+/// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// Start from a named scene instead of the defaults (`qjulia info` lists them); the scene
+    /// file, the shorthands and --set apply over it.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// A scene file: TOML, or a PNG written by qjulia (default: the built-in default scene).
+    #[arg(long, value_name = "FILE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Override one scene key by its dotted path, VALUE in TOML syntax (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Shorthand for image.width.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub width: Option<i64>,
+    /// Shorthand for image.height.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub height: Option<i64>,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The PNG to write (default qjulia.png, unless only --depth or --steps is asked for).
+    #[arg(short = 'o', long = "output", value_name = "FILE.png")]
+    pub output: Option<PathBuf>,
+    /// Write the depth map (float32 .npy, NaN where nothing is hit).
+    #[arg(long, value_name = "FILE.npy")]
+    pub depth: Option<PathBuf>,
+    /// Write the sphere-tracing steps per pixel (uint32 .npy).
+    #[arg(long, value_name = "FILE.npy")]
+    pub steps: Option<PathBuf>,
+    /// Write render statistics as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    /// Shorthand for image.view: the shaded picture, or a heat map of the steps per ray or of
+    /// the wasted steps in 8x8 blocks (with a legend strip below).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
+/// Which tracer renders, and in which precision (`render`, `render2d`, `animate`).
+#[derive(Args, Debug)]
+pub struct TracerArgs {
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
+    /// auto: f32 wherever f32 resolves the scene (no precision warning), else f64.
+    #[arg(long, value_enum, default_value_t = PrecisionArg::Auto)]
+    pub precision: PrecisionArg,
+}
+
+#[derive(Args, Debug)]
+pub struct AnimateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The frames to render, A..B: 0-based and inclusive, A <= B < the frame count (default:
+    /// every frame). Split a long animation into ranges to render them anywhere.
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
+    /// The folder for the PNG frames, created if missing (default qjulia-frames; with --video,
+    /// PNG frames are written only when --out is given).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Also write a video of the frames through ffmpeg: FILE.mp4 (H.264, yuv420p) or FILE.webm
+    /// (VP9); odd sizes are padded to even. With --resume, complete frames are read from --out.
+    #[arg(long, value_name = "FILE.mp4|FILE.webm")]
+    pub video: Option<PathBuf>,
+    /// Skip frames whose PNG is already complete (written whole, with this frame's scene).
+    #[arg(long)]
+    pub resume: bool,
+    /// Write the run's statistics as JSON: frames, seconds, frames per second, backend.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    /// Shorthand for image.view (as for `render`).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
+    /// Print the animation's frame count on stdout and exit, rendering and writing nothing (for
+    /// scripts that split the frames, such as scripts/slurm/submit.sh).
+    #[arg(long)]
+    pub frame_count: bool,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct Render2dArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The PNG to write.
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE.png",
+        default_value = "qjulia.png"
+    )]
+    pub output: PathBuf,
+    /// Write render statistics as JSON (hits: points in the set; steps: iterations).
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct GpuParamsArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The module and layout (the browser's host is f32-only).
+    #[arg(long, value_parser = ["f32", "f64"], default_value = "f32")]
+    pub precision: String,
+    /// Print JSON (the only format, so required): see README.md.
+    #[arg(long, required = true)]
+    pub json: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct MeshArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Grid points per axis, from 8 to 4096, over the cube around the bounding region (or the
+    /// box).
+    #[arg(long, value_name = "N", default_value_t = qjulia::mesh::DEFAULT_RESOLUTION as i64, allow_negative_numbers = true)]
+    pub resolution: i64,
+    /// Mesh this box (slice coordinates) instead of the cube around the bounding region.
+    #[arg(
+        long = "box",
+        value_name = "X0,Y0,Z0,X1,Y1,Z1",
+        allow_hyphen_values = true
+    )]
+    pub region: Option<String>,
+    /// Multiply the coordinates written by S (e.g. to millimetres for a printer).
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    pub scale: f64,
+    /// The mesh file: .ply (binary, with normals), .stl (binary) or .obj (with normals).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE.ply|FILE.stl|FILE.obj",
+        default_value = "qjulia.ply"
+    )]
+    pub output: PathBuf,
+    /// Write the run's statistics as JSON: grid points, triangles, vertices, seconds, grid
+    /// points per second, backend, precision.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct ExploreArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Shorthand for image.view (what the 3D view shows).
+    #[arg(long, value_enum, value_name = "VIEW")]
+    pub view: Option<ViewArg>,
+}
+
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// The folder to write into (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "report")]
+    pub out: PathBuf,
+    /// Run the stiff and extreme case suite on every tracer (writes DIR/stability.md) instead
+    /// of the work-precision report.
+    #[arg(long, conflicts_with = "dimensions")]
+    pub stability: bool,
+    /// Measure the distance estimate in quaternions, octonions and sedenions: steps, first-step
+    /// efficiency, time, f32 error against f64 (writes DIR/dimensions.md).
+    #[arg(long)]
+    pub dimensions: bool,
+    /// The work-precision report in minutes: one scene, smaller images, one timing each.
+    #[arg(long)]
+    pub quick: bool,
+    /// Image size in pixels a side (default: 64 for --stability, 128 with --quick or
+    /// --dimensions, else 320).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub size: Option<u32>,
+    /// Seconds a case may take on one tracer before it counts as a hang.
+    #[arg(long, default_value_t = 120, value_parser = clap::value_parser!(u64).range(1..=3600))]
+    pub limit: u64,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum BackendArg {
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum PrecisionArg {
+    Auto,
+    F32,
+    F64,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ViewArg {
+    Shaded,
+    Steps,
+    Divergence,
+}
+
+impl ViewArg {
+    fn view(self) -> View {
+        match self {
+            ViewArg::Shaded => View::Shaded,
+            ViewArg::Steps => View::Steps,
+            ViewArg::Divergence => View::Divergence,
+        }
+    }
+}
+
+impl BackendArg {
+    fn backend(self) -> Backend {
+        match self {
+            BackendArg::Auto => Backend::Auto,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Cpu => Backend::Cpu,
+        }
+    }
+}
+
+impl PrecisionArg {
+    fn choice(self) -> PrecisionChoice {
+        match self {
+            PrecisionArg::Auto => PrecisionChoice::Auto,
+            PrecisionArg::F32 => PrecisionChoice::F32,
+            PrecisionArg::F64 => PrecisionChoice::F64,
+        }
+    }
+}
+
+impl TracerArgs {
+    /// The planner of `--backend` and `--precision` ([`Planner::plan`] decides each work).
+    fn planner(&self) -> Planner {
+        Planner::new(self.backend.backend(), self.precision.choice())
+    }
+}
+
+impl SceneArgs {
+    /// Whether any scene option was given.
+    pub fn given(&self) -> bool {
+        self.preset.is_some()
+            || self.scene.is_some()
+            || !self.sets.is_empty()
+            || self.width.is_some()
+            || self.height.is_some()
+    }
+
+    /// The scene these options describe, validated once all layers are in.
+    pub fn load(&self) -> Result<Scene, qjulia::Error> {
+        self.load_with_view(None)
+    }
+
+    /// As [`Self::load`], with `--view` (a shorthand flag of `render` and `explore`).
+    pub fn load_with_view(&self, view: Option<ViewArg>) -> Result<Scene, qjulia::Error> {
+        Ok(self.loader(view)?.build()?)
+    }
+
+    /// The scene and its `[animation]` table (`animate`), with `--view`.
+    pub fn load_animated(
+        &self,
+        view: Option<ViewArg>,
+    ) -> Result<(Scene, Animation), qjulia::Error> {
+        Ok(self.loader(view)?.build_animated()?)
+    }
+
+    /// Every layer of these options, in order, not yet built.
+    fn loader(&self, view: Option<ViewArg>) -> Result<SceneLoader, qjulia::Error> {
+        let mut loader = SceneLoader::new();
+        if let Some(name) = &self.preset {
+            loader.preset(name)?;
+        }
+        if let Some(path) = &self.scene {
+            loader.file(path)?;
+        }
+        for (key, flag, value) in [
+            ("image.width", "--width", self.width),
+            ("image.height", "--height", self.height),
+        ] {
+            if let Some(v) = value {
+                loader.flag(key, toml::Value::Integer(v), format!("{flag} {v}"));
+            }
+        }
+        if let Some(view) = view {
+            let name = view.view().name();
+            loader.flag(
+                "image.view",
+                toml::Value::String(name.into()),
+                format!("--view {name}"),
+            );
+        }
+        for raw in &self.sets {
+            loader.set(raw)?;
+        }
+        Ok(loader)
+    }
+}
