@@ -44,6 +44,10 @@ pub enum Error {
     /// Device creation, device loss, mapping failures. Exit 1.
     #[error("GPU: {0}")]
     Gpu(String),
+    /// A writer of `animate` (the PNG encoders, the video's thread) stopped: its own error is
+    /// the one reported first. Exit 1.
+    #[error("{0}")]
+    Stopped(String),
     /// ffmpeg missing or failing (`animate --video`). Exit 1.
     #[error("{0}")]
     Video(String),

@@ -1,0 +1,341 @@
+//! `qjulia animate`: the frames of a scene's animation, each a full qjulia PNG
+//! (`DIR/frame-NNNNN.png`) carrying its own frame's resolved scene, written whole or not at all,
+//! and optionally a video of them through ffmpeg ([`crate::video`]).
+//!
+//! Frame k's bytes depend only on the scene options and k (on one backend and adapter): each
+//! frame's renderer is decided by its own scene ([`Planner::plan`], as `qjulia render` decides
+//! it: with `--precision auto` deep frames run in f64), runs of frames of one renderer stream
+//! on the same path as `qjulia render`, so any split of the frames (`--frames A..B`) gives
+//! byte-identical files and `render --scene DIR/frame-NNNNN.png` writes that frame again, byte
+//! for byte.
+//!
+//! The frames are pipelined: this thread renders them one after another, reading back only the
+//! colour; the writers (`writers.rs`: a pool of threads that encodes and writes the PNGs, and
+//! one more that feeds ffmpeg in order) take them as they come. At most [`frames_in_flight`]
+//! rendered frames wait for them, so memory stays bounded.
+
+mod writers;
+
+pub use writers::frames_in_flight;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::animation::Animation;
+use crate::error::{Error, FlagError, Result};
+use crate::frame::Frame;
+use crate::gpu::Readback;
+use crate::render::{Picture, Planner, Renderer};
+use crate::scene::{Scene, View};
+use writers::Writers;
+
+/// The folder frames go to when none is given.
+pub const DEFAULT_DIR: &str = "qjulia-frames";
+
+/// An inclusive range of 0-based frame numbers, `first <= last`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameRange {
+    pub first: u32,
+    pub last: u32,
+}
+
+impl FrameRange {
+    /// Every frame of an animation of `frames` frames (at least 1).
+    pub fn all(frames: u32) -> Self {
+        Self {
+            first: 0,
+            last: frames.saturating_sub(1),
+        }
+    }
+
+    /// Parses `--frames A..B`: 0-based, inclusive, `A <= B < frames`. The error names the flag
+    /// as typed (exit 2 as bad input).
+    pub fn parse(text: &str, frames: u32) -> Result<Self, FlagError> {
+        let bad = |message: String| FlagError::new(format!("--frames {text}"), message);
+        let expected = || {
+            bad(format!(
+                "expected A..B, the first and last frame (0-based, inclusive; the animation has {frames} frames, 0..{})",
+                frames.saturating_sub(1)
+            ))
+        };
+        let (a, b) = text.split_once("..").ok_or_else(expected)?;
+        let number = |s: &str| {
+            (!s.is_empty() && s.bytes().all(|c| c.is_ascii_digit()))
+                .then(|| s.parse::<u32>().ok())
+                .flatten()
+        };
+        let (Some(first), Some(last)) = (number(a), number(b)) else {
+            return Err(expected());
+        };
+        if first > last {
+            return Err(bad(format!(
+                "the first frame {first} is after the last {last}"
+            )));
+        }
+        if last >= frames {
+            return Err(bad(format!(
+                "frame {last} is past the last frame {} (the animation has {frames} frames, numbered from 0)",
+                frames.saturating_sub(1)
+            )));
+        }
+        Ok(Self { first, last })
+    }
+
+    /// How many frames the range holds.
+    pub fn len(&self) -> u32 {
+        self.last - self.first + 1
+    }
+
+    /// Never empty (`first <= last`); here for the lint's sake.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    pub fn iter(&self) -> std::ops::RangeInclusive<u32> {
+        self.first..=self.last
+    }
+}
+
+/// The PNG of frame `k` in `dir`: `frame-NNNNN.png`, five digits (frames are below 100000).
+pub fn frame_path(dir: &Path, k: u32) -> PathBuf {
+    dir.join(format!("frame-{k:05}.png"))
+}
+
+/// Whether frame `k`'s PNG is already there and complete: it exists under its final name (the
+/// writer renames only complete files into place) and carries exactly `scene`. A frame left by
+/// another scene, or a file that is not a qjulia PNG, is not complete.
+pub fn frame_complete(path: &Path, scene: &Scene) -> bool {
+    path.is_file() && crate::scene::scene_from_png(path).is_ok_and(|text| text == scene.to_toml())
+}
+
+/// What one animate run did, for `--stats` (JSON).
+#[derive(Clone, Debug, Serialize)]
+pub struct AnimateStats {
+    /// The frames rendered and written in this run.
+    pub frames: u32,
+    /// Whether the run was stopped early ([`Job::stop`]): then no video was written.
+    #[serde(skip)]
+    pub stopped: bool,
+    /// The video written, if any, and the frames it holds (those rendered and those skipped).
+    pub video: Option<PathBuf>,
+    pub video_frames: u32,
+    /// Frames of the range skipped as already complete (`--resume`).
+    pub skipped: u32,
+    /// The range asked for, inclusive.
+    pub first: u32,
+    pub last: u32,
+    /// Wall-clock seconds from the first frame to the last one written (the device's start-up
+    /// left out), rendering and writing included.
+    pub seconds: f64,
+    /// `frames / seconds` (0 when nothing was rendered).
+    pub frames_per_second: f64,
+    /// The renderers' own seconds, summed over the frames (`render_seconds` of each).
+    pub render_seconds: f64,
+    pub backend: String,
+    pub adapter: String,
+    pub precision: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// What the caller hears as the frames go.
+pub enum Progress<'a> {
+    /// The frames to render, after those already complete were counted out.
+    Start { to_render: u32, skipped: u32 },
+    /// Frame `frame` was rendered and written: its PNG at `path` where PNGs are written (else
+    /// it went to the video alone), in `render_seconds`.
+    Frame {
+        frame: u32,
+        path: Option<&'a Path>,
+        render_seconds: f64,
+    },
+}
+
+/// One `animate` run: which frames of which animation go where.
+#[derive(Clone, Copy, Debug)]
+pub struct Job<'a> {
+    pub base: &'a Scene,
+    pub animation: &'a Animation,
+    pub range: FrameRange,
+    /// The folder of the PNG frames (created if missing); None writes none (a video alone).
+    pub out: Option<&'a Path>,
+    /// Skip frames whose PNG in `out` is complete (a video then reads them from there).
+    pub resume: bool,
+    /// The video to write (`.mp4` or `.webm`), of every frame of the range.
+    pub video: Option<&'a Path>,
+    /// Set (by another thread) to stop after the frames in hand: frames written stay, and the
+    /// video, incomplete, is not written. The explorer's Cancel.
+    pub stop: Option<&'a AtomicBool>,
+}
+
+/// One frame of a run: its number, its scene, where its PNG goes (None: no PNGs are
+/// written, a video alone), and whether that PNG is complete already (`--resume`: then it is
+/// not rendered again, and a video reads it back).
+#[derive(Clone, Debug)]
+pub struct FramePlan {
+    pub frame: u32,
+    pub scene: Scene,
+    pub png: Option<PathBuf>,
+    pub complete: bool,
+}
+
+/// The first step of a run: every frame of the range with its scene, its PNG and whether that
+/// is complete.
+pub fn plan_frames(job: &Job) -> Vec<FramePlan> {
+    job.range
+        .iter()
+        .map(|frame| {
+            let scene = job.animation.scene_at(job.base, frame);
+            let png = job.out.map(|dir| frame_path(dir, frame));
+            let complete = job.resume && png.as_deref().is_some_and(|p| frame_complete(p, &scene));
+            FramePlan {
+                frame,
+                scene,
+                png,
+                complete,
+            }
+        })
+        .collect()
+}
+
+/// Renders frames `job.range` of `job.animation` over `job.base`: PNGs into `job.out`,
+/// skipping complete frames when `job.resume` is set, and the video. In steps: the frames are
+/// planned ([`plan_frames`]); each frame to render gets the renderer `planner` decides for its
+/// own scene (its precision may depend on the frame; `notice` hears what the planner says the
+/// first time it makes each renderer), all before the first renders; the writers start (PNG
+/// encoders, the video); the frames render in runs of one renderer, each run one stream, each
+/// frame handed to the writers as it comes. Frames already written stay when a later one
+/// fails; the video is written whole or not at all.
+pub fn run(
+    planner: &mut Planner,
+    notice: &mut dyn FnMut(&str),
+    job: &Job,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<AnimateStats> {
+    if let Some(dir) = job.out {
+        std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    let frames = plan_frames(job);
+    let to_render: Vec<&FramePlan> = frames.iter().filter(|f| !f.complete).collect();
+    let skipped = (frames.len() - to_render.len()) as u32;
+    progress(Progress::Start {
+        to_render: to_render.len() as u32,
+        skipped,
+    });
+    let (picture, readback) = match job.base.image.view {
+        View::Shaded => (Picture::SHADED, Readback::Colour),
+        _ => (Picture::Slice { shade: false }, Readback::All),
+    };
+    let renderers: Vec<Renderer> = to_render
+        .iter()
+        .map(|f| Ok(planner.plan(&f.scene, picture.into(), notice)?.renderer))
+        .collect::<Result<_>>()?;
+    let start = Instant::now();
+    let mut runs = Runs::default();
+    let video_frames = std::thread::scope(|s| -> Result<u32> {
+        let mut writers = Writers::start(s, job, &frames);
+        let handed_out = runs.render(
+            &to_render,
+            &renderers,
+            picture,
+            readback,
+            job,
+            &mut |plan, frame, seconds| writers.frame(plan, frame, seconds, progress),
+        );
+        let finished = handed_out.and_then(|()| match runs.rendered < to_render.len() as u32 {
+            // Stopped before this frame: the rest stays undone.
+            true => Ok(()),
+            false => writers.rest_from_disk(),
+        });
+        writers.finish(finished, runs.rendered == to_render.len() as u32, progress)
+    })?;
+    let rendered = runs.rendered;
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(AnimateStats {
+        frames: rendered,
+        stopped: rendered < to_render.len() as u32,
+        video: job.video.map(Path::to_path_buf),
+        video_frames,
+        skipped,
+        first: job.range.first,
+        last: job.range.last,
+        seconds,
+        frames_per_second: if rendered > 0 {
+            rendered as f64 / seconds
+        } else {
+            0.0
+        },
+        render_seconds: runs.render_seconds,
+        backend: joined(&runs.used, |r| r.backend_name().into()),
+        adapter: joined(&runs.used, Renderer::adapter),
+        precision: joined(&runs.used, |r| r.precision().name().into()),
+        width: job.base.image.width,
+        height: job.base.image.height,
+    })
+}
+
+/// The render step's tally: frames rendered, their renderers' seconds, and the renderers used
+/// (one per run).
+#[derive(Default)]
+struct Runs {
+    rendered: u32,
+    render_seconds: f64,
+    used: Vec<Renderer>,
+}
+
+impl Runs {
+    /// Renders `frames` (each with its renderer) in runs of one renderer, each run one stream,
+    /// handing each frame in order to `sink` with its render seconds; stops early when
+    /// `job.stop` is set.
+    fn render(
+        &mut self,
+        frames: &[&FramePlan],
+        renderers: &[Renderer],
+        picture: Picture,
+        readback: Readback,
+        job: &Job,
+        sink: &mut dyn FnMut(&FramePlan, &Frame, f64) -> Result<()>,
+    ) -> Result<()> {
+        let stop = || job.stop.is_some_and(|s| s.load(Ordering::Relaxed));
+        let mut first = 0;
+        for run in renderers.chunk_by(Renderer::same_tracer) {
+            if stop() {
+                break;
+            }
+            let plans = &frames[first..first + run.len()];
+            first += run.len();
+            self.used.push(run[0].clone());
+            let mut scenes = plans
+                .iter()
+                .map(|f| f.scene.clone())
+                .take_while(|_| !stop());
+            let mut next = plans.iter();
+            run[0].render_frames(&mut scenes, picture, readback, &mut |frame, stats| {
+                let plan = next.next().expect("one plan per frame rendered");
+                self.rendered += 1;
+                self.render_seconds += stats.render_seconds;
+                sink(plan, &frame, stats.render_seconds)
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// What the renderers used say of themselves, each once, in order of use, joined by ", "
+/// (one value when all frames had one renderer; "" when none rendered).
+fn joined(used: &[Renderer], say: impl Fn(&Renderer) -> String) -> String {
+    let mut said: Vec<String> = Vec::new();
+    for r in used {
+        let s = say(r);
+        if !said.contains(&s) {
+            said.push(s);
+        }
+    }
+    said.join(", ")
+}
