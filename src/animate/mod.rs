@@ -27,8 +27,7 @@ use serde::Serialize;
 use crate::animation::Animation;
 use crate::error::{Error, FlagError, Result};
 use crate::frame::Frame;
-use crate::gpu::Readback;
-use crate::render::{Picture, Planner, Renderer};
+use crate::render::{Picture, Planner, Readback, Renderer};
 use crate::scene::{Scene, View};
 use writers::Writers;
 

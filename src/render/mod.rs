@@ -17,6 +17,7 @@
 
 mod plan;
 
+pub use crate::gpu::Readback;
 pub use crate::picture::{Picture, Work};
 pub use plan::{Backend, GPU_F64_UNSUPPORTED, Plan, Planner};
 
@@ -26,7 +27,7 @@ use crate::algebra::Real;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::gpu::{GpuKernels, Readback};
+use crate::gpu::GpuKernels;
 use crate::grid::GridSpec;
 use crate::params::{Julia2dParams, TraceParams};
 use crate::precision::Precision;
