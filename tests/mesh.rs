@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use qjulia::cpu::sample::sample_rows;
-use qjulia::mesh::{Mesh, MeshOptions, grid_for, make_mesh, sample_grid};
+use qjulia::mesh::{Mesh, MeshOptions, grid_for, make_mesh};
 use qjulia::{Picture, Precision, Scene, TraceParams};
 
 /// The mesh of a scene on the CPU in f32 at N points per axis.
@@ -252,7 +252,7 @@ fn gpu_and_cpu_sampling_agree_on_every_points_side() {
         };
         let grid = grid_for(&scene, &options).unwrap();
         let params = TraceParams::<f32>::new(&scene);
-        let sgrid = sample_grid::<f32>(&grid);
+        let sgrid = grid.in_precision::<f32>();
         let rows = grid.size[1] * grid.size[2];
         let cpu = sample_rows(&params, &sgrid, 0..rows);
         let mut gpu_levels = vec![f32::NAN; cpu.len()];

@@ -21,9 +21,8 @@ use serde::Serialize;
 pub use extract::{GridSpec, Mesh};
 pub use write::Format;
 
-use crate::algebra::{Real, Vec3};
+use crate::algebra::Vec3;
 use crate::error::{FlagError, Result};
-use crate::grid::SampleGrid;
 use crate::params::TraceParams;
 use crate::render::{Renderer, Work};
 use crate::scene::Scene;
@@ -56,7 +55,7 @@ impl MeshOptions {
         if (MIN_RESOLUTION..=MAX_RESOLUTION).contains(&n) {
             return Ok(n);
         }
-        Err(flag_error(
+        Err(FlagError::new(
             format!("--resolution {n}"),
             format!("must be from {MIN_RESOLUTION} to {MAX_RESOLUTION} (grid points per axis)"),
         ))
@@ -64,7 +63,7 @@ impl MeshOptions {
 
     /// Parses `--box X0,Y0,Z0,X1,Y1,Z1`: six finite numbers, each min below its max.
     pub fn parse_box(text: &str) -> Result<[[f64; 3]; 2], FlagError> {
-        let bad = |why: &str| flag_error(format!("--box {text}"), why.to_string());
+        let bad = |why: &str| FlagError::new(format!("--box {text}"), why);
         let numbers: Vec<f64> = text
             .split(',')
             .map(|s| s.trim().parse::<f64>())
@@ -89,15 +88,11 @@ impl MeshOptions {
         if s.is_finite() && s > 0.0 {
             return Ok(s);
         }
-        Err(flag_error(
+        Err(FlagError::new(
             format!("--scale {s}"),
-            "must be finite and > 0".into(),
+            "must be finite and > 0",
         ))
     }
-}
-
-fn flag_error(flag: String, message: String) -> FlagError {
-    FlagError::new(flag, message)
 }
 
 /// The grid of a scene: N points per axis over the box, or the cube around the bounding ball;
@@ -213,11 +208,6 @@ pub fn make_mesh(
     stats.sample_seconds = sample_seconds;
     stats.grid_points_per_second = stats.grid_points as f64 / sample_seconds.max(1e-9);
     Ok((mesh, stats))
-}
-
-/// The grid in the sampler's precision, rows of rows.
-pub fn sample_grid<F: Real>(grid: &GridSpec) -> SampleGrid<F> {
-    grid.in_precision()
 }
 
 /// The work of meshing `scene` with `options`, for [`crate::render::Planner::plan`]: the grid's cell plays
