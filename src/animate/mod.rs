@@ -250,7 +250,7 @@ pub fn run(
         let finished = handed_out.and_then(|()| match runs.rendered < to_render.len() as u32 {
             // Stopped before this frame: the rest stays undone.
             true => Ok(()),
-            false => writers.rest_from_disk(),
+            false => writers.feed_rest_from_disk(),
         });
         writers.finish(finished, runs.rendered == to_render.len() as u32, progress)
     })?;

@@ -102,7 +102,7 @@ impl<'a, 'scope> Writers<'a, 'scope> {
         render_seconds: f64,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<()> {
-        self.from_disk(plan.frame)?;
+        self.feed_from_disk(plan.frame)?;
         let picture = Arc::new(picture_of(&plan.scene, frame));
         match &plan.png {
             Some(path) => {
@@ -128,12 +128,12 @@ impl<'a, 'scope> Writers<'a, 'scope> {
     }
 
     /// Feeds the video the complete frames after the last rendered one.
-    pub(super) fn rest_from_disk(&mut self) -> Result<()> {
-        self.from_disk(u32::MAX)
+    pub(super) fn feed_rest_from_disk(&mut self) -> Result<()> {
+        self.feed_from_disk(u32::MAX)
     }
 
     /// Feeds the video the complete frames numbered below `until`, read back from disk.
-    fn from_disk(&mut self, until: u32) -> Result<()> {
+    fn feed_from_disk(&mut self, until: u32) -> Result<()> {
         while let Some(plan) = self.complete.next_if(|f| f.frame < until) {
             let (size, rgb) = read_png_rgb(plan.png.as_deref().expect("complete in out"))?;
             self.to_video(Arc::new(Picture8 { size, rgb }))?;
