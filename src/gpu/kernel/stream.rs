@@ -165,7 +165,7 @@ impl Kernel {
         Ok(())
     }
 
-    /// Steps in flight on this device: [`STEPS_IN_FLIGHT`] on a GPU; one on a CPU adapter
+    /// Steps in flight on this device: `STEPS_IN_FLIGHT` on a GPU; one on a CPU adapter
     /// (lavapipe, llvmpipe), whose "device" is the host's own cores: there the host's work on
     /// one band would only take cores from the next, and lavapipe's threads, which wait for
     /// each other within a dispatch, lose more than the overlap gains (measured: docs/PERFORMANCE.md).
