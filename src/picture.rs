@@ -11,7 +11,7 @@ pub enum Picture {
     /// a pipeline without the shading code, the CPU skips it too, and the colour is the
     /// background.
     Slice { shade: bool },
-    /// The 2D Julia set of c[0] + c[1] i (`qjulia render2d`): colour the grey, depth 0 in the
+    /// The 2D Julia set of `c[0] + c[1] i` (`qjulia render2d`): colour the grey, depth 0 in the
     /// set and NaN outside it, steps the iterations made. Its stats count points in the set as
     /// hits and iterations as steps.
     Julia2d,

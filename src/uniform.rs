@@ -1,4 +1,4 @@
-//! The kernels' uniforms, each declared once: [`uniform!`] takes one table of fields (name, kind,
+//! The kernels' uniforms, each declared once: `uniform!` takes one table of fields (name, kind,
 //! how the scene gives it) and makes the host parameters (`TraceParams<F>`, which the CPU twin
 //! reads), their `#[repr(C)]` bytemuck images in f32 and f64 (what the GPU reads), and a static
 //! [`Layout`] of each image (names, offsets, sizes, WGSL types) that the tests hold against

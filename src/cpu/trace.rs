@@ -3,6 +3,10 @@
 //! functions only one side has, each with its reason). WGSL's global `params` is `self` here; a
 //! change to one file is a change to both, and the GPU-vs-CPU tests hold them together. The
 //! kernel's `main` is cpu/mod.rs's `render_rows`.
+//!
+//! Over 600 lines by exception (issue 18 excepts the twins' bodies): this file mirrors
+//! shaders/trace.wgsl function by function in the same order, and tests/twins.rs holds that
+//! order, so it stays one file as the shader is.
 
 use crate::algebra::{
     Hyper, Real, Vec3, Vec4, hyper_add, hyper_dot, hyper_mul, hyper_scale, hyper_sq, hyper_sub,

@@ -73,7 +73,7 @@ const OPERANDS: [(f64, f64); CASES] = [
 pub struct CheckParams {
     pub cases: [[f64; 4]; CASES],
     pub count: u32,
-    /// WGSL's size is a multiple of 32 bytes (the alignment of vec4<f64>).
+    /// WGSL's size is a multiple of 32 bytes (the alignment of `vec4<f64>`).
     pub _pad: [u32; 7],
 }
 

@@ -324,7 +324,7 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 5] = [
 ];
 
 /// The tracer's outputs: the image's three, the estimates made per pixel (u32), and the running
-/// mean of the samples' colours (vec4<f32>).
+/// mean of the samples' colours (`vec4<f32>`).
 pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
     IMAGE_OUTPUTS[0],
     IMAGE_OUTPUTS[1],

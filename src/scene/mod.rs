@@ -1,6 +1,6 @@
 //! The scene: plain data describing one picture, its defaults (the seed's constants) and its
 //! validation. Every key is declared once, below, with its type, default, range, README comment
-//! and explorer slider ([`schema`]); loading from TOML, `--set` and PNGs lives in [`load`].
+//! and explorer slider ([`schema`]); loading from TOML, `--set` and PNGs lives in `load` ([`SceneLoader`]).
 
 mod error;
 mod load;
@@ -306,7 +306,7 @@ scene_schema! {
         }
 
         /// The 2D Julia view of `qjulia render2d` and the explorer's 2D mode: the filled Julia
-        /// set of the complex c = c[0] + c[1] i (the first two components of `fractal.c`),
+        /// set of the complex c = `c[0] + c[1] i` (the first two components of `fractal.c`),
         /// imaginary axis up.
         view2d: View2d "the 2D Julia view (render2d, the explorer's 2D mode)" {
             /// The complex number at the image's centre, `[real, imaginary]`.

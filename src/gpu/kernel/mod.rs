@@ -1,0 +1,236 @@
+//! One runner for every compute kernel: a kernel is its WGSL, its `#[repr(C)]` uniform and a
+//! description of its outputs ([`KernelSpec`]); [`Kernel`] does the rest. It caches a pipeline
+//! per specialisation (override constants), binds the uniform and the output arrays, dispatches
+//! a grid of any size in bands of bounded size, measures GPU time with timestamp queries, reads
+//! back only the outputs asked for, and turns device and validation failures into errors.
+//!
+//! The grid is `width` x `height` items, one invocation each, in workgroups of
+//! [`WORKGROUP_SIZE`]. A band is a run of whole rows; the kernel's uniform tells it which rows
+//! (each kernel's params carry a row offset). Several dispatches may run on one band before it
+//! is read back (an accumulation pass); a 3D grid (a voxel sampler) is rows of rows.
+//!
+//! This module owns the kernel's description ([`KernelSpec`], [`Run`] and what a run returns)
+//! and building its module and layouts ([`Kernel::new`]). Its parts: `pipeline.rs`, the
+//! pipelines cached per specialisation, bind groups, one pass's encoding and the band size;
+//! `buffers.rs`, a band's device buffers and their readback; `stream.rs`, running bands as a
+//! stream of steps, two in flight.
+
+mod buffers;
+mod pipeline;
+mod stream;
+
+pub use stream::{Step, StepDone};
+
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+use super::GpuContext;
+use super::shaders::ShaderModuleSource;
+use crate::error::{Error, Result};
+use buffers::RunBuffers;
+use pipeline::ConstantsKey;
+
+/// Invocations per workgroup in x and y, in every kernel's `@workgroup_size`: 8 wide, since
+/// lavapipe packs 8 lanes along x. A test checks each shader against it.
+pub const WORKGROUP_SIZE: (u32, u32) = (8, 8);
+
+/// One storage array a kernel writes: binding 1 + its index in [`KernelSpec::outputs`].
+#[derive(Clone, Copy, Debug)]
+pub struct OutputSpec {
+    pub name: &'static str,
+    /// Bytes each grid item takes in it.
+    pub bytes_per_item: u64,
+}
+
+/// What a compute kernel is: its module, entry point, uniform size and outputs. Binding 0 is the
+/// uniform; bindings 1.. are the outputs, in order.
+#[derive(Clone, Copy, Debug)]
+pub struct KernelSpec {
+    pub name: &'static str,
+    pub module: ShaderModuleSource,
+    pub entry_point: &'static str,
+    /// `size_of` the kernel's `#[repr(C)]` params.
+    pub uniform_bytes: u64,
+    pub outputs: &'static [OutputSpec],
+    /// Bands start on multiples of this many rows (1: any row). Cone tracing shares one march
+    /// per workgroup block, so the tracer's bands start on block rows.
+    pub band_row_multiple: u32,
+    /// Build the module without wgpu's runtime checks (bounds checks, loop bounding): only for a
+    /// kernel that bounds its own loops (by its params) and checks its own indices.
+    pub trusted: bool,
+}
+
+/// The rows one dispatch covers, and which of the band's dispatches it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Band {
+    pub row: u32,
+    pub rows: u32,
+    /// 0 to `dispatches_per_band - 1`.
+    pub dispatch: u32,
+}
+
+/// One run of a kernel over a grid.
+pub struct Run<'a> {
+    pub constants: &'a [(&'static str, f64)],
+    /// Items per row, rows.
+    pub size: (u32, u32),
+    /// Which outputs come back to the host (by index); the others stay on the device.
+    pub read: &'a [bool],
+    /// Dispatches on each band before it is read back.
+    pub dispatches_per_band: u32,
+    /// The uniform's bytes for one dispatch.
+    pub params: &'a dyn Fn(Band) -> Vec<u8>,
+}
+
+/// One band read back: its rows, and the bytes of each output asked for (None for the others).
+pub struct BandOutput<'a> {
+    pub row: u32,
+    pub rows: u32,
+    pub outputs: &'a [Option<&'a [u8]>],
+}
+
+/// How long a run took.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunTimes {
+    /// From the first timed dispatch to the last band decoded in host memory, the sink's time
+    /// left out (the pipeline's first use is warmed up untimed).
+    pub seconds: f64,
+    /// GPU time of the dispatches by timestamp queries, where the device has them.
+    pub gpu_seconds: Option<f64>,
+}
+
+/// A compute kernel on one device.
+pub struct Kernel {
+    ctx: GpuContext,
+    spec: KernelSpec,
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// Pipelines by their constants, and whether each has run once (warmed up).
+    pipelines: Mutex<HashMap<ConstantsKey, (wgpu::ComputePipeline, bool)>>,
+    /// The last run's buffers, kept for the next run of the same band size and readback (an
+    /// animation's frames, the explorer's views): allocating and clearing them anew each time
+    /// costs more than a fast GPU's whole render (a 4 Mpixel band is 128 MiB of outputs).
+    spare: Mutex<Vec<RunBuffers>>,
+}
+
+impl Kernel {
+    /// Builds the module and layouts; a shader the device rejects is an error, not a panic.
+    pub fn new(ctx: GpuContext, spec: KernelSpec) -> Result<Self> {
+        let device = &ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let descriptor = wgpu::ShaderModuleDescriptor {
+            label: Some(spec.module.name),
+            source: wgpu::ShaderSource::Wgsl(spec.module.source().into()),
+        };
+        let module = if spec.trusted {
+            // SAFETY: a trusted kernel bounds every loop by its uniform's counts and checks
+            // every index against the grid before it writes (KernelSpec::trusted), so wgpu's
+            // injected bounds checks and loop bounding would only repeat its own.
+            unsafe {
+                device.create_shader_module_trusted(
+                    descriptor,
+                    wgpu::ShaderRuntimeChecks::unchecked(),
+                )
+            }
+        } else {
+            device.create_shader_module(descriptor)
+        };
+        let entry = |binding, ty, min_binding_size| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size,
+            },
+            count: None,
+        };
+        let storage = wgpu::BufferBindingType::Storage { read_only: false };
+        let entries: Vec<_> = std::iter::once(entry(
+            0,
+            wgpu::BufferBindingType::Uniform,
+            wgpu::BufferSize::new(spec.uniform_bytes),
+        ))
+        .chain((1..=spec.outputs.len() as u32).map(|b| entry(b, storage, None)))
+        .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(spec.name),
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(spec.name),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!(
+                "the {} shader was rejected: {e}",
+                spec.name
+            )));
+        }
+        Ok(Self {
+            ctx,
+            spec,
+            module,
+            layout,
+            pipeline_layout,
+            pipelines: Mutex::new(HashMap::new()),
+            spare: Mutex::new(Vec::new()),
+        })
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    pub fn spec(&self) -> &KernelSpec {
+        &self.spec
+    }
+}
+
+fn buffer(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::shaders::ALL_MODULES;
+
+    /// Every kernel's `@workgroup_size` is [`WORKGROUP_SIZE`]: the runner dispatches by it, the
+    /// cone tracer shares one march per workgroup block, and the divergence statistics count
+    /// the lanes of one workgroup (`stats::DIVERGENCE_BLOCK`).
+    #[test]
+    fn every_kernel_has_the_workgroup_size_the_runner_dispatches() {
+        for m in ALL_MODULES {
+            let module = crate::gpu::shaders::validate_wgsl(&m.source()).expect(m.name);
+            assert!(
+                !module.entry_points.is_empty(),
+                "{}: no entry point",
+                m.name
+            );
+            for entry in &module.entry_points {
+                assert_eq!(
+                    entry.workgroup_size,
+                    [WORKGROUP_SIZE.0, WORKGROUP_SIZE.1, 1],
+                    "{} {}",
+                    m.name,
+                    entry.name
+                );
+            }
+        }
+        let cone = crate::cpu::trace::CONE_BLOCK;
+        assert_eq!((cone, cone), WORKGROUP_SIZE, "a cone block is a workgroup");
+    }
+}

@@ -1,0 +1,150 @@
+//! A kernel's pipelines, cached per specialisation (override constants) and warmed up once;
+//! its uniform and output buffers and their bind group; one compute pass's encoding; the rows
+//! of a band.
+
+use super::{Kernel, WORKGROUP_SIZE, buffer};
+use crate::error::{Error, Result};
+
+/// Override constants as a hash key (the values' bits).
+pub(super) type ConstantsKey = Vec<(&'static str, u64)>;
+
+pub(super) fn constants_key(constants: &[(&'static str, f64)]) -> ConstantsKey {
+    constants.iter().map(|&(n, v)| (n, v.to_bits())).collect()
+}
+
+impl Kernel {
+    /// The pipeline for these override constants (empty: generic), built on first use and
+    /// cached.
+    pub fn pipeline(&self, constants: &[(&'static str, f64)]) -> Result<wgpu::ComputePipeline> {
+        let key = constants_key(constants);
+        let mut cache = self.pipelines.lock().expect("pipeline cache");
+        if let Some((p, _)) = cache.get(&key) {
+            return Ok(p.clone());
+        }
+        let device = &self.ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(self.spec.name),
+            layout: Some(&self.pipeline_layout),
+            module: &self.module,
+            entry_point: Some(self.spec.entry_point),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            },
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!(
+                "the {} pipeline {constants:?} was rejected: {e}",
+                self.spec.name
+            )));
+        }
+        cache.insert(key, (pipeline.clone(), false));
+        Ok(pipeline)
+    }
+
+    /// Whether the pipeline of these constants has run once; marks it so.
+    pub(super) fn warmed(&self, constants: &[(&'static str, f64)]) -> bool {
+        let key = constants_key(constants);
+        let mut cache = self.pipelines.lock().expect("pipeline cache");
+        let entry = cache.get_mut(&key).expect("built before it runs");
+        std::mem::replace(&mut entry.1, true)
+    }
+
+    /// A uniform buffer for this kernel's params.
+    pub fn uniform_buffer(&self, label: &str) -> wgpu::Buffer {
+        self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: self.spec.uniform_bytes,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// Storage buffers for the outputs, `items` each, usable as copy sources (for readback or
+    /// a texture).
+    pub fn output_buffers(&self, items: u64, label: &str) -> Vec<wgpu::Buffer> {
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        self.spec
+            .outputs
+            .iter()
+            .map(|o| {
+                buffer(
+                    &self.ctx.device,
+                    &format!("{label} {}", o.name),
+                    items * o.bytes_per_item,
+                    usage,
+                )
+            })
+            .collect()
+    }
+
+    /// Binds a uniform buffer (binding 0) and the output arrays (bindings 1..).
+    pub fn bind_group(&self, uniform: &wgpu::Buffer, outputs: &[wgpu::Buffer]) -> wgpu::BindGroup {
+        assert_eq!(
+            outputs.len(),
+            self.spec.outputs.len(),
+            "one buffer per output"
+        );
+        let entries: Vec<_> = std::iter::once(uniform)
+            .chain(outputs)
+            .enumerate()
+            .map(|(binding, b)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        self.ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(self.spec.name),
+                layout: &self.layout,
+                entries: &entries,
+            })
+    }
+
+    /// Records one compute pass over `width` x `rows` items with the bound parameters.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        bind_group: &wgpu::BindGroup,
+        (width, rows): (u32, u32),
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.spec.name),
+            timestamp_writes,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(
+            width.div_ceil(WORKGROUP_SIZE.0),
+            rows.div_ceil(WORKGROUP_SIZE.1),
+            1,
+        );
+    }
+
+    /// Rows per band for a grid this wide: at most `band_pixels()` items (bounded memory, and
+    /// bounded time per dispatch so that no driver watchdog fires on big grids), within the
+    /// device's buffer and dispatch limits, a multiple of `band_row_multiple`.
+    pub fn band_rows(&self, width: u32, height: u32) -> u32 {
+        let limit = self.ctx.device.limits();
+        let widest = self
+            .spec
+            .outputs
+            .iter()
+            .map(|o| o.bytes_per_item)
+            .max()
+            .unwrap_or(1);
+        let items = crate::band_pixels()
+            .min(limit.max_storage_buffer_binding_size / widest)
+            .min(limit.max_buffer_size / widest);
+        let multiple = self.spec.band_row_multiple.max(1);
+        let rows = ((items / width.max(1) as u64) as u32 / multiple * multiple).max(multiple);
+        let max_groups = limit.max_compute_workgroups_per_dimension;
+        rows.min(height)
+            .min(max_groups.saturating_mul(WORKGROUP_SIZE.1))
+    }
+}

@@ -1,0 +1,112 @@
+//! `work_precision.png`: colour error against render time, one panel per scene.
+
+use std::path::Path;
+
+use super::Row;
+
+/// Colour RMSE against seconds, log-log, one series per method, one panel per scene.
+pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
+    use plotters::prelude::*;
+    crate::heatmap::register_plot_font();
+    let mut scenes: Vec<&str> = rows.iter().map(|r| r.setting.scene_name).collect();
+    scenes.dedup();
+    let (w, panel_h) = (1100u32, 620u32);
+    let h = panel_h * scenes.len().max(1) as u32;
+    let mut buffer = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let panels = root.split_evenly((scenes.len().max(1), 1));
+        let palette = [
+            RGBColor(31, 119, 180),
+            RGBColor(255, 127, 14),
+            RGBColor(44, 160, 44),
+            RGBColor(214, 39, 40),
+            RGBColor(148, 103, 189),
+            RGBColor(140, 86, 75),
+            RGBColor(227, 119, 194),
+            RGBColor(90, 90, 90),
+            RGBColor(188, 189, 34),
+            RGBColor(23, 190, 207),
+            RGBColor(0, 0, 128),
+            RGBColor(255, 187, 120),
+        ];
+        for (panel, scene) in panels.iter().zip(&scenes) {
+            let mine: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.setting.scene_name == *scene)
+                .collect();
+            // Log-log, drawn as log10 values on linear axes labelled with the values themselves.
+            let point = |r: &Row| {
+                (
+                    r.seconds.max(1e-5).log10(),
+                    r.metrics.colour_rmse.max(0.01).log10(),
+                )
+            };
+            let (x0, x1) = mine
+                .iter()
+                .map(|r| point(r).0)
+                .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+            let (y0, y1) = mine
+                .iter()
+                .map(|r| point(r).1)
+                .fold((f64::MAX, f64::MIN), |(a, b), y| (a.min(y), b.max(y)));
+            let mut chart = ChartBuilder::on(panel)
+                .caption(
+                    format!("{scene}: colour error against render time"),
+                    ("sans-serif", 26),
+                )
+                .margin(16)
+                .x_label_area_size(48)
+                .y_label_area_size(70)
+                .build_cartesian_2d(x0 - 0.1..x1 + 0.1, y0 - 0.1..y1 + 0.1)
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_labels(10)
+                .y_labels(10)
+                .x_label_formatter(&|x| format!("{:.3}", 10f64.powf(*x)))
+                .y_label_formatter(&|y| format!("{:.1}", 10f64.powf(*y)))
+                .x_desc("seconds per image (log)")
+                .y_desc("colour RMSE vs truth, 8-bit steps (log)")
+                .label_style(("sans-serif", 16))
+                .axis_desc_style(("sans-serif", 18))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            let mut methods: Vec<&str> = mine.iter().map(|r| r.setting.method).collect();
+            methods.dedup();
+            methods.sort();
+            methods.dedup();
+            for (k, method) in methods.iter().enumerate() {
+                let colour = palette[k % palette.len()];
+                let mut points: Vec<(f64, f64)> = mine
+                    .iter()
+                    .filter(|r| r.setting.method == *method)
+                    .map(|r| point(r))
+                    .collect();
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                chart
+                    .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
+                    .map_err(|e| e.to_string())?
+                    .label(*method)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                    });
+                chart
+                    .draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                    .map_err(|e| e.to_string())?;
+            }
+            chart
+                .configure_series_labels()
+                .label_font(("sans-serif", 16))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(|e| e.to_string())?;
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    image::save_buffer(path, &buffer, w, h, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())
+}
