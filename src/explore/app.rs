@@ -363,20 +363,43 @@ impl ExplorerApp {
         }
     }
 
+    /// Carries out commands in order; whether there were any.
+    fn apply_all(&mut self, commands: Vec<Command>) -> bool {
+        let acted = !commands.is_empty();
+        for command in commands {
+            self.apply(command);
+        }
+        acted
+    }
+
     /// One frame of the whole UI (eframe's `App::ui`, also driven by the tests): the keys, the
-    /// view moved by wall time, the jobs polled, the panels drawn, then their commands applied.
+    /// view moved by wall time, the jobs polled, the panels drawn, then the windows over them.
+    /// The keys' commands are carried out at once, the panels' before the windows are drawn
+    /// (a window a menu opens shows in the frame of the click, as before), the windows' after
+    /// the frame.
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let now = Instant::now();
         let dt = self.runtime.status.tick(now);
         let ctx = ui.ctx().clone();
         let s = &mut self.state;
-        for command in input::shortcuts(&ctx, &mut s.mode, &mut s.scene, &s.home_camera) {
-            self.apply(command);
-        }
+        let keys = input::shortcuts(&ctx, &mut s.mode, &mut s.scene, &s.home_camera);
+        let mut acted = self.apply_all(keys);
         self.state.advance(dt);
         self.poll_render();
         self.poll_export();
+        let panels = self.panels(ui);
+        acted |= self.apply_all(panels);
+        let windows = self.windows(&ctx);
+        acted |= self.apply_all(windows);
+        self.runtime.status.log(now, &self.runtime.viewport);
+        if acted || self.state.playing() || self.runtime.export.is_some() || self.rendering() {
+            ctx.request_repaint();
+        }
+    }
 
+    /// The menu bar, the status line, the timeline's strip, the side panel and the view; what
+    /// they ask.
+    fn panels(&mut self, ui: &mut egui::Ui) -> Vec<Command> {
         let mut commands = Vec::new();
         let (s, r) = (&mut self.state, &mut self.runtime);
         egui::Panel::top("menu").show(ui, |ui| {
@@ -400,20 +423,21 @@ impl ExplorerApp {
             playing: s.playing(),
         };
         egui::CentralPanel::no_frame().show(ui, |ui| r.viewport.ui(ui, &mut s.scene, options));
-        commands.extend(menu::file_dialog(&ctx, &mut r.dialog, &mut s.last_dir));
-        menu::help_window(&ctx, &mut r.show_help);
+        commands
+    }
+
+    /// The windows over the panels: the file dialog, the help and "Render animation…"; what
+    /// they ask.
+    fn windows(&mut self, ctx: &egui::Context) -> Vec<Command> {
+        let (s, r) = (&mut self.state, &mut self.runtime);
+        let mut commands: Vec<Command> = menu::file_dialog(ctx, &mut r.dialog, &mut s.last_dir)
+            .into_iter()
+            .collect();
+        menu::help_window(ctx, &mut r.show_help);
         let last_frame = s.timeline.last_frame();
         let render = r.render.as_ref();
-        commands.extend(r.render_window.ui(&ctx, last_frame, &s.last_dir, render));
-        r.status.log(now, &r.viewport);
-
-        let acted = !commands.is_empty();
-        for command in commands {
-            self.apply(command);
-        }
-        if acted || self.state.playing() || self.runtime.export.is_some() || self.rendering() {
-            ctx.request_repaint();
-        }
+        commands.extend(r.render_window.ui(ctx, last_frame, &s.last_dir, render));
+        commands
     }
 }
 
