@@ -4,8 +4,9 @@
 //! status line). Each frame draws the panels, each a small function or type that takes only
 //! what it edits: the menu bar (`menu`), the status line (`status`), the timeline's strip and
 //! render window (`timeline::panel`), the side panel (`panels`) and the view (`viewport`), the
-//! keys first (`input`). What they ask of the app beyond that they return as [`Command`]s, which
-//! [`ExplorerApp::apply`] carries out after the frame.
+//! keys first (`input`), then the windows over them. What they ask of the app beyond that they
+//! return as [`Command`]s, which [`ExplorerApp::apply`] carries out: the keys' at once, the
+//! panels' once they are all drawn, the windows' after the frame.
 
 use std::ops::{Deref, DerefMut};
 use std::path::{Path, PathBuf};
@@ -19,8 +20,8 @@ use super::persistence::{self, load_persisted, load_persisted_timeline};
 use super::slice_texture::SliceTexture;
 use super::state::ExplorerState;
 use super::status::StatusLine;
-use super::timeline::Timeline;
 use super::timeline::job::RenderJob;
+use super::timeline::model::Timeline;
 use super::timeline::panel::{RenderWindow, TimelinePanel};
 use super::viewport::{ViewOptions, Viewport};
 use super::{input, menu, panels};
@@ -156,20 +157,26 @@ impl ExplorerApp {
     /// The scene the view shows: the scene at the view's size.
     pub fn view_scene(&self) -> Scene {
         let state = &self.state;
-        (self.runtime.viewport).view_scene(&state.scene, state.preview_samples)
+        self.runtime
+            .viewport
+            .view_scene(&state.scene, state.preview_samples)
     }
 
     /// Whether the view shows the full-resolution image of the current scene (in 2D mode: the
     /// 2D view of it), with the heat map of a step view made.
     pub fn view_refined(&self) -> bool {
         let state = &self.state;
-        (self.runtime.viewport).is_refined(&state.scene, state.mode, state.preview_samples)
+        self.runtime
+            .viewport
+            .is_refined(&state.scene, state.mode, state.preview_samples)
     }
 
     /// The legend of the step view shown, if one is.
     pub fn heat_legend(&self) -> Option<&Legend> {
         let state = &self.state;
-        (self.runtime.viewport).heat_legend(state.scene.image.view, state.mode)
+        self.runtime
+            .viewport
+            .heat_legend(state.scene.image.view, state.mode)
     }
 
     /// Replaces the scene (a preset, a file): camera home, rotation, c-loop and timeline follow

@@ -1,6 +1,7 @@
 //! What the explorer's panels, menus and keys ask of the app beyond what they edit themselves:
-//! each returns [`Command`]s, which [`super::app::ExplorerApp::apply`] carries out after the
-//! frame (the keys' before the panels are drawn, as they are read first).
+//! each returns [`Command`]s, which the app (`ExplorerApp::apply`) carries out once they are
+//! drawn (the keys' before the panels, the panels' before the windows over them, the windows'
+//! after the frame).
 
 use std::path::PathBuf;
 

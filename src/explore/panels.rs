@@ -12,9 +12,8 @@ use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{Camera, Cut, Fractal, Image, Light, Shading, Slice, View, View2d};
 
 /// The side panel: what the view shows, then the groups of controls.
-pub fn controls(ui: &mut egui::Ui, state: &mut ExplorerState) -> Vec<Command> {
+pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
     let mut commands = Vec::new();
-    let s = state;
     egui::ScrollArea::vertical().show(ui, |ui| {
         ui.horizontal(|ui| {
             ui.label("Show");

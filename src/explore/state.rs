@@ -19,7 +19,7 @@ pub enum Mode {
     /// The quaternion Julia set's 3D slice, as `qjulia render` draws it (any `image.view`).
     #[default]
     Slice3d,
-    /// The 2D Julia set of c = c[0] + c[1] i, as `qjulia render2d` draws it.
+    /// The 2D Julia set of c = `c[0] + c[1] i`, as `qjulia render2d` draws it.
     Julia2d,
 }
 

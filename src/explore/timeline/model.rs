@@ -178,7 +178,7 @@ impl Timeline {
     }
 
     /// Adds a keyframe at the current frame from the view (replacing one there): the values of
-    /// [`Self::paths_for`]. Keys that did not set a path the new key sets take the value they
+    /// `paths_for`. Keys that did not set a path the new key sets take the value they
     /// showed, so every key still looks as it did. A key's values are in the order of their
     /// paths, as a scene file reads back. Returns the key's frame.
     pub fn add_key(&mut self, view: &Scene) -> u32 {
