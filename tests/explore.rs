@@ -29,7 +29,7 @@ fn harness(test: &str) -> Option<Harness<'static, ExplorerApp>> {
     app.preview_samples = 3;
     app.attach_gpu(&render_state);
     assert!(
-        app.slice_texture.is_some(),
+        app.slice_texture().is_some(),
         "the explorer found no GPU tracer"
     );
     let harness = Harness::builder()
@@ -62,8 +62,8 @@ fn settle(harness: &mut Harness<'static, ExplorerApp>) {
 /// The view's pixels as the harness renders the whole window.
 fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
     let image = harness.render().expect("render the window");
-    let rect = harness.state().view_rect;
-    let [w, h] = harness.state().view_pixels;
+    let rect = harness.state().view_rect();
+    let [w, h] = harness.state().view_pixels();
     let (x0, y0) = (rect.min.x.round() as u32, rect.min.y.round() as u32);
     let colour = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
@@ -112,7 +112,7 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
         return;
     };
     settle(&mut harness);
-    let [w, h] = harness.state().view_pixels;
+    let [w, h] = harness.state().view_pixels();
     assert!(w > 200 && h > 200, "the view is {w}x{h}");
     let shown = shown_view(&mut harness);
     common::assert_agree(
@@ -148,7 +148,7 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
 
     // A drag across the view orbits the camera.
     let eye = harness.state().scene.camera.eye;
-    let centre = harness.state().view_rect.center();
+    let centre = harness.state().view_rect().center();
     harness.hover_at(centre);
     harness.drag_at(centre);
     harness.step();
@@ -211,7 +211,7 @@ fn the_2d_mode_shows_render2d_and_the_mouse_pans_and_zooms() {
 
     // A drag to the right moves the centre left (the picture follows the pointer).
     let before = harness.state().scene.view2d.clone();
-    let centre = harness.state().view_rect.center();
+    let centre = harness.state().view_rect().center();
     harness.hover_at(centre);
     harness.drag_at(centre);
     harness.step();
@@ -394,12 +394,12 @@ fn the_timeline_keys_the_view_scrubs_and_saves_what_animate_renders() {
     harness.get_by_label("Add key").click();
     harness.step();
     assert_eq!(harness.state().timeline.key_frames(), [0]);
-    let (_, x0, x1) = harness.state().timeline.strip;
-    let y = harness.state().timeline.strip.0.center().y;
+    let (_, x0, x1) = harness.state().timeline_strip();
+    let y = harness.state().timeline_strip().0.center().y;
     let x_of = |frame: f32| x0 + (x1 - x0) * frame / 119.0;
     click_at(&mut harness, egui::pos2(x_of(90.0), y));
     assert_eq!(harness.state().timeline.frame, 90);
-    let centre = harness.state().view_rect.center();
+    let centre = harness.state().view_rect().center();
     harness.hover_at(centre);
     harness.drag_at(centre);
     harness.step();
@@ -463,7 +463,7 @@ fn a_deep_view_switches_to_f64_by_itself_and_back() {
     harness.state_mut().set_scene(deep);
     settle(&mut harness);
     let precision =
-        |h: &Harness<'static, ExplorerApp>| h.state().slice_texture.as_ref().unwrap().precision();
+        |h: &Harness<'static, ExplorerApp>| h.state().slice_texture().unwrap().precision();
     assert_eq!(precision(&harness), qjulia::Precision::F64);
     // The view is the GPU's f64 render of the view's scene.
     let tracer = common::gpu("headless f64").expect("GPU");
@@ -503,7 +503,7 @@ fn a_deep_2d_view_switches_to_f64_by_itself() {
     harness.state_mut().mode = Mode::Julia2d;
     settle(&mut harness);
     let precision =
-        |h: &Harness<'static, ExplorerApp>| h.state().julia2d_texture.as_ref().unwrap().precision();
+        |h: &Harness<'static, ExplorerApp>| h.state().julia2d_texture().unwrap().precision();
     assert_eq!(precision(&harness), qjulia::Precision::F64);
     let tracer = common::gpu("headless 2d f64").expect("GPU");
     let julia = qjulia::gpu::GpuJulia2d::<f64>::new_f64(tracer.context().clone()).unwrap();
@@ -647,7 +647,7 @@ fn a_deep_export_writes_the_bytes_of_qjulia_render() {
     // Showing the panel leaves the scene as loaded (a slider's range clamps no value).
     assert_eq!(harness.state().scene, deep_scene());
     assert_eq!(
-        harness.state().slice_texture.as_ref().unwrap().precision(),
+        harness.state().slice_texture().unwrap().precision(),
         qjulia::Precision::F64,
         "the view shows f64"
     );

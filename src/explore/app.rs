@@ -1,82 +1,77 @@
-//! The explorer's state and its frame loop. What the UI does with the state lives beside it, in
-//! `impl ExplorerApp` blocks of their own: the side panel's controls (`panels`), the menu bar and
-//! its windows (`menu`), keys and mouse (`input`), the view's drawing (`viewport`, with the step
-//! views' heat map in `heat_texture`), the animation of c (`animation`), the keyframed
-//! animation's timeline and its render (`timeline`), the status line (`status`), export
-//! (`export`) and what persists (`persistence`).
+//! The explorer app and its frame loop, after egui's own pattern: what the user edits
+//! ([`ExplorerState`], of which `persistence` keeps a part between runs) apart from what runs it
+//! ([`Runtime`]: the view's GPU views, the export and render jobs, the dialogs and windows, the
+//! status line). Each frame draws the panels, each a small function or type that takes only
+//! what it edits: the menu bar (`menu`), the status line (`status`), the timeline's strip and
+//! render window (`timeline::panel`), the side panel (`panels`) and the view (`viewport`), the
+//! keys first (`input`), then the windows over them. What they ask of the app beyond that they
+//! return as [`Command`]s, which [`ExplorerApp::apply`] carries out: the keys' at once, the
+//! panels' once they are all drawn, the windows' after the frame.
 
-use std::path::PathBuf;
-use std::sync::Arc;
+use std::ops::{Deref, DerefMut};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::animation::Animation;
+use super::command::Command;
 use super::export::Export;
 use super::file_dialog::FileDialog;
-use super::heat_texture::HeatTexture;
 use super::julia2d_texture::Julia2dTexture;
-use super::persistence::{load_persisted, load_persisted_timeline};
+use super::persistence::{self, load_persisted, load_persisted_timeline};
 use super::slice_texture::SliceTexture;
-use super::timeline::Timeline;
-use crate::gpu::{GpuContext, GpuKernels};
+use super::state::ExplorerState;
+use super::status::StatusLine;
+use super::timeline::job::RenderJob;
+use super::timeline::model::Timeline;
+use super::timeline::panel::{RenderWindow, TimelinePanel};
+use super::viewport::{ViewOptions, Viewport};
+use super::{input, menu, panels};
 use crate::heatmap::Legend;
-use crate::precision::PrecisionChoice;
-use crate::render::{Backend, Planner};
-use crate::scene::rotation::{planes, rotate_basis};
-use crate::scene::{Camera, Scene, View};
+use crate::render::{Picture, Planner};
+use crate::scene::presets::PRESETS;
+use crate::scene::{Scene, View};
 
-/// Samples the idle view accumulates unless the panel says otherwise.
-pub const DEFAULT_PREVIEW_SAMPLES: u32 = 64;
+pub use super::state::{DEFAULT_PREVIEW_SAMPLES, Mode};
 
-/// What the view shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Mode {
-    /// The quaternion Julia set's 3D slice, as `qjulia render` draws it (any `image.view`).
-    #[default]
-    Slice3d,
-    /// The 2D Julia set of c = c[0] + c[1] i, as `qjulia render2d` draws it.
-    Julia2d,
+/// What runs the explorer and is not saved: the view and its GPU views, the jobs, the dialogs
+/// and windows, the status line.
+#[derive(Default)]
+pub struct Runtime {
+    /// The view: the device's kernels and the GPU views on them, where it was drawn.
+    pub viewport: Viewport,
+    /// The export running.
+    pub export: Option<Export>,
+    /// The "Render animation…" job running.
+    pub render: Option<RenderJob>,
+    /// The file dialog open.
+    pub dialog: Option<FileDialog>,
+    pub show_help: bool,
+    /// The status line: its message and the frame clock.
+    pub status: StatusLine,
+    /// The timeline's strip under the view.
+    pub timeline_panel: TimelinePanel,
+    /// The "Render animation…" window.
+    pub render_window: RenderWindow,
 }
 
-/// The explorer: the scene being edited and what the UI keeps from frame to frame.
+/// The explorer: what the user edits, and what runs it. It dereferences to its
+/// [`ExplorerState`], so that `app.scene` or `app.timeline` read as the state's.
 pub struct ExplorerApp {
-    pub scene: Scene,
-    /// The camera that "reset" returns to.
-    pub(super) home_camera: Camera,
-    /// The slice basis the rotation angles turn, and the angles.
-    pub(super) base_basis: [Vec<f64>; 3],
-    /// One per plane of `rotation::planes(dim)`.
-    pub angles: Vec<f64>,
-    pub slice_texture: Option<SliceTexture>,
-    /// The 2D mode's renderer (the render2d kernel).
-    pub julia2d_texture: Option<Julia2dTexture>,
-    /// 3D view or 2D Julia set.
-    pub mode: Mode,
-    pub(super) heat: Option<HeatTexture>,
-    /// The UI device's kernels: the views' and the exports' (None without a GPU).
-    pub(super) kernels: Option<Arc<GpuKernels>>,
-    pub(super) gpu_error: Option<String>,
-    pub(super) adapter_label: String,
-    pub animation: Animation,
-    /// The scene's `[animation]`: keyframes, scrubbing, playing, rendering.
-    pub timeline: Timeline,
-    /// Resolution of the view relative to the panel's pixels.
-    pub resolution_scale: f32,
-    /// Samples the idle view accumulates (independent of `image.samples`, which exports use).
-    pub preview_samples: u32,
-    pub(super) dialog: Option<FileDialog>,
-    pub(super) last_dir: PathBuf,
-    pub(super) message: Option<(String, bool)>,
-    pub(super) show_help: bool,
-    pub(super) export: Option<Export>,
-    /// Grid points per axis of "Export mesh…" (`qjulia mesh --resolution`).
-    pub mesh_resolution: u32,
-    last_frame: Option<Instant>,
-    pub(super) frame_seconds: f64,
-    /// The view's size in pixels last frame, and where it was drawn (in points).
-    pub view_pixels: [u32; 2],
-    pub view_rect: egui::Rect,
-    pub(super) log_frames: u32,
-    pub(super) log_since: Option<Instant>,
+    pub state: ExplorerState,
+    pub runtime: Runtime,
+}
+
+impl Deref for ExplorerApp {
+    type Target = ExplorerState;
+
+    fn deref(&self) -> &ExplorerState {
+        &self.state
+    }
+}
+
+impl DerefMut for ExplorerApp {
+    fn deref_mut(&mut self) -> &mut ExplorerState {
+        &mut self.state
+    }
 }
 
 impl ExplorerApp {
@@ -90,81 +85,39 @@ impl ExplorerApp {
         let mut app = match initial {
             Some((scene, animation)) => {
                 let mut app = Self::with_scene(scene.clone());
-                app.timeline = Timeline::new(scene, animation);
+                app.state.timeline = Timeline::new(scene, animation);
                 app
             }
             None => {
                 let mut app = Self::with_scene(stored_scene.unwrap_or_default());
                 if let Some((base, animation)) = load_persisted_timeline(cc.storage) {
-                    app.timeline = Timeline::restored(base, animation, &app.scene);
+                    let state = &mut app.state;
+                    state.timeline = Timeline::restored(base, animation, &state.scene);
                 }
                 app
             }
         };
-        app.resolution_scale = resolution_scale;
+        app.state.resolution_scale = resolution_scale;
         match &cc.wgpu_render_state {
             Some(rs) => app.attach_gpu(rs),
-            None => app.gpu_error = Some("eframe started without its wgpu renderer".into()),
+            None => {
+                let why = "eframe started without its wgpu renderer".to_string();
+                app.runtime.viewport.no_gpu_because(why);
+            }
         }
         app
     }
 
     /// Puts the tracer on the UI's device and draws the view through its renderer.
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
-        let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
-        self.adapter_label = ctx.adapter_label();
-        let kernels = Arc::new(GpuKernels::new(ctx));
-        match Julia2dTexture::new(kernels.clone(), rs.renderer.clone()) {
-            Ok(view) => self.julia2d_texture = Some(view),
-            Err(e) => self.gpu_error = Some(e.to_string()),
-        }
-        match SliceTexture::new(kernels.clone(), rs.renderer.clone()) {
-            Ok(view) => self.slice_texture = Some(view),
-            Err(e) => self.gpu_error = Some(e.to_string()),
-        }
-        self.kernels = Some(kernels);
+        self.runtime.viewport.attach_gpu(rs);
     }
 
     /// The app's state for a scene, with no GPU attached.
     pub fn with_scene(scene: Scene) -> Self {
         Self {
-            home_camera: scene.camera.clone(),
-            base_basis: [
-                scene.slice.x.clone(),
-                scene.slice.y.clone(),
-                scene.slice.z.clone(),
-            ],
-            angles: vec![0.0; planes(scene.fractal.algebra.dim()).len()],
-            animation: Animation {
-                playing: false,
-                speed: 0.4,
-                radius: 0.08,
-                phase: 0.0,
-                center: scene.fractal.c.clone(),
-            },
-            timeline: Timeline::new(scene.clone(), Default::default()),
-            scene,
-            slice_texture: None,
-            julia2d_texture: None,
-            mode: Mode::Slice3d,
-            heat: None,
-            kernels: None,
-            gpu_error: None,
-            adapter_label: String::new(),
-            resolution_scale: 1.0,
-            preview_samples: DEFAULT_PREVIEW_SAMPLES,
-            dialog: None,
-            last_dir: std::env::current_dir().unwrap_or_else(|_| PathBuf::from(".")),
-            message: None,
-            show_help: false,
-            export: None,
-            mesh_resolution: crate::mesh::DEFAULT_RESOLUTION,
-            last_frame: None,
-            frame_seconds: 0.0,
-            view_pixels: [0, 0],
-            view_rect: egui::Rect::NOTHING,
-            log_frames: 0,
-            log_since: None,
+            state: ExplorerState::with_scene(scene),
+            runtime: Runtime::default(),
         }
     }
 
@@ -172,144 +125,326 @@ impl ExplorerApp {
     /// defaults (`--backend auto --precision auto`) decide, on the UI's device where it can,
     /// so an export is the bytes `qjulia render`, `animate` or `mesh` writes of its scene.
     pub fn planner(&self) -> Planner {
-        let (backend, choice) = (Backend::Auto, PrecisionChoice::Auto);
-        match &self.kernels {
-            Some(kernels) => Planner::on_device(kernels.clone(), backend, choice),
-            None => Planner::new(backend, choice),
-        }
+        self.runtime.viewport.planner()
+    }
+
+    /// The 3D view's renderer, once a GPU is attached.
+    pub fn slice_texture(&self) -> Option<&SliceTexture> {
+        self.runtime.viewport.slice_texture.as_ref()
+    }
+
+    /// The 2D mode's renderer, once a GPU is attached.
+    pub fn julia2d_texture(&self) -> Option<&Julia2dTexture> {
+        self.runtime.viewport.julia2d_texture.as_ref()
+    }
+
+    /// The view's size in pixels last frame.
+    pub fn view_pixels(&self) -> [u32; 2] {
+        self.runtime.viewport.pixels
+    }
+
+    /// Where the view was drawn last frame, in points.
+    pub fn view_rect(&self) -> egui::Rect {
+        self.runtime.viewport.rect
+    }
+
+    /// Where the timeline's strip was drawn last frame, and the x of frame 0 and of the last
+    /// frame in it.
+    pub fn timeline_strip(&self) -> (egui::Rect, f32, f32) {
+        self.runtime.timeline_panel.strip
     }
 
     /// The scene the view shows: the scene at the view's size.
     pub fn view_scene(&self) -> Scene {
-        let mut scene = self.scene.clone();
-        scene.image.width = self.view_pixels[0];
-        scene.image.height = self.view_pixels[1];
-        scene.image.samples = self.preview_samples;
-        scene
+        let state = &self.state;
+        self.runtime
+            .viewport
+            .view_scene(&state.scene, state.preview_samples)
     }
 
     /// Whether the view shows the full-resolution image of the current scene (in 2D mode: the
     /// 2D view of it), with the heat map of a step view made.
     pub fn view_refined(&self) -> bool {
-        if self.mode == Mode::Julia2d {
-            return self
-                .julia2d_texture
-                .as_ref()
-                .is_some_and(|v| v.is_refined(&self.view_scene()));
-        }
-        let Some(view) = &self.slice_texture else {
-            return false;
-        };
-        let refined = view.is_refined(&self.view_scene(), self.view_pixels);
-        let heat_made = self.scene.image.view == View::Shaded
-            || self
-                .heat
-                .as_ref()
-                .is_some_and(|h| h.is_for(self.scene.image.view, view.stats().steps_generation));
-        refined && !view.busy() && heat_made
+        let state = &self.state;
+        self.runtime
+            .viewport
+            .is_refined(&state.scene, state.mode, state.preview_samples)
     }
 
     /// The legend of the step view shown, if one is.
     pub fn heat_legend(&self) -> Option<&Legend> {
-        self.heat
-            .as_ref()
-            .filter(|h| self.mode == Mode::Slice3d && h.shows(self.scene.image.view))
-            .map(HeatTexture::legend)
+        let state = &self.state;
+        self.runtime
+            .viewport
+            .heat_legend(state.scene.image.view, state.mode)
     }
 
-    /// Replaces the scene (a preset, a file): camera home, rotation and animation follow it.
+    /// Replaces the scene (a preset, a file): camera home, rotation, c-loop and timeline follow
+    /// it (what the view shows, the settings and the last folder stay). Of what runs, the GPU
+    /// views, the file dialog and the "Render animation…" window and job stay; the rest starts
+    /// afresh, as it always has: the status line's message and clock, the help window, the
+    /// heat map, the view's layout until the next frame, the timeline's strip, and a running
+    /// export (its thread still writes its file, unannounced).
     pub fn set_scene(&mut self, scene: Scene) {
-        let resolution = self.resolution_scale;
-        let (slice_texture, julia2d_texture, mode) = (
-            self.slice_texture.take(),
-            self.julia2d_texture.take(),
-            self.mode,
-        );
-        let (kernels, gpu_error, adapter) = (
-            self.kernels.take(),
-            self.gpu_error.take(),
-            std::mem::take(&mut self.adapter_label),
-        );
-        let (dir, dialog) = (self.last_dir.clone(), self.dialog.take());
-        let render = std::mem::take(&mut self.timeline.render);
-        *self = Self {
-            slice_texture,
-            julia2d_texture,
-            mode,
-            kernels,
-            gpu_error,
-            adapter_label: adapter,
-            resolution_scale: resolution,
-            preview_samples: self.preview_samples,
-            mesh_resolution: self.mesh_resolution,
-            last_dir: dir,
-            dialog,
-            ..Self::with_scene(scene)
+        self.state = self.state.for_scene(scene);
+        let old = std::mem::take(&mut self.runtime);
+        self.runtime = Runtime {
+            viewport: old.viewport.for_new_scene(),
+            dialog: old.dialog,
+            render: old.render,
+            render_window: old.render_window,
+            ..Runtime::default()
         };
-        self.timeline.render = render;
     }
 
     /// The message shown in the status line, and whether it is an error.
     pub fn message(&self) -> Option<(&str, bool)> {
-        self.message.as_ref().map(|(m, e)| (m.as_str(), *e))
+        let message = self.runtime.status.message.as_ref();
+        message.map(|(m, e)| (m.as_str(), *e))
     }
 
-    /// Switches the algebra (c, slice and offset cut or padded), the rotation starting afresh.
-    pub(super) fn set_algebra(&mut self, algebra: crate::scene::Algebra) {
-        self.scene.set_algebra(algebra);
-        self.base_basis = [
-            self.scene.slice.x.clone(),
-            self.scene.slice.y.clone(),
-            self.scene.slice.z.clone(),
-        ];
-        self.angles = vec![0.0; planes(algebra.dim()).len()];
-        self.animation.center = self.scene.fractal.c.clone();
+    /// Says `text` in the status line (`error`: as an error).
+    fn tell(&mut self, text: String, error: bool) {
+        self.runtime.status.message = Some((text, error));
     }
 
-    /// Turns the slice basis by the rotation angles.
-    pub(super) fn apply_rotation(&mut self) {
-        let [x, y, z] = rotate_basis(&self.base_basis, &self.angles);
-        self.scene.slice.x = x;
-        self.scene.slice.y = y;
-        self.scene.slice.z = z;
+    /// Whether a render job is running.
+    pub fn rendering(&self) -> bool {
+        self.runtime.render.is_some()
     }
 
-    /// One frame of the whole UI (eframe's `App::ui`, also driven by the tests).
+    /// Adds a keyframe at the current frame from the view.
+    pub fn add_key(&mut self) {
+        let frame = self.state.timeline.add_key(&self.state.scene);
+        self.tell(format!("keyframe at frame {frame}"), false);
+    }
+
+    /// Loads a scene file, its `[animation]` into the timeline; on error the previous scene
+    /// stays and the error is shown. As it always has, a new timeline closes the "Render
+    /// animation…" window and lets go of its job.
+    pub fn open(&mut self, path: &Path) {
+        match persistence::read_scene_file(path) {
+            Ok((scene, animation)) => {
+                let keys = animation.keys.len();
+                self.set_scene(scene.clone());
+                self.state.timeline = Timeline::new(scene, animation);
+                self.runtime.render_window = RenderWindow::default();
+                self.runtime.render = None;
+                self.tell(
+                    format!("opened {} ({keys} keyframes)", path.display()),
+                    false,
+                );
+            }
+            Err(e) => self.tell(format!("error: {e}"), true),
+        }
+    }
+
+    /// Saves the scene as TOML with the timeline's `[animation]` (as `qjulia animate --scene`
+    /// reads it), after checking that it reads back; a file it would refuse is not written.
+    pub fn save(&mut self, path: &Path) {
+        let state = &mut self.state;
+        let (text, error) = persistence::write_scene_file(&mut state.timeline, &state.scene, path);
+        self.tell(text, error);
+    }
+
+    /// Exports what the view shows, at the scene's image size through the same kernel, on
+    /// another thread: the 3D view (shaded or a step view, as `render`), or in 2D mode the 2D
+    /// view (as `render2d`).
+    pub fn start_export(&mut self, path: PathBuf) {
+        let scene = self.state.scene.clone();
+        let picture = match self.state.mode {
+            Mode::Slice3d => Picture::Slice {
+                shade: scene.image.view == View::Shaded,
+            },
+            Mode::Julia2d => Picture::Julia2d,
+        };
+        let export = Export::png(self.planner(), scene, picture, path);
+        self.runtime.export = Some(export);
+    }
+
+    /// Exports the 3D slice's surface as a mesh at `mesh_resolution` points per axis, as
+    /// `qjulia mesh` makes it (the format by the file's extension, the precision by the grid
+    /// cell), on the view's GPU where it can, on another thread.
+    pub fn start_mesh_export(&mut self, path: PathBuf) {
+        let (scene, resolution) = (self.state.scene.clone(), self.state.mesh_resolution);
+        let export = Export::mesh(self.planner(), scene, resolution, path);
+        self.runtime.export = Some(export);
+    }
+
+    /// Renders frames `first..=last` (None: to the last frame) into `dir` as the *Render
+    /// animation…* window's Render button does, PNG frames only.
+    pub fn start_render_into(&mut self, dir: &Path, first: u32, last: Option<u32>) {
+        let r = &mut self.runtime.render_window;
+        r.dir = dir.display().to_string();
+        r.first = first;
+        r.last = last;
+        r.resume = false;
+        r.video.clear();
+        self.start_render();
+    }
+
+    /// Starts the render job of the window's choice: the animation as its saved file reads
+    /// back (checked as `animate` checks it), each frame decided as `animate` decides it, on
+    /// the view's device where it can (as exports).
+    fn start_render(&mut self) {
+        let state = &mut self.state;
+        let (_, base, animation) = match state.timeline.checked_file(&state.scene) {
+            Ok(checked) => checked,
+            Err(e) => {
+                self.runtime.render_window.outcome = Some((format!("error: {e}"), true));
+                return;
+            }
+        };
+        let planner = self.planner();
+        let window = &mut self.runtime.render_window;
+        match RenderJob::start(planner, base, animation, window.request()) {
+            Ok(job) => {
+                window.outcome = None;
+                self.runtime.render = Some(job);
+            }
+            Err(line) => window.outcome = Some((line, true)),
+        }
+    }
+
+    /// Ends a finished render job, its outcome in the window and the status line.
+    fn poll_render(&mut self) {
+        let Some(job) = &self.runtime.render else {
+            return;
+        };
+        if let Some(outcome) = job.finished() {
+            let last_dir = &mut self.state.last_dir;
+            *last_dir = job
+                .dir()
+                .parent()
+                .map_or(last_dir.clone(), Path::to_path_buf);
+            self.runtime.status.message = Some(outcome.clone());
+            self.runtime.render_window.outcome = Some(outcome);
+            self.runtime.render = None;
+        }
+    }
+
+    /// Says in the status line how a finished export went.
+    fn poll_export(&mut self) {
+        let Some(export) = &self.runtime.export else {
+            return;
+        };
+        if let Some(outcome) = export.finished() {
+            self.runtime.status.message = Some(outcome);
+            self.runtime.export = None;
+        }
+    }
+
+    /// Carries out a command of the panels, menus or keys.
+    pub fn apply(&mut self, command: Command) {
+        let (state, runtime) = (&mut self.state, &mut self.runtime);
+        match command {
+            Command::OpenDialog(purpose) => {
+                let name = menu::proposed_name(purpose);
+                runtime.dialog = Some(FileDialog::new(purpose, &state.last_dir, name));
+            }
+            Command::OpenScene(path) => self.open(&path),
+            Command::SaveScene(path) => self.save(&path),
+            Command::ExportPng(path) => self.start_export(path),
+            Command::ExportMesh(path) => self.start_mesh_export(path),
+            Command::Preset(k) => {
+                let preset = &PRESETS[k];
+                self.set_scene(preset.scene());
+                self.state.mode = if preset.two_d {
+                    Mode::Julia2d
+                } else {
+                    Mode::Slice3d
+                };
+                self.tell(format!("preset: {}", preset.name), false);
+            }
+            Command::ResetCamera => state.scene.camera = state.home_camera.clone(),
+            Command::SetAlgebra(algebra) => state.set_algebra(algebra),
+            Command::ToggleCLoop => state.toggle_c_loop(),
+            Command::ShowFrame(frame) => state.show_frame(frame),
+            Command::ToggleTimelinePlay => state.toggle_timeline_play(),
+            Command::AddKey => self.add_key(),
+            Command::OpenRenderWindow => runtime.render_window.open = true,
+            Command::RenderAnimation => self.start_render(),
+            Command::ShowHelp => runtime.show_help = true,
+            Command::ToggleHelp => runtime.show_help = !runtime.show_help,
+            Command::Tell(text, error) => self.tell(text, error),
+        }
+    }
+
+    /// Carries out commands in order; whether there were any.
+    fn apply_all(&mut self, commands: Vec<Command>) -> bool {
+        let acted = !commands.is_empty();
+        for command in commands {
+            self.apply(command);
+        }
+        acted
+    }
+
+    /// One frame of the whole UI (eframe's `App::ui`, also driven by the tests): the keys, the
+    /// view moved by wall time, the jobs polled, the panels drawn, then the windows over them.
+    /// The keys' commands are carried out at once, the panels' before the windows are drawn
+    /// (a window a menu opens shows in the frame of the click, as before), the windows' after
+    /// the frame.
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let now = Instant::now();
-        let dt = self
-            .last_frame
-            .map_or(0.0, |t| now.duration_since(t).as_secs_f64())
-            .min(0.25);
-        self.last_frame = Some(now);
-        self.frame_seconds = if self.frame_seconds == 0.0 {
-            dt
-        } else {
-            0.9 * self.frame_seconds + 0.1 * dt
-        };
+        let dt = self.runtime.status.tick(now);
         let ctx = ui.ctx().clone();
-        self.shortcuts(&ctx);
-        self.animate(dt);
-        self.play_timeline(dt);
+        let s = &mut self.state;
+        let keys = input::shortcuts(&ctx, &mut s.mode, &mut s.scene, &s.home_camera);
+        let mut acted = self.apply_all(keys);
+        self.state.advance(dt);
+        self.poll_render();
         self.poll_export();
-        egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
-        egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
-        egui::Panel::bottom("timeline").show(ui, |ui| self.timeline_panel(ui));
+        let panels = self.panels(ui);
+        acted |= self.apply_all(panels);
+        let windows = self.windows(&ctx);
+        acted |= self.apply_all(windows);
+        self.runtime.status.log(now, &self.runtime.viewport);
+        if acted || self.state.playing() || self.runtime.export.is_some() || self.rendering() {
+            ctx.request_repaint();
+        }
+    }
+
+    /// The menu bar, the status line, the timeline's strip, the side panel and the view; what
+    /// they ask.
+    fn panels(&mut self, ui: &mut egui::Ui) -> Vec<Command> {
+        let mut commands = Vec::new();
+        let (s, r) = (&mut self.state, &mut self.runtime);
+        egui::Panel::top("menu").show(ui, |ui| {
+            commands.extend(menu::menu_bar(ui, &mut s.mode, &mut s.mesh_resolution));
+        });
+        egui::Panel::bottom("status").show(ui, |ui| {
+            r.status.ui(ui, &r.viewport, s, r.export.as_ref());
+        });
+        egui::Panel::bottom("timeline").show(ui, |ui| {
+            let panel = &mut r.timeline_panel;
+            commands.extend(panel.ui(ui, &mut s.timeline, r.render.as_ref()));
+        });
         egui::Panel::left("controls")
             .resizable(true)
             .default_size(320.0)
-            .show(ui, |ui| self.controls(ui));
-        egui::CentralPanel::no_frame().show(ui, |ui| self.view_panel(ui));
-        self.dialogs(&ctx);
-        self.render_window(&ctx);
-        self.log(now);
-        if self.animation.playing
-            || self.timeline.playing
-            || self.export.is_some()
-            || self.rendering()
-        {
-            ctx.request_repaint();
-        }
+            .show(ui, |ui| commands.extend(panels::controls(ui, s)));
+        let options = ViewOptions {
+            mode: s.mode,
+            resolution_scale: s.resolution_scale,
+            preview_samples: s.preview_samples,
+            playing: s.playing(),
+        };
+        egui::CentralPanel::no_frame().show(ui, |ui| r.viewport.ui(ui, &mut s.scene, options));
+        commands
+    }
+
+    /// The windows over the panels: the file dialog, the help and "Render animation…"; what
+    /// they ask.
+    fn windows(&mut self, ctx: &egui::Context) -> Vec<Command> {
+        let (s, r) = (&mut self.state, &mut self.runtime);
+        let mut commands: Vec<Command> = menu::file_dialog(ctx, &mut r.dialog, &mut s.last_dir)
+            .into_iter()
+            .collect();
+        menu::help_window(ctx, &mut r.show_help);
+        let last_frame = s.timeline.last_frame();
+        let render = r.render.as_ref();
+        commands.extend(r.render_window.ui(ctx, last_frame, &s.last_dir, render));
+        commands
     }
 }
 
@@ -319,7 +454,7 @@ impl eframe::App for ExplorerApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        self.persist(storage);
+        persistence::persist(&mut self.state, storage);
     }
 }
 
@@ -327,31 +462,58 @@ impl eframe::App for ExplorerApp {
 mod tests {
     use super::*;
 
+    /// A storage in memory, like eframe's file storage.
+    #[derive(Default)]
+    struct Memory(std::collections::HashMap<String, String>);
+
+    impl eframe::Storage for Memory {
+        fn get_string(&self, key: &str) -> Option<String> {
+            self.0.get(key).cloned()
+        }
+        fn set_string(&mut self, key: &str, value: String) {
+            self.0.insert(key.to_string(), value);
+        }
+        fn remove_string(&mut self, key: &str) {
+            self.0.remove(key);
+        }
+        fn flush(&mut self) {}
+    }
+
     #[test]
-    fn switching_the_algebra_pads_c_and_the_slice_and_rotates_in_every_plane() {
+    fn the_scene_and_resolution_persist_between_runs() {
+        let mut scene = PRESETS[3].scene();
+        scene.camera.eye = [0.25, 1.5, 2.0];
+        let mut app = ExplorerApp::with_scene(scene.clone());
+        app.resolution_scale = 0.5;
+        let mut storage = Memory::default();
+        eframe::App::save(&mut app, &mut storage);
+        let (restored, resolution) = load_persisted(Some(&storage));
+        assert_eq!(restored, Some(scene));
+        assert_eq!(resolution, 0.5);
+        assert_eq!(load_persisted(None), (None, 1.0));
+    }
+
+    #[test]
+    fn scene_files_bring_their_keyframes_and_the_timeline_persists() {
         let mut app = ExplorerApp::with_scene(Scene::default());
-        app.set_algebra(crate::scene::Algebra::Octonion);
-        assert_eq!(
-            app.scene.fractal.c,
-            vec![-0.2, 0.6, 0.2, 0.2, 0.0, 0.0, 0.0, 0.0]
-        );
-        assert_eq!(app.angles.len(), 28);
-        // Turn i into e7: the slice's y axis leaves the quaternions.
-        let p = planes(8).iter().position(|&p| p == (1, 7)).unwrap();
-        app.angles[p] = std::f64::consts::FRAC_PI_2;
-        app.apply_rotation();
-        assert!((app.scene.slice.y[7] - 1.0).abs() < 1e-12);
-        assert!(
-            crate::scene::rotation::orthonormality_error(&[
-                app.scene.slice.x.clone(),
-                app.scene.slice.y.clone(),
-                app.scene.slice.z.clone(),
-            ]) < 1e-12
-        );
-        // Back to quaternions: cut to 4D, the basis still orthonormal.
-        app.set_algebra(crate::scene::Algebra::Quaternion);
-        assert_eq!(app.scene.fractal.c.len(), 4);
-        assert_eq!(app.angles.len(), 6);
-        assert_eq!(app.scene.slice.x.len(), 4);
+        app.state.timeline.show(40, &mut app.state.scene);
+        app.scene.camera.eye = [0.5, 1.0, 2.5];
+        app.add_key();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("anim.toml");
+        app.save(&path);
+        let saved = app.timeline.animation.clone();
+        assert_eq!(saved.keys.len(), 1);
+
+        let mut other = ExplorerApp::with_scene(PRESETS[3].scene());
+        other.open(&path);
+        assert_eq!(other.timeline.animation, saved);
+        assert_eq!(other.timeline.base, app.timeline.base);
+
+        let mut storage = Memory::default();
+        eframe::App::save(&mut app, &mut storage);
+        let (base, animation) = load_persisted_timeline(Some(&storage)).expect("persisted");
+        assert_eq!(animation, saved);
+        assert_eq!(base, app.timeline.base);
     }
 }

@@ -1,18 +1,17 @@
-//! Export: what the view shows, at the scene's image size, decided and rendered as the
-//! headless commands do ([`crate::render::Planner::plan`], on the UI's device), written as a
-//! PNG on a thread of its own while the UI goes on; or the set's surface as a mesh (`qjulia
-//! mesh`), with its progress in the status line.
+//! Export, a job of the explorer's runtime: what the view shows, at the scene's image size,
+//! decided and rendered as the headless commands do ([`crate::render::Planner::plan`], on the
+//! UI's device), written as a PNG on a thread of its own while the UI goes on; or the set's
+//! surface as a mesh (`qjulia mesh`), with its progress in the status line.
 
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{Receiver, channel};
 
-use super::app::{ExplorerApp, Mode};
 use crate::output::{OutputPaths, write_outputs, write_view_outputs};
 use crate::precision::Precision;
-use crate::render::Picture;
-use crate::scene::View;
+use crate::render::{Picture, Planner};
+use crate::scene::Scene;
 
 /// An export running on its own thread.
 pub struct Export {
@@ -29,26 +28,16 @@ impl Export {
             .as_ref()
             .map(|p| (p[0].load(Ordering::Relaxed), p[1].load(Ordering::Relaxed)))
     }
-}
 
-impl ExplorerApp {
-    /// Exports what the view shows, at the scene's image size through the same kernel, on
-    /// another thread: the 3D view (shaded or a step view, as `render`), or in 2D mode the 2D
-    /// view (as `render2d`).
-    pub fn start_export(&mut self, path: PathBuf) {
-        let scene = self.scene.clone();
+    /// Exports `picture` of `scene` (what the view shows, at the scene's image size) as a PNG
+    /// at `path`, on another thread: decided by `planner` as `render` (or `render2d`) decides
+    /// it, through the same kernel.
+    pub fn png(mut planner: Planner, scene: Scene, picture: Picture, path: PathBuf) -> Self {
         let (send, done) = channel();
         let paths = OutputPaths {
             png: Some(path.clone()),
             ..Default::default()
         };
-        let picture = match self.mode {
-            Mode::Slice3d => Picture::Slice {
-                shade: scene.image.view == View::Shaded,
-            },
-            Mode::Julia2d => Picture::Julia2d,
-        };
-        let mut planner = self.planner();
         std::thread::spawn(move || {
             // Decided by the scene exported, at its image size, as `render` decides it.
             let export = || -> crate::Result<()> {
@@ -63,23 +52,21 @@ impl ExplorerApp {
             };
             send.send(export().map_err(|e| e.to_string())).ok();
         });
-        self.export = Some(Export {
+        Self {
             path,
             done,
             progress: None,
-        });
+        }
     }
 
-    /// Exports the 3D slice's surface as a mesh at `mesh_resolution` points per axis, as
-    /// `qjulia mesh` makes it (the format by the file's extension, the precision by the grid
-    /// cell), on the view's GPU where it can, on another thread.
-    pub fn start_mesh_export(&mut self, path: PathBuf) {
-        let scene = self.scene.clone();
+    /// Exports the 3D slice of `scene`'s surface as a mesh at `resolution` points per axis,
+    /// as `qjulia mesh` makes it (the format by the file's extension, the precision by the
+    /// grid cell, decided by `planner`), on another thread.
+    pub fn mesh(mut planner: Planner, scene: Scene, resolution: u32, path: PathBuf) -> Self {
         let options = crate::mesh::MeshOptions {
-            resolution: self.mesh_resolution,
+            resolution,
             region: None,
         };
-        let mut planner = self.planner();
         let progress = Arc::new([AtomicU32::new(0), AtomicU32::new(0)]);
         let shared = progress.clone();
         let (send, done) = channel();
@@ -97,22 +84,19 @@ impl ExplorerApp {
                 .and_then(|(mesh, _)| crate::mesh::write_outputs(&out, &mesh, 1.0, None));
             send.send(result.map_err(|e| e.to_string())).ok();
         });
-        self.export = Some(Export {
+        Self {
             path,
             done,
             progress: Some(progress),
-        });
+        }
     }
 
-    /// Says in the status line how a finished export went.
-    pub(super) fn poll_export(&mut self) {
-        let Some(export) = &self.export else { return };
-        if let Ok(result) = export.done.try_recv() {
-            self.message = Some(match result {
-                Ok(()) => (format!("exported {}", export.path.display()), false),
-                Err(e) => (format!("error: export failed: {e}"), true),
-            });
-            self.export = None;
-        }
+    /// Once the export has ended: the status line's word on it, and whether it is an error.
+    pub fn finished(&self) -> Option<(String, bool)> {
+        let result = self.done.try_recv().ok()?;
+        Some(match result {
+            Ok(()) => (format!("exported {}", self.path.display()), false),
+            Err(e) => (format!("error: export failed: {e}"), true),
+        })
     }
 }

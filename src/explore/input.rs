@@ -3,10 +3,11 @@
 
 use egui::{Key, Modifiers};
 
-use super::app::{ExplorerApp, Mode};
 use super::camera;
+use super::command::Command;
 use super::file_dialog::Purpose;
-use crate::scene::View2d;
+use super::state::Mode;
+use crate::scene::{Camera, Scene, View2d};
 
 /// Radians of orbit per point dragged, and zoom per point scrolled.
 const ORBIT_PER_POINT: f64 = 0.01;
@@ -22,7 +23,7 @@ fn clamp_extent(extent: f64) -> f64 {
 }
 
 /// The explorer's slider of a scene key, from the scene schema.
-pub(super) fn slider(path: &str) -> crate::scene::schema::Slider {
+pub fn slider(path: &str) -> crate::scene::schema::Slider {
     crate::scene::schema::slider(path)
         .unwrap_or_else(|| panic!("the scene schema gives {path} no slider"))
 }
@@ -47,144 +48,148 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ),
 ];
 
-impl ExplorerApp {
-    /// The keyboard shortcuts, unless a text field has the keyboard.
-    pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
-        if ctx.egui_wants_keyboard_input() {
-            return;
+/// The keyboard shortcuts, unless a text field has the keyboard: what the view shows
+/// (`mode`), the camera of `scene` (back to `home` on R) or its 2D view; the rest as commands.
+pub fn shortcuts(
+    ctx: &egui::Context,
+    mode: &mut Mode,
+    scene: &mut Scene,
+    home: &Camera,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    if ctx.egui_wants_keyboard_input() {
+        return commands;
+    }
+    let cmd = Modifiers::COMMAND;
+    let (open, save, export) = ctx.input_mut(|i| {
+        (
+            i.consume_key(cmd, Key::O),
+            i.consume_key(cmd, Key::S),
+            i.consume_key(cmd, Key::E),
+        )
+    });
+    if open {
+        commands.push(Command::OpenDialog(Purpose::OpenScene));
+    }
+    if save {
+        commands.push(Command::OpenDialog(Purpose::SaveScene));
+    }
+    if export {
+        commands.push(Command::OpenDialog(Purpose::ExportPng));
+    }
+    ctx.input(|i| {
+        if i.key_pressed(Key::M) {
+            *mode = match *mode {
+                Mode::Slice3d => Mode::Julia2d,
+                Mode::Julia2d => Mode::Slice3d,
+            };
         }
-        let cmd = Modifiers::COMMAND;
-        let (open, save, export) = ctx.input_mut(|i| {
-            (
-                i.consume_key(cmd, Key::O),
-                i.consume_key(cmd, Key::S),
-                i.consume_key(cmd, Key::E),
-            )
-        });
-        if open {
-            self.open_dialog(Purpose::OpenScene);
+        if i.key_pressed(Key::F1) {
+            commands.push(Command::ToggleHelp);
         }
-        if save {
-            self.open_dialog(Purpose::SaveScene);
+        if i.key_pressed(Key::Space) {
+            commands.push(Command::ToggleCLoop);
         }
-        if export {
-            self.open_dialog(Purpose::ExportPng);
-        }
-        ctx.input(|i| {
-            if i.key_pressed(Key::M) {
-                self.mode = match self.mode {
-                    Mode::Slice3d => Mode::Julia2d,
-                    Mode::Julia2d => Mode::Slice3d,
-                };
-            }
-            if i.key_pressed(Key::F1) {
-                self.show_help = !self.show_help;
-            }
-            if i.key_pressed(Key::Space) {
-                self.toggle_play();
-            }
-            if self.mode == Mode::Julia2d {
-                let v = &mut self.scene.view2d;
-                let step = 0.1 * v.extent;
-                for (key, dx, dy) in [
-                    (Key::ArrowLeft, -step, 0.0),
-                    (Key::ArrowRight, step, 0.0),
-                    (Key::ArrowUp, 0.0, step),
-                    (Key::ArrowDown, 0.0, -step),
-                ] {
-                    if i.key_pressed(key) {
-                        v.center[0] += dx;
-                        v.center[1] += dy;
-                    }
+        if *mode == Mode::Julia2d {
+            let v = &mut scene.view2d;
+            let step = 0.1 * v.extent;
+            for (key, dx, dy) in [
+                (Key::ArrowLeft, -step, 0.0),
+                (Key::ArrowRight, step, 0.0),
+                (Key::ArrowUp, 0.0, step),
+                (Key::ArrowDown, 0.0, -step),
+            ] {
+                if i.key_pressed(key) {
+                    v.center[0] += dx;
+                    v.center[1] += dy;
                 }
-                if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
-                    v.extent = clamp_extent(v.extent * 0.8);
-                }
-                if i.key_pressed(Key::Minus) {
-                    v.extent = clamp_extent(v.extent / 0.8);
-                }
-                if i.key_pressed(Key::R) {
-                    *v = View2d::default();
-                }
-                return;
-            }
-            let cam = &mut self.scene.camera;
-            let step = 0.1 * camera::orbit_scale(cam);
-            if i.key_pressed(Key::ArrowLeft) {
-                camera::orbit(cam, -step, 0.0);
-            }
-            if i.key_pressed(Key::ArrowRight) {
-                camera::orbit(cam, step, 0.0);
-            }
-            if i.key_pressed(Key::ArrowUp) {
-                camera::orbit(cam, 0.0, step);
-            }
-            if i.key_pressed(Key::ArrowDown) {
-                camera::orbit(cam, 0.0, -step);
             }
             if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
-                camera::zoom(cam, 0.9);
+                v.extent = clamp_extent(v.extent * 0.8);
             }
             if i.key_pressed(Key::Minus) {
-                camera::zoom(cam, 1.0 / 0.9);
+                v.extent = clamp_extent(v.extent / 0.8);
             }
             if i.key_pressed(Key::R) {
-                *cam = self.home_camera.clone();
+                *v = View2d::default();
             }
-        });
-    }
+            return;
+        }
+        let cam = &mut scene.camera;
+        let step = 0.1 * camera::orbit_scale(cam);
+        if i.key_pressed(Key::ArrowLeft) {
+            camera::orbit(cam, -step, 0.0);
+        }
+        if i.key_pressed(Key::ArrowRight) {
+            camera::orbit(cam, step, 0.0);
+        }
+        if i.key_pressed(Key::ArrowUp) {
+            camera::orbit(cam, 0.0, step);
+        }
+        if i.key_pressed(Key::ArrowDown) {
+            camera::orbit(cam, 0.0, -step);
+        }
+        if i.key_pressed(Key::Plus) || i.key_pressed(Key::Equals) {
+            camera::zoom(cam, 0.9);
+        }
+        if i.key_pressed(Key::Minus) {
+            camera::zoom(cam, 1.0 / 0.9);
+        }
+        if i.key_pressed(Key::R) {
+            *cam = home.clone();
+        }
+    });
+    commands
+}
 
-    /// The mouse on the 3D view (`rect`): left drag orbits, right or middle drag pans, the
-    /// wheel zooms.
-    pub(super) fn mouse_3d(&mut self, ui: &egui::Ui, rect: egui::Rect, response: &egui::Response) {
-        let cam = &mut self.scene.camera;
-        if response.dragged_by(egui::PointerButton::Primary) {
-            let d = response.drag_delta();
-            let rate = ORBIT_PER_POINT * camera::orbit_scale(cam);
-            camera::orbit(cam, d.x as f64 * rate, d.y as f64 * rate);
-        }
-        if response.dragged_by(egui::PointerButton::Secondary)
-            || response.dragged_by(egui::PointerButton::Middle)
-        {
-            let d = response.drag_delta();
-            let h = rect.height().max(1.0) as f64;
-            camera::pan(cam, -d.x as f64 / h, d.y as f64 / h);
-        }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
-            if scroll != 0.0 {
-                camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
-            }
+/// The mouse on the 3D view (`rect`): left drag orbits, right or middle drag pans, the
+/// wheel zooms.
+pub fn mouse_3d(ui: &egui::Ui, rect: egui::Rect, response: &egui::Response, cam: &mut Camera) {
+    if response.dragged_by(egui::PointerButton::Primary) {
+        let d = response.drag_delta();
+        let rate = ORBIT_PER_POINT * camera::orbit_scale(cam);
+        camera::orbit(cam, d.x as f64 * rate, d.y as f64 * rate);
+    }
+    if response.dragged_by(egui::PointerButton::Secondary)
+        || response.dragged_by(egui::PointerButton::Middle)
+    {
+        let d = response.drag_delta();
+        let h = rect.height().max(1.0) as f64;
+        camera::pan(cam, -d.x as f64 / h, d.y as f64 / h);
+    }
+    if response.hovered() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+        if scroll != 0.0 {
+            camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
         }
     }
+}
 
-    /// The mouse on the 2D view (`rect`): drag to pan, wheel to zoom about the pointer.
-    pub(super) fn mouse_2d(&mut self, ui: &egui::Ui, rect: egui::Rect, response: &egui::Response) {
-        let v = &mut self.scene.view2d;
-        // Complex units per point: the texture fills the rect, extent across its width.
-        let per_point = v.extent / rect.width().max(1.0) as f64;
-        if response.dragged() {
-            let d = response.drag_delta();
-            v.center[0] -= d.x as f64 * per_point;
-            v.center[1] += d.y as f64 * per_point;
-        }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
-            if scroll != 0.0 {
-                let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
-                let factor = extent / v.extent;
-                if let Some(p) = response.hover_pos() {
-                    // The point under the pointer stays there.
-                    let under = [
-                        v.center[0] + (p.x - rect.center().x) as f64 * per_point,
-                        v.center[1] - (p.y - rect.center().y) as f64 * per_point,
-                    ];
-                    for (centre, under) in v.center.iter_mut().zip(under) {
-                        *centre = under - (under - *centre) * factor;
-                    }
+/// The mouse on the 2D view (`rect`): drag to pan, wheel to zoom about the pointer.
+pub fn mouse_2d(ui: &egui::Ui, rect: egui::Rect, response: &egui::Response, v: &mut View2d) {
+    // Complex units per point: the texture fills the rect, extent across its width.
+    let per_point = v.extent / rect.width().max(1.0) as f64;
+    if response.dragged() {
+        let d = response.drag_delta();
+        v.center[0] -= d.x as f64 * per_point;
+        v.center[1] += d.y as f64 * per_point;
+    }
+    if response.hovered() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+        if scroll != 0.0 {
+            let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
+            let factor = extent / v.extent;
+            if let Some(p) = response.hover_pos() {
+                // The point under the pointer stays there.
+                let under = [
+                    v.center[0] + (p.x - rect.center().x) as f64 * per_point,
+                    v.center[1] - (p.y - rect.center().y) as f64 * per_point,
+                ];
+                for (centre, under) in v.center.iter_mut().zip(under) {
+                    *centre = under - (under - *centre) * factor;
                 }
-                v.extent = extent;
             }
+            v.extent = extent;
         }
     }
 }

@@ -1,110 +1,117 @@
 //! The menu bar (File, Presets, View) and the windows it opens: the file dialogs, whose choice
-//! opens, saves or exports (a PNG, or a mesh at the resolution set beside "Export mesh…"), "Render animation…" (drawn by `timeline`), and the help window
-//! listing the shortcuts.
+//! opens, saves or exports (a PNG, or a mesh at the resolution set beside "Export mesh…"), and
+//! the help window listing the shortcuts ("Render animation…" is the timeline's window). What
+//! they choose they return as [`Command`]s.
 
-use super::app::{ExplorerApp, Mode};
+use std::path::PathBuf;
+
+use super::command::Command;
 use super::file_dialog::{FileDialog, Outcome, Purpose};
 use super::input::SHORTCUTS;
+use super::state::Mode;
 use crate::scene::presets::PRESETS;
 
-impl ExplorerApp {
-    /// File (open, save, export), Presets, and View (mode, camera reset, help).
-    pub(super) fn menu_bar(&mut self, ui: &mut egui::Ui) {
-        egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui.button("Open scene…  (Ctrl+O)").clicked() {
-                    self.open_dialog(Purpose::OpenScene);
+/// File (open, save, export), Presets, and View (mode, camera reset, help). Edits what the view
+/// shows and the mesh export's resolution.
+pub fn menu_bar(ui: &mut egui::Ui, mode: &mut Mode, mesh_resolution: &mut u32) -> Vec<Command> {
+    let mut commands = Vec::new();
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            if ui.button("Open scene…  (Ctrl+O)").clicked() {
+                commands.push(Command::OpenDialog(Purpose::OpenScene));
+            }
+            if ui.button("Save scene…  (Ctrl+S)").clicked() {
+                commands.push(Command::OpenDialog(Purpose::SaveScene));
+            }
+            if ui.button("Export PNG…  (Ctrl+E)").clicked() {
+                commands.push(Command::OpenDialog(Purpose::ExportPng));
+            }
+            ui.horizontal(|ui| {
+                if ui.button("Export mesh…").clicked() {
+                    commands.push(Command::OpenDialog(Purpose::ExportMesh));
                 }
-                if ui.button("Save scene…  (Ctrl+S)").clicked() {
-                    self.open_dialog(Purpose::SaveScene);
-                }
-                if ui.button("Export PNG…  (Ctrl+E)").clicked() {
-                    self.open_dialog(Purpose::ExportPng);
-                }
-                ui.horizontal(|ui| {
-                    if ui.button("Export mesh…").clicked() {
-                        self.open_dialog(Purpose::ExportMesh);
-                    }
-                    ui.add(
-                        egui::DragValue::new(&mut self.mesh_resolution)
-                            .range(crate::mesh::MIN_RESOLUTION..=crate::mesh::MAX_RESOLUTION)
-                            .prefix("N = "),
-                    )
-                    .on_hover_text("grid points per axis of the mesh (qjulia mesh --resolution)");
-                });
-                if ui.button("Render animation…").clicked() {
-                    self.timeline.render.open = true;
-                }
+                ui.add(
+                    egui::DragValue::new(mesh_resolution)
+                        .range(crate::mesh::MIN_RESOLUTION..=crate::mesh::MAX_RESOLUTION)
+                        .prefix("N = "),
+                )
+                .on_hover_text("grid points per axis of the mesh (qjulia mesh --resolution)");
             });
-            ui.menu_button("Presets", |ui| {
-                for preset in PRESETS {
-                    if ui.button(preset.name).on_hover_text(preset.about).clicked() {
-                        self.set_scene(preset.scene());
-                        self.mode = if preset.two_d {
-                            Mode::Julia2d
-                        } else {
-                            Mode::Slice3d
-                        };
-                        self.message = Some((format!("preset: {}", preset.name), false));
-                    }
+            if ui.button("Render animation…").clicked() {
+                commands.push(Command::OpenRenderWindow);
+            }
+        });
+        ui.menu_button("Presets", |ui| {
+            for (k, preset) in PRESETS.iter().enumerate() {
+                if ui.button(preset.name).on_hover_text(preset.about).clicked() {
+                    commands.push(Command::Preset(k));
                 }
-            });
-            ui.menu_button("View", |ui| {
-                ui.radio_value(&mut self.mode, Mode::Slice3d, "3D slice");
-                ui.radio_value(&mut self.mode, Mode::Julia2d, "2D Julia set  (M)");
-                ui.separator();
-                if ui.button("Reset camera  (R)").clicked() {
-                    self.scene.camera = self.home_camera.clone();
-                }
-                if ui.button("Help  (F1)").clicked() {
-                    self.show_help = true;
+            }
+        });
+        ui.menu_button("View", |ui| {
+            ui.radio_value(mode, Mode::Slice3d, "3D slice");
+            ui.radio_value(mode, Mode::Julia2d, "2D Julia set  (M)");
+            ui.separator();
+            if ui.button("Reset camera  (R)").clicked() {
+                commands.push(Command::ResetCamera);
+            }
+            if ui.button("Help  (F1)").clicked() {
+                commands.push(Command::ShowHelp);
+            }
+        });
+    });
+    commands
+}
+
+/// The file name a dialog for `purpose` proposes.
+pub fn proposed_name(purpose: Purpose) -> &'static str {
+    match purpose {
+        Purpose::OpenScene => "",
+        Purpose::SaveScene => "scene.toml",
+        Purpose::ExportPng => "qjulia.png",
+        Purpose::ExportMesh => "qjulia.ply",
+    }
+}
+
+/// The open file dialog, if one is: closed when cancelled or chosen, the folder it was in then
+/// the last folder, and its choice as the command of its purpose.
+pub fn file_dialog(
+    ctx: &egui::Context,
+    dialog: &mut Option<FileDialog>,
+    last_dir: &mut PathBuf,
+) -> Option<Command> {
+    let shown = dialog.as_mut()?;
+    match shown.show(ctx) {
+        Outcome::Open => None,
+        Outcome::Cancelled => {
+            *dialog = None;
+            None
+        }
+        Outcome::Chosen(path) => {
+            let purpose = shown.purpose;
+            *last_dir = shown.dir().to_path_buf();
+            *dialog = None;
+            Some(match purpose {
+                Purpose::OpenScene => Command::OpenScene(path),
+                Purpose::SaveScene => Command::SaveScene(path),
+                Purpose::ExportPng => Command::ExportPng(path),
+                Purpose::ExportMesh => Command::ExportMesh(path),
+            })
+        }
+    }
+}
+
+/// The help window, while `open`: the shortcuts.
+pub fn help_window(ctx: &egui::Context, open: &mut bool) {
+    if *open {
+        egui::Window::new("Help").open(open).show(ctx, |ui| {
+            egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                for (keys, what) in SHORTCUTS {
+                    ui.strong(*keys);
+                    ui.label(*what);
+                    ui.end_row();
                 }
             });
         });
-    }
-
-    /// Opens the file dialog for `purpose`, in the last folder used.
-    pub(super) fn open_dialog(&mut self, purpose: Purpose) {
-        let name = match purpose {
-            Purpose::OpenScene => "",
-            Purpose::SaveScene => "scene.toml",
-            Purpose::ExportPng => "qjulia.png",
-            Purpose::ExportMesh => "qjulia.ply",
-        };
-        self.dialog = Some(FileDialog::new(purpose, &self.last_dir, name));
-    }
-
-    /// The open file dialog, acting on its choice, and the help window.
-    pub(super) fn dialogs(&mut self, ctx: &egui::Context) {
-        if let Some(dialog) = &mut self.dialog {
-            match dialog.show(ctx) {
-                Outcome::Open => {}
-                Outcome::Cancelled => self.dialog = None,
-                Outcome::Chosen(path) => {
-                    let purpose = dialog.purpose;
-                    self.last_dir = dialog.dir().to_path_buf();
-                    self.dialog = None;
-                    match purpose {
-                        Purpose::OpenScene => self.open(&path),
-                        Purpose::SaveScene => self.save(&path),
-                        Purpose::ExportPng => self.start_export(path),
-                        Purpose::ExportMesh => self.start_mesh_export(path),
-                    }
-                }
-            }
-        }
-        if self.show_help {
-            egui::Window::new("Help")
-                .open(&mut self.show_help)
-                .show(ctx, |ui| {
-                    egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
-                        for (keys, what) in SHORTCUTS {
-                            ui.strong(*keys);
-                            ui.label(*what);
-                            ui.end_row();
-                        }
-                    });
-                });
-        }
     }
 }

@@ -1,10 +1,13 @@
 //! `qjulia explore`: the desktop explorer, an eframe/egui app on winit whose view is drawn by
-//! the same GPU tracer as `qjulia render`, on the same device as the UI.
+//! the same GPU tracer as `qjulia render`, on the same device as the UI. The app and its frame
+//! loop are `app`'s; what the user edits is `state`'s, the panels' `menu`, `panels`, `status`,
+//! `viewport` and `timeline::panel`, the jobs `export` and `timeline::job`.
 
-pub mod animation;
 pub mod app;
+pub mod c_loop;
 pub mod camera;
-mod export;
+pub mod command;
+pub mod export;
 pub mod file_dialog;
 mod heat_texture;
 mod hypersphere;
@@ -16,13 +19,15 @@ mod panels;
 pub mod persistence;
 pub mod precision_switch;
 pub mod slice_texture;
-mod status;
+pub mod state;
+pub mod status;
 pub mod timeline;
-mod viewport;
+pub mod viewport;
 
 use std::sync::Arc;
 
 pub use app::ExplorerApp;
+pub use state::ExplorerState;
 
 use crate::error::{Error, INSTALL_ADAPTER_HINT, Result};
 use crate::scene::Scene;

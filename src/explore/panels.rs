@@ -1,322 +1,325 @@
 //! The side panel: every scene value as a control, in collapsing groups (the 2D view, fractal,
-//! slice, animation, camera, light and shading, cut, image), one slider per call.
+//! slice, animation, camera, light and shading, cut, image), one slider per call. Each group is
+//! a function of what it edits; what reaches further (a new algebra, Play) it returns as a
+//! [`Command`].
 
-use super::app::{ExplorerApp, Mode};
+use super::c_loop::CLoop;
+use super::command::Command;
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
 use super::input::slider;
+use super::state::{ExplorerState, Mode, SliceRotation};
 use crate::scene::rotation::{axis_name, plane_name, planes};
-use crate::scene::{View, View2d};
+use crate::scene::{Camera, Cut, Fractal, Image, Light, Shading, Slice, View, View2d};
 
-impl ExplorerApp {
-    /// The side panel: what the view shows, then the groups of controls.
-    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
-        egui::ScrollArea::vertical().show(ui, |ui| {
-            ui.horizontal(|ui| {
-                ui.label("Show");
-                ui.selectable_value(&mut self.mode, Mode::Slice3d, "3D slice");
-                ui.selectable_value(&mut self.mode, Mode::Julia2d, "2D Julia set");
-            });
-            match self.mode {
-                Mode::Slice3d => {
-                    egui::ComboBox::from_label("view")
-                        .selected_text(self.scene.image.view.name())
-                        .show_ui(ui, |ui| {
-                            for view in View::ALL {
-                                ui.selectable_value(&mut self.scene.image.view, view, view.name());
-                            }
-                        });
-                }
-                Mode::Julia2d => {
-                    egui::CollapsingHeader::new("2D view")
-                        .default_open(true)
-                        .show(ui, |ui| self.view2d_controls(ui));
-                }
+/// The side panel: what the view shows, then the groups of controls.
+pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
+    let mut commands = Vec::new();
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        ui.horizontal(|ui| {
+            ui.label("Show");
+            ui.selectable_value(&mut s.mode, Mode::Slice3d, "3D slice");
+            ui.selectable_value(&mut s.mode, Mode::Julia2d, "2D Julia set");
+        });
+        match s.mode {
+            Mode::Slice3d => {
+                egui::ComboBox::from_label("view")
+                    .selected_text(s.scene.image.view.name())
+                    .show_ui(ui, |ui| {
+                        for view in View::ALL {
+                            ui.selectable_value(&mut s.scene.image.view, view, view.name());
+                        }
+                    });
             }
-            egui::CollapsingHeader::new("Fractal")
-                .default_open(true)
-                .show(ui, |ui| self.fractal_controls(ui));
-            egui::CollapsingHeader::new("Slice (4D)")
-                .default_open(true)
-                .show(ui, |ui| self.slice_controls(ui));
-            egui::CollapsingHeader::new("Animation")
-                .default_open(true)
-                .show(ui, |ui| self.animation_controls(ui));
-            egui::CollapsingHeader::new("Camera").show(ui, |ui| self.camera_controls(ui));
-            egui::CollapsingHeader::new("Light and shading")
-                .show(ui, |ui| self.shading_controls(ui));
-            egui::CollapsingHeader::new("Cut").show(ui, |ui| self.cut_controls(ui));
-            egui::CollapsingHeader::new("Image").show(ui, |ui| self.image_controls(ui));
-        });
-    }
-
-    /// The algebra, c (by component, and as a magnitude and hyperspherical angles) and the
-    /// tracing values.
-    fn fractal_controls(&mut self, ui: &mut egui::Ui) {
-        let mut algebra = self.scene.fractal.algebra;
-        egui::ComboBox::from_label("algebra")
-            .selected_text(algebra.name())
-            .show_ui(ui, |ui| {
-                for a in crate::scene::Algebra::ALL {
-                    ui.selectable_value(&mut algebra, a, a.name());
-                }
-            });
-        if algebra != self.scene.fractal.algebra {
-            self.set_algebra(algebra);
+            Mode::Julia2d => {
+                egui::CollapsingHeader::new("2D view")
+                    .default_open(true)
+                    .show(ui, |ui| view2d(ui, &s.scene.fractal.c, &mut s.scene.view2d));
+            }
         }
-        let f = &mut self.scene.fractal;
-        for k in 0..f.c.len() {
-            let name = format!("c {}", axis_name(k));
-            ui.add(key_slider(&mut f.c[k], "fractal.c").text(name));
-        }
-        // c as a direction on the unit sphere of the algebra and a magnitude.
-        let (magnitude, direction) = magnitude_and_direction(&f.c);
-        let mut angles = hyperspherical(&direction);
-        let mut new_magnitude = magnitude;
-        let mut turned = false;
-        ui.add(
-            egui::Slider::new(&mut new_magnitude, 0.0..=2.0)
-                .clamping(egui::SliderClamping::Edits)
-                .text("|c|"),
-        );
-        let last = angles.len() - 1;
-        for (k, angle) in angles.iter_mut().enumerate() {
-            let range = if k == last {
-                -std::f64::consts::PI..=std::f64::consts::PI
-            } else {
-                0.0..=std::f64::consts::PI
-            };
-            turned |= ui
-                .add(egui::Slider::new(angle, range).text(format!("c angle {}", k + 1)))
-                .changed();
-        }
-        if turned || new_magnitude != magnitude {
-            let dir = if turned {
-                from_hyperspherical(&angles)
-            } else {
-                direction
-            };
-            f.c = dir.iter().map(|v| v * new_magnitude).collect();
-        }
-        ui.add(
-            key_slider_u32(&mut f.max_iterations, "fractal.max_iterations").text("max iterations"),
-        );
-        ui.add(key_slider(&mut f.epsilon, "fractal.epsilon").text("epsilon"));
-        ui.add(
-            key_slider(
-                &mut f.escape_radius_squared,
-                "fractal.escape_radius_squared",
-            )
-            .text("escape radius²"),
-        );
-        ui.add(
-            key_slider(
-                &mut f.bounding_radius_squared,
-                "fractal.bounding_radius_squared",
-            )
-            .text("bounding radius²"),
-        );
-        ui.add(key_slider_u32(&mut f.max_steps, "fractal.max_steps").text("max steps"));
-        ui.add(
-            key_slider(&mut f.step_scale, "fractal.step_scale")
-                .text("step scale (over-relaxation)"),
-        );
-        ui.add(
-            key_slider(&mut f.pixel_epsilon, "fractal.pixel_epsilon")
-                .text("epsilon in pixels (0 = off)"),
-        );
-        egui::ComboBox::from_label("tracing")
-            .selected_text(f.tracing.name())
-            .show_ui(ui, |ui| {
-                for tracing in crate::scene::Tracing::ALL {
-                    ui.selectable_value(&mut f.tracing, tracing, tracing.name());
-                }
-            });
-    }
-
-    /// The 2D mode's view: centre, extent and iterations.
-    fn view2d_controls(&mut self, ui: &mut egui::Ui) {
-        let c = &self.scene.fractal.c;
-        ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
-        let v = &mut self.scene.view2d;
-        let speed = 0.002 * v.extent;
-        ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut v.center[0]).speed(speed));
-            ui.label("centre real");
-        });
-        ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
-            ui.label("centre imaginary");
-        });
-        ui.add(key_slider(&mut v.extent, "view2d.extent").text("extent (width)"));
-        ui.add(
-            key_slider_u32(&mut v.max_iterations, "view2d.max_iterations").text("2D iterations"),
-        );
-        ui.label("Drag to pan, wheel to zoom about the pointer.");
-        if ui.button("Reset 2D view (R)").clicked() {
-            *v = View2d::default();
-        }
-    }
-
-    /// The slice: a rotation angle per plane of the algebra, and the offset.
-    fn slice_controls(&mut self, ui: &mut egui::Ui) {
-        let mut turned = false;
-        let dim = self.scene.fractal.algebra.dim();
-        let angles = &mut self.angles;
-        egui::ScrollArea::vertical()
-            .id_salt("rotation planes")
-            .max_height(260.0)
+        egui::CollapsingHeader::new("Fractal")
+            .default_open(true)
+            .show(ui, |ui| commands.extend(fractal(ui, &mut s.scene.fractal)));
+        egui::CollapsingHeader::new("Slice (4D)")
+            .default_open(true)
             .show(ui, |ui| {
-                for (angle, plane) in angles.iter_mut().zip(planes(dim)) {
-                    let slider =
-                        egui::Slider::new(angle, -std::f64::consts::PI..=std::f64::consts::PI);
-                    turned |= ui
-                        .add(slider.text(format!("turn {}", plane_name(plane))))
-                        .changed();
-                }
+                let dim = s.scene.fractal.algebra.dim();
+                slice(ui, &mut s.rotation, &mut s.scene.slice, dim)
             });
-        if ui.button("Reset rotation").clicked() {
-            self.angles.iter_mut().for_each(|a| *a = 0.0);
-            turned = true;
-        }
-        if turned {
-            self.apply_rotation();
-        }
-        for k in 0..self.scene.slice.offset.len() {
-            let name = format!("offset {}", axis_name(k));
-            ui.add(key_slider(&mut self.scene.slice.offset[k], "slice.offset").text(name));
-        }
-    }
+        egui::CollapsingHeader::new("Animation")
+            .default_open(true)
+            .show(ui, |ui| {
+                let radius = &mut s.timeline.animation.path_radius;
+                commands.extend(c_loop(ui, &mut s.c_loop, radius));
+            });
+        egui::CollapsingHeader::new("Camera")
+            .show(ui, |ui| camera(ui, &mut s.scene.camera, &s.home_camera));
+        egui::CollapsingHeader::new("Light and shading").show(ui, |ui| {
+            shading(ui, &mut s.scene.light, &mut s.scene.shading)
+        });
+        egui::CollapsingHeader::new("Cut").show(ui, |ui| cut(ui, &mut s.scene.cut));
+        egui::CollapsingHeader::new("Image").show(ui, |ui| {
+            image(
+                ui,
+                &mut s.scene.image,
+                &mut s.resolution_scale,
+                &mut s.preview_samples,
+            )
+        });
+    });
+    commands
+}
 
-    /// Play or pause the animation of c, its speed and its path's size.
-    fn animation_controls(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            let label = if self.animation.playing {
-                "Pause"
-            } else {
-                "Play"
-            };
-            if ui.button(label).clicked() {
-                self.toggle_play();
+/// The algebra, c (by component, and as a magnitude and hyperspherical angles) and the
+/// tracing values; a new algebra as a command.
+fn fractal(ui: &mut egui::Ui, f: &mut Fractal) -> Option<Command> {
+    let mut algebra = f.algebra;
+    egui::ComboBox::from_label("algebra")
+        .selected_text(algebra.name())
+        .show_ui(ui, |ui| {
+            for a in crate::scene::Algebra::ALL {
+                ui.selectable_value(&mut algebra, a, a.name());
             }
-            ui.label("c moves on a closed 4D path");
         });
-        ui.add(
-            egui::Slider::new(&mut self.animation.speed, 0.02..=3.0)
-                .logarithmic(true)
-                .text("speed (rad/s)"),
-        );
-        ui.add(
-            egui::Slider::new(&mut self.timeline.animation.path_radius, 0.005..=0.5)
-                .logarithmic(true)
-                .clamping(egui::SliderClamping::Never)
-                .text("path size"),
-        );
+    let command = (algebra != f.algebra).then_some(Command::SetAlgebra(algebra));
+    for k in 0..f.c.len() {
+        let name = format!("c {}", axis_name(k));
+        ui.add(key_slider(&mut f.c[k], "fractal.c").text(name));
     }
-
-    /// The field of view; eye and target as moved by the mouse.
-    fn camera_controls(&mut self, ui: &mut egui::Ui) {
-        let cam = &mut self.scene.camera;
-        ui.add(
-            key_slider(&mut cam.fov_y_degrees, "camera.fov_y_degrees").text("field of view (°)"),
-        );
-        ui.label(format!(
-            "eye    {:.3} {:.3} {:.3}",
-            cam.eye[0], cam.eye[1], cam.eye[2]
-        ));
-        ui.label(format!(
-            "target {:.3} {:.3} {:.3}",
-            cam.target[0], cam.target[1], cam.target[2]
-        ));
-        if ui.button("Reset camera (R)").clicked() {
-            *cam = self.home_camera.clone();
-        }
-    }
-
-    /// The light and the shading values.
-    fn shading_controls(&mut self, ui: &mut egui::Ui) {
-        for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
-            ui.add(key_slider(&mut self.scene.light.position[k], "light.position").text(*name));
-        }
-        let sh = &mut self.scene.shading;
-        ui.checkbox(&mut sh.shadows, "shadows");
-        ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
-        ui.horizontal(|ui| {
-            colour_edit(ui, &mut sh.diffuse);
-            ui.label("diffuse");
-            colour_edit(ui, &mut sh.background);
-            ui.label("background");
-        });
-        ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
-        ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
-        ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
-        egui::ComboBox::from_label("normal")
-            .selected_text(sh.normal.name())
-            .show_ui(ui, |ui| {
-                for method in crate::scene::NormalMethod::ALL {
-                    ui.selectable_value(&mut sh.normal, method, method.name());
-                }
-            });
-        ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
-        ui.separator();
-        ui.add(key_slider(&mut self.scene.light.radius, "light.radius").text("light radius"));
-        ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
-        ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
-        egui::ComboBox::from_label("colouring")
-            .selected_text(sh.colouring.name())
-            .show_ui(ui, |ui| {
-                for colouring in crate::scene::Colouring::ALL {
-                    ui.selectable_value(&mut sh.colouring, colouring, colouring.name());
-                }
-            });
-        ui.add(key_slider(&mut sh.trap_radius, "shading.trap_radius").text("trap radius"));
-        ui.add(key_slider(&mut sh.trap_scale, "shading.trap_scale").text("trap scale"));
-        for (k, name) in ["phase red", "phase green", "phase blue"]
-            .iter()
-            .enumerate()
-        {
-            ui.add(key_slider(&mut sh.palette_phase[k], "shading.palette_phase").text(*name));
-        }
-    }
-
-    /// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.
-    fn cut_controls(&mut self, ui: &mut egui::Ui) {
-        let cut = &mut self.scene.cut;
-        ui.checkbox(&mut cut.enabled, "cut the set (n . p <= offset)");
-        let (mut polar, mut azimuth) = normal_angles(cut.normal);
-        let mut turned = ui
-            .add(egui::Slider::new(&mut polar, 0.0..=180.0).text("normal from +z (°)"))
-            .changed();
+    // c as a direction on the unit sphere of the algebra and a magnitude.
+    let (magnitude, direction) = magnitude_and_direction(&f.c);
+    let mut angles = hyperspherical(&direction);
+    let mut new_magnitude = magnitude;
+    let mut turned = false;
+    ui.add(
+        egui::Slider::new(&mut new_magnitude, 0.0..=2.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("|c|"),
+    );
+    let last = angles.len() - 1;
+    for (k, angle) in angles.iter_mut().enumerate() {
+        let range = if k == last {
+            -std::f64::consts::PI..=std::f64::consts::PI
+        } else {
+            0.0..=std::f64::consts::PI
+        };
         turned |= ui
-            .add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("normal about z (°)"))
+            .add(egui::Slider::new(angle, range).text(format!("c angle {}", k + 1)))
             .changed();
-        if turned {
-            cut.normal = normal_from_angles(polar, azimuth);
-        }
-        ui.label(format!(
-            "normal {:.3} {:.3} {:.3}",
-            cut.normal[0], cut.normal[1], cut.normal[2]
-        ));
-        ui.add(key_slider(&mut cut.offset, "cut.offset").text("offset"));
     }
+    if turned || new_magnitude != magnitude {
+        let dir = if turned {
+            from_hyperspherical(&angles)
+        } else {
+            direction
+        };
+        f.c = dir.iter().map(|v| v * new_magnitude).collect();
+    }
+    ui.add(key_slider_u32(&mut f.max_iterations, "fractal.max_iterations").text("max iterations"));
+    ui.add(key_slider(&mut f.epsilon, "fractal.epsilon").text("epsilon"));
+    ui.add(
+        key_slider(
+            &mut f.escape_radius_squared,
+            "fractal.escape_radius_squared",
+        )
+        .text("escape radius²"),
+    );
+    ui.add(
+        key_slider(
+            &mut f.bounding_radius_squared,
+            "fractal.bounding_radius_squared",
+        )
+        .text("bounding radius²"),
+    );
+    ui.add(key_slider_u32(&mut f.max_steps, "fractal.max_steps").text("max steps"));
+    ui.add(
+        key_slider(&mut f.step_scale, "fractal.step_scale").text("step scale (over-relaxation)"),
+    );
+    ui.add(
+        key_slider(&mut f.pixel_epsilon, "fractal.pixel_epsilon")
+            .text("epsilon in pixels (0 = off)"),
+    );
+    egui::ComboBox::from_label("tracing")
+        .selected_text(f.tracing.name())
+        .show_ui(ui, |ui| {
+            for tracing in crate::scene::Tracing::ALL {
+                ui.selectable_value(&mut f.tracing, tracing, tracing.name());
+            }
+        });
+    command
+}
 
-    /// The exported image's size, and the view's resolution.
-    fn image_controls(&mut self, ui: &mut egui::Ui) {
-        ui.label("Exported image (File > Export):");
-        ui.add(key_slider_u32(&mut self.scene.image.width, "image.width").text("width"));
-        ui.add(key_slider_u32(&mut self.scene.image.height, "image.height").text("height"));
-        ui.add(
-            key_slider_u32(&mut self.scene.image.samples, "image.samples")
-                .text("samples per pixel (exports)"),
-        );
-        ui.add(
-            egui::Slider::new(&mut self.resolution_scale, 0.25..=2.0).text("view resolution scale"),
-        );
-        ui.add(
-            egui::Slider::new(&mut self.preview_samples, 1..=1024)
-                .logarithmic(true)
-                .text("preview samples (idle view)"),
-        );
+/// The 2D mode's view of c: centre, extent and iterations.
+fn view2d(ui: &mut egui::Ui, c: &[f64], v: &mut View2d) {
+    ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
+    let speed = 0.002 * v.extent;
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut v.center[0]).speed(speed));
+        ui.label("centre real");
+    });
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
+        ui.label("centre imaginary");
+    });
+    ui.add(key_slider(&mut v.extent, "view2d.extent").text("extent (width)"));
+    ui.add(key_slider_u32(&mut v.max_iterations, "view2d.max_iterations").text("2D iterations"));
+    ui.label("Drag to pan, wheel to zoom about the pointer.");
+    if ui.button("Reset 2D view (R)").clicked() {
+        *v = View2d::default();
     }
+}
+
+/// The slice: a rotation angle per plane of the `dim`-dimensional algebra, turning the
+/// slice's axes, and the offset.
+fn slice(ui: &mut egui::Ui, rotation: &mut SliceRotation, slice: &mut Slice, dim: usize) {
+    let mut turned = false;
+    let angles = &mut rotation.angles;
+    egui::ScrollArea::vertical()
+        .id_salt("rotation planes")
+        .max_height(260.0)
+        .show(ui, |ui| {
+            for (angle, plane) in angles.iter_mut().zip(planes(dim)) {
+                let slider = egui::Slider::new(angle, -std::f64::consts::PI..=std::f64::consts::PI);
+                turned |= ui
+                    .add(slider.text(format!("turn {}", plane_name(plane))))
+                    .changed();
+            }
+        });
+    if ui.button("Reset rotation").clicked() {
+        rotation.angles.iter_mut().for_each(|a| *a = 0.0);
+        turned = true;
+    }
+    if turned {
+        rotation.apply(slice);
+    }
+    for k in 0..slice.offset.len() {
+        let name = format!("offset {}", axis_name(k));
+        ui.add(key_slider(&mut slice.offset[k], "slice.offset").text(name));
+    }
+}
+
+/// Play or pause the c-loop (as a command), its speed and its path's size (the
+/// timeline's `radius`).
+fn c_loop(ui: &mut egui::Ui, c_loop: &mut CLoop, radius: &mut f64) -> Option<Command> {
+    let mut command = None;
+    ui.horizontal(|ui| {
+        let label = if c_loop.playing { "Pause" } else { "Play" };
+        if ui.button(label).clicked() {
+            command = Some(Command::ToggleCLoop);
+        }
+        ui.label("c moves on a closed 4D path");
+    });
+    ui.add(
+        egui::Slider::new(&mut c_loop.speed, 0.02..=3.0)
+            .logarithmic(true)
+            .text("speed (rad/s)"),
+    );
+    ui.add(
+        egui::Slider::new(radius, 0.005..=0.5)
+            .logarithmic(true)
+            .clamping(egui::SliderClamping::Never)
+            .text("path size"),
+    );
+    command
+}
+
+/// The field of view; eye and target as moved by the mouse; reset to `home`.
+fn camera(ui: &mut egui::Ui, cam: &mut Camera, home: &Camera) {
+    ui.add(key_slider(&mut cam.fov_y_degrees, "camera.fov_y_degrees").text("field of view (°)"));
+    ui.label(format!(
+        "eye    {:.3} {:.3} {:.3}",
+        cam.eye[0], cam.eye[1], cam.eye[2]
+    ));
+    ui.label(format!(
+        "target {:.3} {:.3} {:.3}",
+        cam.target[0], cam.target[1], cam.target[2]
+    ));
+    if ui.button("Reset camera (R)").clicked() {
+        *cam = home.clone();
+    }
+}
+
+/// The light and the shading values.
+fn shading(ui: &mut egui::Ui, light: &mut Light, sh: &mut Shading) {
+    for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
+        ui.add(key_slider(&mut light.position[k], "light.position").text(*name));
+    }
+    ui.checkbox(&mut sh.shadows, "shadows");
+    ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
+    ui.horizontal(|ui| {
+        colour_edit(ui, &mut sh.diffuse);
+        ui.label("diffuse");
+        colour_edit(ui, &mut sh.background);
+        ui.label("background");
+    });
+    ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
+    ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
+    ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
+    egui::ComboBox::from_label("normal")
+        .selected_text(sh.normal.name())
+        .show_ui(ui, |ui| {
+            for method in crate::scene::NormalMethod::ALL {
+                ui.selectable_value(&mut sh.normal, method, method.name());
+            }
+        });
+    ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
+    ui.separator();
+    ui.add(key_slider(&mut light.radius, "light.radius").text("light radius"));
+    ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
+    ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
+    egui::ComboBox::from_label("colouring")
+        .selected_text(sh.colouring.name())
+        .show_ui(ui, |ui| {
+            for colouring in crate::scene::Colouring::ALL {
+                ui.selectable_value(&mut sh.colouring, colouring, colouring.name());
+            }
+        });
+    ui.add(key_slider(&mut sh.trap_radius, "shading.trap_radius").text("trap radius"));
+    ui.add(key_slider(&mut sh.trap_scale, "shading.trap_scale").text("trap scale"));
+    for (k, name) in ["phase red", "phase green", "phase blue"]
+        .iter()
+        .enumerate()
+    {
+        ui.add(key_slider(&mut sh.palette_phase[k], "shading.palette_phase").text(*name));
+    }
+}
+
+/// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.
+fn cut(ui: &mut egui::Ui, cut: &mut Cut) {
+    ui.checkbox(&mut cut.enabled, "cut the set (n . p <= offset)");
+    let (mut polar, mut azimuth) = normal_angles(cut.normal);
+    let mut turned = ui
+        .add(egui::Slider::new(&mut polar, 0.0..=180.0).text("normal from +z (°)"))
+        .changed();
+    turned |= ui
+        .add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("normal about z (°)"))
+        .changed();
+    if turned {
+        cut.normal = normal_from_angles(polar, azimuth);
+    }
+    ui.label(format!(
+        "normal {:.3} {:.3} {:.3}",
+        cut.normal[0], cut.normal[1], cut.normal[2]
+    ));
+    ui.add(key_slider(&mut cut.offset, "cut.offset").text("offset"));
+}
+
+/// The exported image's size and samples, and the view's resolution and samples.
+fn image(
+    ui: &mut egui::Ui,
+    image: &mut Image,
+    resolution_scale: &mut f32,
+    preview_samples: &mut u32,
+) {
+    ui.label("Exported image (File > Export):");
+    ui.add(key_slider_u32(&mut image.width, "image.width").text("width"));
+    ui.add(key_slider_u32(&mut image.height, "image.height").text("height"));
+    ui.add(key_slider_u32(&mut image.samples, "image.samples").text("samples per pixel (exports)"));
+    ui.add(egui::Slider::new(resolution_scale, 0.25..=2.0).text("view resolution scale"));
+    ui.add(
+        egui::Slider::new(preview_samples, 1..=1024)
+            .logarithmic(true)
+            .text("preview samples (idle view)"),
+    );
 }
 
 /// A cut normal (not zero) as its angle from +z and its azimuth about z from +x, in degrees.

@@ -1,12 +1,13 @@
-//! What outlives a frame of the explorer: the scene, the timeline's animation and the view's
+//! What outlives a run of the explorer: the scene, the timeline's animation and the view's
 //! resolution kept between runs in eframe's storage (eframe also keeps the window size), and
-//! scene files (with their `[animation]`) opened and saved.
+//! scene files (with their `[animation]`) read and written.
 
 use std::path::Path;
 
-use super::app::ExplorerApp;
+use super::state::ExplorerState;
+use super::timeline::model::Timeline;
 use crate::animation::Animation;
-use crate::scene::{Scene, SceneLoader, SceneSource};
+use crate::scene::{Scene, SceneError, SceneLoader, SceneSource};
 
 /// Storage keys for what persists between runs.
 const STORAGE_SCENE: &str = "qjulia-scene";
@@ -40,59 +41,43 @@ pub fn load_persisted_timeline(
     loader.build_animated().ok()
 }
 
-impl ExplorerApp {
-    /// Keeps the scene and the resolution scale for the next run ([`load_persisted`]).
-    pub(super) fn persist(&mut self, storage: &mut dyn eframe::Storage) {
-        eframe::set_value(storage, STORAGE_SCENE, &self.scene.to_toml());
-        let timeline = self.timeline.file_text(&self.scene);
-        eframe::set_value(storage, STORAGE_TIMELINE, &timeline);
-        eframe::set_value(storage, STORAGE_RESOLUTION, &self.resolution_scale);
-    }
+/// Keeps the scene, the timeline and the resolution scale for the next run
+/// ([`load_persisted`], [`load_persisted_timeline`]): what `eframe::App::save` writes.
+pub fn persist(state: &mut ExplorerState, storage: &mut dyn eframe::Storage) {
+    eframe::set_value(storage, STORAGE_SCENE, &state.scene.to_toml());
+    let timeline = state.timeline.file_text(&state.scene);
+    eframe::set_value(storage, STORAGE_TIMELINE, &timeline);
+    eframe::set_value(storage, STORAGE_RESOLUTION, &state.resolution_scale);
+}
 
-    /// Loads a scene file, its `[animation]` into the timeline; on error the previous scene
-    /// stays and the error is shown.
-    pub fn open(&mut self, path: &Path) {
-        let mut loader = SceneLoader::new();
-        match loader.file(path).and_then(|()| loader.build_animated()) {
-            Ok((scene, animation)) => {
-                let keys = animation.keys.len();
-                self.set_scene(scene.clone());
-                self.timeline = super::timeline::Timeline::new(scene, animation);
-                self.message = Some((
-                    format!("opened {} ({keys} keyframes)", path.display()),
-                    false,
-                ));
-            }
-            Err(e) => self.message = Some((format!("error: {e}"), true)),
-        }
-    }
+/// A scene file and its `[animation]`, as `qjulia animate --scene` reads it; the loader's
+/// error where it refuses it.
+pub fn read_scene_file(path: &Path) -> Result<(Scene, Animation), SceneError> {
+    let mut loader = SceneLoader::new();
+    loader.file(path).and_then(|()| loader.build_animated())
+}
 
-    /// Saves the scene as TOML with the timeline's `[animation]` (as `qjulia animate --scene`
-    /// reads it), after checking that it reads back; a file it would refuse is not written.
-    pub fn save(&mut self, path: &Path) {
-        let text = match self.timeline.checked_file(&self.scene) {
-            Ok((text, _, _)) => text,
-            Err(e) => {
-                self.message = Some((format!("error: not saved: {e}"), true));
-                return;
-            }
-        };
-        let result = std::fs::write(path, text);
-        self.message = Some(match result {
-            Ok(()) => (format!("saved {}", path.display()), false),
-            Err(e) => (format!("error: {}: {e}", path.display()), true),
-        });
+/// Writes the scene `view` with the timeline's `[animation]` (as `qjulia animate --scene`
+/// reads it) after checking that it reads back (a file it would refuse is not written); the
+/// status line's word on it, and whether it is an error.
+pub fn write_scene_file(timeline: &mut Timeline, view: &Scene, path: &Path) -> (String, bool) {
+    let text = match timeline.checked_file(view) {
+        Ok((text, _, _)) => text,
+        Err(e) => return (format!("error: not saved: {e}"), true),
+    };
+    match std::fs::write(path, text) {
+        Ok(()) => (format!("saved {}", path.display()), false),
+        Err(e) => (format!("error: {}: {e}", path.display()), true),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::presets::PRESETS;
 
     /// A storage in memory, like eframe's file storage.
     #[derive(Default)]
-    struct Memory(std::collections::HashMap<String, String>);
+    struct Memory(std::collections::BTreeMap<String, String>);
 
     impl eframe::Storage for Memory {
         fn get_string(&self, key: &str) -> Option<String> {
@@ -107,41 +92,20 @@ mod tests {
         fn flush(&mut self) {}
     }
 
+    /// The keys and their values' form stay those earlier runs wrote, so that they still load.
     #[test]
-    fn the_scene_and_resolution_persist_between_runs() {
-        let mut scene = PRESETS[3].scene();
-        scene.camera.eye = [0.25, 1.5, 2.0];
-        let mut app = ExplorerApp::with_scene(scene.clone());
-        app.resolution_scale = 0.5;
+    fn the_stored_keys_are_those_of_earlier_runs() {
+        let mut state = ExplorerState::with_scene(Scene::default());
+        state.resolution_scale = 0.75;
         let mut storage = Memory::default();
-        eframe::App::save(&mut app, &mut storage);
-        let (restored, resolution) = load_persisted(Some(&storage));
-        assert_eq!(restored, Some(scene));
-        assert_eq!(resolution, 0.5);
-        assert_eq!(load_persisted(None), (None, 1.0));
-    }
-
-    #[test]
-    fn scene_files_bring_their_keyframes_and_the_timeline_persists() {
-        let mut app = ExplorerApp::with_scene(Scene::default());
-        app.timeline.show(40, &mut app.scene);
-        app.scene.camera.eye = [0.5, 1.0, 2.5];
-        app.add_key();
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("anim.toml");
-        app.save(&path);
-        let saved = app.timeline.animation.clone();
-        assert_eq!(saved.keys.len(), 1);
-
-        let mut other = ExplorerApp::with_scene(PRESETS[3].scene());
-        other.open(&path);
-        assert_eq!(other.timeline.animation, saved);
-        assert_eq!(other.timeline.base, app.timeline.base);
-
-        let mut storage = Memory::default();
-        eframe::App::save(&mut app, &mut storage);
-        let (base, animation) = load_persisted_timeline(Some(&storage)).expect("persisted");
-        assert_eq!(animation, saved);
-        assert_eq!(base, app.timeline.base);
+        persist(&mut state, &mut storage);
+        let keys: Vec<&str> = storage.0.keys().map(String::as_str).collect();
+        assert_eq!(
+            keys,
+            ["qjulia-resolution-scale", "qjulia-scene", "qjulia-timeline"]
+        );
+        assert_eq!(storage.0["qjulia-resolution-scale"], "0.75");
+        let scene: String = eframe::get_value(&storage, STORAGE_SCENE).unwrap();
+        assert_eq!(scene, Scene::default().to_toml());
     }
 }

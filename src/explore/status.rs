@@ -4,11 +4,48 @@
 
 use std::time::Instant;
 
-use super::app::{ExplorerApp, Mode};
+use super::export::Export;
+use super::state::{ExplorerState, Mode};
+use super::viewport::Viewport;
 
-impl ExplorerApp {
-    /// One line of fixed height (a status bar that changed height would resize the view).
-    pub(super) fn status(&self, ui: &mut egui::Ui) {
+/// The status line's own: the last message, and the frame clock it shows.
+#[derive(Default)]
+pub struct StatusLine {
+    /// The message shown, and whether it is an error.
+    pub message: Option<(String, bool)>,
+    last_frame: Option<Instant>,
+    /// Seconds per frame, smoothed.
+    frame_seconds: f64,
+    log_frames: u32,
+    log_since: Option<Instant>,
+}
+
+impl StatusLine {
+    /// A new frame at `now`: the seconds since the last one (0 for the first, at most a
+    /// quarter of a second), into the frame time shown.
+    pub fn tick(&mut self, now: Instant) -> f64 {
+        let dt = self
+            .last_frame
+            .map_or(0.0, |t| now.duration_since(t).as_secs_f64())
+            .min(0.25);
+        self.last_frame = Some(now);
+        self.frame_seconds = if self.frame_seconds == 0.0 {
+            dt
+        } else {
+            0.9 * self.frame_seconds + 0.1 * dt
+        };
+        dt
+    }
+
+    /// One line of fixed height (a status bar that changed height would resize the view): the
+    /// view's, the state's and a running export's figures, and the message.
+    pub fn ui(
+        &self,
+        ui: &mut egui::Ui,
+        viewport: &Viewport,
+        state: &ExplorerState,
+        export: Option<&Export>,
+    ) {
         ui.horizontal(|ui| {
             let fps = if self.frame_seconds > 0.0 {
                 1.0 / self.frame_seconds
@@ -19,9 +56,9 @@ impl ExplorerApp {
                 "{:.1} ms/frame ({fps:.0} fps)",
                 self.frame_seconds * 1e3
             ));
-            if self.mode == Mode::Julia2d {
-                if let Some(view2d) = &self.julia2d_texture {
-                    let v = &self.scene.view2d;
+            if state.mode == Mode::Julia2d {
+                if let Some(view2d) = &viewport.julia2d_texture {
+                    let v = &state.scene.view2d;
                     ui.separator();
                     ui.label(format!(
                         "2D at {:.6} {:+.6} i, extent {:.3e}",
@@ -34,7 +71,7 @@ impl ExplorerApp {
                     };
                     ui.label(precision).on_hover_text(view2d.precision_note());
                 }
-            } else if let Some(view) = &self.slice_texture {
+            } else if let Some(view) = &viewport.slice_texture {
                 let s = view.stats();
                 ui.separator();
                 ui.label(format!(
@@ -52,7 +89,7 @@ impl ExplorerApp {
                 };
                 ui.label(precision).on_hover_text(view.precision_note());
                 if s.refined {
-                    ui.label(format!("samples {}/{}", s.samples, self.preview_samples));
+                    ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
                 }
                 match s.summary {
                     Some(sum) => ui.label(format!(
@@ -63,8 +100,8 @@ impl ExplorerApp {
                 };
             }
             ui.separator();
-            ui.label(&self.adapter_label);
-            if let Some(export) = &self.export {
+            ui.label(&viewport.adapter_label);
+            if let Some(export) = export {
                 ui.separator();
                 ui.spinner();
                 match export.progress() {
@@ -87,7 +124,7 @@ impl ExplorerApp {
 
     /// With `QJULIA_EXPLORE_LOG=1`, one line a second on stderr: frame rate and what the view
     /// shows (for measuring the explorer where no one watches it).
-    pub(super) fn log(&mut self, now: Instant) {
+    pub fn log(&mut self, now: Instant, viewport: &Viewport) {
         if std::env::var_os("QJULIA_EXPLORE_LOG").is_none_or(|v| v != "1") {
             return;
         }
@@ -95,7 +132,7 @@ impl ExplorerApp {
         let since = self.log_since.get_or_insert(now);
         let elapsed = now.duration_since(*since).as_secs_f64();
         if elapsed >= 1.0 {
-            let s = self
+            let s = viewport
                 .slice_texture
                 .as_ref()
                 .map(|v| v.stats().clone())
@@ -103,8 +140,8 @@ impl ExplorerApp {
             eprintln!(
                 "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}) rendered in {:.0} ms, {:.0} ms after the last change",
                 self.log_frames as f64 / elapsed,
-                self.view_pixels[0],
-                self.view_pixels[1],
+                viewport.pixels[0],
+                viewport.pixels[1],
                 s.size[0],
                 s.size[1],
                 s.scale,

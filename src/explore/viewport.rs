@@ -1,17 +1,153 @@
 //! The central panel: the view, on whole physical pixels, showing the tracer's texture (or a
-//! step view's heat map, or in 2D mode the 2D Julia set), with the mouse on it (`input`).
+//! step view's heat map, or in 2D mode the 2D Julia set), with the mouse on it (`input`). The
+//! [`Viewport`] owns what draws it: the device's kernels and the GPU views on them.
 
-use super::app::{ExplorerApp, Mode};
+use std::sync::Arc;
+
 use super::heat_texture::HeatTexture;
-use crate::scene::View;
+use super::input;
+use super::julia2d_texture::Julia2dTexture;
+use super::slice_texture::SliceTexture;
+use super::state::Mode;
+use crate::gpu::{GpuContext, GpuKernels};
+use crate::heatmap::Legend;
+use crate::precision::PrecisionChoice;
+use crate::render::{Backend, Planner};
+use crate::scene::{Scene, View};
 
 /// The whole texture.
 const FULL_UV: egui::Rect = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
 
-impl ExplorerApp {
+/// How the view is drawn, besides the scene.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewOptions {
+    pub mode: Mode,
+    /// Resolution of the view relative to the panel's pixels.
+    pub resolution_scale: f32,
+    /// Samples the idle view accumulates.
+    pub preview_samples: u32,
+    /// The scene changes by itself (c's loop or the timeline playing): the view renders as
+    /// while the user drags.
+    pub playing: bool,
+}
+
+/// The view: the GPU views on the UI's device, and where it was drawn.
+pub struct Viewport {
+    pub slice_texture: Option<SliceTexture>,
+    /// The 2D mode's renderer (the render2d kernel).
+    pub julia2d_texture: Option<Julia2dTexture>,
+    heat: Option<HeatTexture>,
+    /// The UI device's kernels: the views' and the exports' (None without a GPU).
+    kernels: Option<Arc<GpuKernels>>,
+    gpu_error: Option<String>,
+    pub adapter_label: String,
+    /// The view's size in pixels last frame, and where it was drawn (in points).
+    pub pixels: [u32; 2],
+    pub rect: egui::Rect,
+}
+
+impl Default for Viewport {
+    fn default() -> Self {
+        Self {
+            slice_texture: None,
+            julia2d_texture: None,
+            heat: None,
+            kernels: None,
+            gpu_error: None,
+            adapter_label: String::new(),
+            pixels: [0, 0],
+            rect: egui::Rect::NOTHING,
+        }
+    }
+}
+
+impl Viewport {
+    /// Puts the tracer on the UI's device and draws the view through its renderer.
+    pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
+        let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
+        self.adapter_label = ctx.adapter_label();
+        let kernels = Arc::new(GpuKernels::new(ctx));
+        match Julia2dTexture::new(kernels.clone(), rs.renderer.clone()) {
+            Ok(view) => self.julia2d_texture = Some(view),
+            Err(e) => self.gpu_error = Some(e.to_string()),
+        }
+        match SliceTexture::new(kernels.clone(), rs.renderer.clone()) {
+            Ok(view) => self.slice_texture = Some(view),
+            Err(e) => self.gpu_error = Some(e.to_string()),
+        }
+        self.kernels = Some(kernels);
+    }
+
+    /// Why there is no GPU view (shown in its place).
+    pub fn no_gpu_because(&mut self, why: String) {
+        self.gpu_error = Some(why);
+    }
+
+    /// The same GPU views, for a new scene: the heat map and the view's layout start afresh.
+    pub fn for_new_scene(self) -> Self {
+        Self {
+            slice_texture: self.slice_texture,
+            julia2d_texture: self.julia2d_texture,
+            kernels: self.kernels,
+            gpu_error: self.gpu_error,
+            adapter_label: self.adapter_label,
+            ..Self::default()
+        }
+    }
+
+    /// The planner of what the explorer writes (PNG, animation, mesh): as the command line's
+    /// defaults (`--backend auto --precision auto`) decide, on the UI's device where it can,
+    /// so an export is the bytes `qjulia render`, `animate` or `mesh` writes of its scene.
+    pub fn planner(&self) -> Planner {
+        let (backend, choice) = (Backend::Auto, PrecisionChoice::Auto);
+        match &self.kernels {
+            Some(kernels) => Planner::on_device(kernels.clone(), backend, choice),
+            None => Planner::new(backend, choice),
+        }
+    }
+
+    /// The scene the view shows: `scene` at the view's size, with the preview's samples.
+    pub fn view_scene(&self, scene: &Scene, preview_samples: u32) -> Scene {
+        let mut scene = scene.clone();
+        scene.image.width = self.pixels[0];
+        scene.image.height = self.pixels[1];
+        scene.image.samples = preview_samples;
+        scene
+    }
+
+    /// Whether the view shows the full-resolution image of `scene` (in 2D mode: the 2D view
+    /// of it), with the heat map of a step view made.
+    pub fn is_refined(&self, scene: &Scene, mode: Mode, preview_samples: u32) -> bool {
+        let view_scene = self.view_scene(scene, preview_samples);
+        if mode == Mode::Julia2d {
+            return self
+                .julia2d_texture
+                .as_ref()
+                .is_some_and(|v| v.is_refined(&view_scene));
+        }
+        let Some(view) = &self.slice_texture else {
+            return false;
+        };
+        let refined = view.is_refined(&view_scene, self.pixels);
+        let heat_made = scene.image.view == View::Shaded
+            || self
+                .heat
+                .as_ref()
+                .is_some_and(|h| h.is_for(scene.image.view, view.stats().steps_generation));
+        refined && !view.busy() && heat_made
+    }
+
+    /// The legend of the step view `view` shown, if one is.
+    pub fn heat_legend(&self, view: View, mode: Mode) -> Option<&Legend> {
+        self.heat
+            .as_ref()
+            .filter(|h| mode == Mode::Slice3d && h.shows(view))
+            .map(HeatTexture::legend)
+    }
+
     /// The view, filling the panel, with mouse control of the camera (of the 2D view in 2D
-    /// mode).
-    pub(super) fn view_panel(&mut self, ui: &mut egui::Ui) {
+    /// mode) of `scene`.
+    pub fn ui(&mut self, ui: &mut egui::Ui, scene: &mut Scene, options: ViewOptions) {
         // Whole physical pixels, so that each texel lands on one screen pixel.
         let ppp_screen = ui.ctx().pixels_per_point();
         let snap = |p: egui::Pos2| {
@@ -19,38 +155,43 @@ impl ExplorerApp {
         };
         let available = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(snap(available.min), snap(available.max));
-        self.view_rect = rect;
+        self.rect = rect;
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
-        let ppp = ui.ctx().pixels_per_point() * self.resolution_scale;
-        self.view_pixels = [
+        let ppp = ui.ctx().pixels_per_point() * options.resolution_scale;
+        self.pixels = [
             (rect.width() * ppp).round().max(1.0) as u32,
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
-        match self.mode {
+        match options.mode {
             Mode::Slice3d => {
-                self.mouse_3d(ui, rect, &response);
-                self.view_3d(ui, rect, &response);
+                input::mouse_3d(ui, rect, &response, &mut scene.camera);
+                self.view_3d(ui, rect, &response, scene, options);
             }
             Mode::Julia2d => {
-                self.mouse_2d(ui, rect, &response);
-                self.view_2d(ui, rect);
+                input::mouse_2d(ui, rect, &response, &mut scene.view2d);
+                self.view_2d(ui, rect, scene, options);
             }
         }
     }
 
     /// The 3D view: the shaded picture, or a step view's heat map with its legend.
-    fn view_3d(&mut self, ui: &mut egui::Ui, rect: egui::Rect, response: &egui::Response) {
-        let interacting = response.dragged()
-            || self.animation.playing
-            || self.timeline.playing
-            || ui.input(|i| i.pointer.any_down());
-        let view_scene = self.view_scene();
+    fn view_3d(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        response: &egui::Response,
+        scene: &Scene,
+        options: ViewOptions,
+    ) {
+        let interacting =
+            response.dragged() || options.playing || ui.input(|i| i.pointer.any_down());
+        let view_scene = self.view_scene(scene, options.preview_samples);
         let Some(view) = &mut self.slice_texture else {
             self.no_gpu(ui, rect);
             return;
         };
-        view.update(&view_scene, self.view_pixels, interacting);
-        let shown = self.scene.image.view;
+        view.update(&view_scene, self.pixels, interacting);
+        let shown = scene.image.view;
         if shown == View::Shaded {
             if let Some((texture, _)) = view.texture() {
                 ui.painter()
@@ -73,8 +214,14 @@ impl ExplorerApp {
     }
 
     /// The 2D mode: the 2D Julia set of c.
-    fn view_2d(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
-        let scene = self.view_scene();
+    fn view_2d(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        scene: &Scene,
+        options: ViewOptions,
+    ) {
+        let scene = self.view_scene(scene, options.preview_samples);
         let Some(view2d) = &mut self.julia2d_texture else {
             self.no_gpu(ui, rect);
             return;
