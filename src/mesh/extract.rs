@@ -196,7 +196,7 @@ impl<'n> Extractor<'n> {
         }
     }
 
-    /// The next grid layer's levels, x fastest then y (size[0] * size[1] of them): meshes the
+    /// The next grid layer's levels, x fastest then y (`size[0] * size[1]` of them): meshes the
     /// cells between it and the layer before.
     pub fn push_layer(&mut self, layer: Vec<f32>) {
         let [nx, ny, _] = self.grid.size;

@@ -2,7 +2,7 @@
 //! positions and vertex normals, int32 indices), binary STL (a face normal per triangle), and
 //! OBJ (`v`, `vn` and `f a//a b//b c//c`, 1-based). Positions are multiplied by the scale on
 //! the way out. Each file goes to a temporary file beside its target and is renamed into place
-//! only when the caller has written every output ([`crate::output::stage`]).
+//! only when the caller has written every output (`crate::output::stage`).
 
 use std::io::Write;
 use std::path::Path;
