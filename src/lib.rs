@@ -7,7 +7,6 @@
 
 pub mod algebra;
 pub mod animate;
-pub mod animation;
 pub mod compare;
 pub mod cpu;
 pub mod error;
@@ -36,4 +35,6 @@ pub use render::{
     Backend, GPU_F64_UNSUPPORTED, Picture, Plan, Planner, Renderer, Work, band_pixels,
 };
 pub use scene::Scene;
+/// The `[animation]` table, a part of the scene model ([`scene::animation`]).
+pub use scene::animation;
 pub use stats::{RenderStats, Summary};

@@ -2,6 +2,7 @@
 //! validation. Every key is declared once, below, with its type, default, range, README comment
 //! and explorer slider ([`schema`]); loading from TOML, `--set` and PNGs lives in `load` ([`SceneLoader`]).
 
+pub mod animation;
 mod error;
 mod load;
 mod png;

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use toml::Value;
 
 use super::{check_scene, number, parse};
-use crate::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, animatable};
 use crate::scene::Scene;
+use crate::scene::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, animatable};
 use crate::scene::error::{SceneError, SceneSource};
 use crate::scene::schema::{self, Kind};
 

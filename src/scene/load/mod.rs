@@ -21,7 +21,7 @@ use super::error::{SceneError, SceneSource};
 use super::png::scene_from_png;
 use super::presets::Preset;
 use super::schema::{KEYS, Key, Kind, SCHEMA};
-use crate::animation::Animation;
+use crate::scene::animation::Animation;
 use animation::read_animation;
 
 /// Collects scene layers, later ones overriding earlier ones key by key, then builds and

@@ -12,8 +12,8 @@
 
 use std::f64::consts::TAU;
 
-use crate::scene::Scene;
-use crate::scene::schema::{self, Kind};
+use super::Scene;
+use super::schema::{self, Kind};
 
 /// The `[animation]` table.
 #[derive(Clone, Debug, PartialEq)]
