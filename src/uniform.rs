@@ -17,8 +17,6 @@
 
 use serde::Serialize;
 
-pub mod json;
-
 /// One member of a uniform struct as WGSL lays it out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct FieldLayout {

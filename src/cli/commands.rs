@@ -336,7 +336,7 @@ pub fn gpu_params(args: &GpuParamsArgs) -> anyhow::Result<()> {
     };
     println!(
         "{}",
-        qjulia::uniform::json::GpuParamsJson::new(&scene, precision).to_json()
+        qjulia::gpu::params_json::GpuParamsJson::new(&scene, precision).to_json()
     );
     Ok(())
 }

@@ -5,6 +5,7 @@ mod julia2d;
 pub mod kernel;
 mod kernels;
 mod params;
+pub mod params_json;
 mod sampler;
 pub mod shaders;
 mod tracer;

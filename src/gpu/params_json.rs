@@ -4,11 +4,11 @@
 
 use serde::{Serialize, Serializer};
 
-use crate::Precision;
-use crate::gpu::kernel::Band;
-use crate::gpu::{
+use super::kernel::Band;
+use super::{
     GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64, GpuReal, GpuTracer, Variant,
 };
+use crate::Precision;
 use crate::params::{Julia2dParams, TraceParams};
 use crate::scene::Scene;
 use crate::uniform::Layout;
