@@ -1,22 +1,33 @@
 // The voxel sampler of `qjulia mesh`: one invocation per grid point, the level of the mesh's
 // surface there, through the tracer's own estimate (estimate_distance, with the cut). Needs
 // shaders/algebra.wgsl and shaders/trace.wgsl in front of it (src/gpu/shaders.rs), whose
-// `Params` uniform (binding 0) and first output (binding 1) it shares.
+// `Params` uniform (binding 0: the scene's, as a render's) and first output (binding 1) it
+// shares; the grid is a uniform of its own (binding 6).
 //
 // Twin: src/cpu/sample.rs, function by function, with the same names in the same order
 // (tests/twins.rs).
 //
-// The grid rides in the Params fields a sampler has no camera for: `eye` is the grid's first
-// point (the low corner of its box), `cam_forward` the spacing of the points along x, y and z,
-// `width` the points per row and `height` the rows per layer. The grid is rows of rows: its row
-// j is the row y = j % height of the layer z = j / height, and this dispatch samples the rows
+// The sampled grid (keep in sync with GpuSampleGrid in src/gpu/sampler.rs; its CPU twin is
+// src/grid.rs's SampleGrid): its first point (the low corner of its box), the spacing of its
+// points along x, y and z, its points per row and rows per layer. The grid is rows of rows: its
+// row j is the row y = j % rows of the layer z = j / rows, and this dispatch samples the rows
 // [row_offset, row_offset + row_count), point (i, row_offset + r) written at r * width + i.
+struct SampleGrid {
+    origin: vec3<f32>,
+    width: u32,
+    step: vec3<f32>,
+    rows: u32,
+    row_offset: u32,
+    row_count: u32,
+}
+
+@group(0) @binding(6) var<uniform> grid: SampleGrid;
 
 // The grid point at column i of the grid's row j (rows of rows), in slice coordinates.
 fn grid_point(i: u32, j: u32) -> vec3<f32> {
-    let y = j % params.height;
-    let z = j / params.height;
-    return params.eye + vec3<f32>(f32(i), f32(y), f32(z)) * params.cam_forward;
+    let y = j % grid.rows;
+    let z = j / grid.rows;
+    return grid.origin + vec3<f32>(f32(i), f32(y), f32(z)) * grid.step;
 }
 
 // The level whose zero set is the mesh's surface: d(p) - epsilon inside the bounding ball
@@ -40,9 +51,9 @@ fn sample_level(p: vec3<f32>) -> f32 {
 fn sample(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     let row = gid.y;
-    if i >= params.width || row >= params.row_count {
+    if i >= grid.width || row >= grid.row_count {
         return;
     }
-    let level = sample_level(grid_point(i, params.row_offset + row));
-    out_colour[row * params.width + i] = bitcast<u32>(level);
+    let level = sample_level(grid_point(i, grid.row_offset + row));
+    out_colour[row * grid.width + i] = bitcast<u32>(level);
 }

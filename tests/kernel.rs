@@ -51,6 +51,7 @@ const ACCUMULATE: KernelSpec = KernelSpec {
     ],
     band_row_multiple: 1,
     trusted: false,
+    second_uniform: None,
 };
 
 #[test]

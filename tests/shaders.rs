@@ -118,6 +118,32 @@ fn uniform_layout_matches_the_shader() {
     }
 }
 
+/// The sampler's grid uniform (binding 6 of the sample module) is the host's GpuSampleGrid, and
+/// the sampler's Params the tracer's.
+#[test]
+fn sample_grid_uniform_layout_matches_the_shader() {
+    use qjulia::gpu::shaders::SAMPLE_MODULE;
+    use qjulia::gpu::{GpuParams, GpuSampleGrid};
+    let module = validate_wgsl(&SAMPLE_MODULE.source()).unwrap();
+    let (shader, span) = shader_layout(&module, "SampleGrid");
+    assert_eq!(
+        shader,
+        host_offsets!(GpuSampleGrid: origin, width, step, rows, row_offset, row_count)
+    );
+    assert_eq!(span, size_of::<GpuSampleGrid>());
+    assert_layout_matches(&SAMPLE_MODULE, &GpuParams::LAYOUT);
+    // Bound at 6, as SAMPLE_KERNEL says.
+    let binding = module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.name.as_deref() == Some("grid"))
+        .and_then(|(_, v)| v.binding.clone())
+        .expect("the sampler's grid uniform");
+    let second = qjulia::gpu::SAMPLE_KERNEL.second_uniform.expect("a second uniform");
+    assert_eq!((binding.group, binding.binding), (0, second.binding));
+    assert_eq!(second.bytes as usize, size_of::<GpuSampleGrid>());
+}
+
 /// The f64 check's uniform too.
 #[test]
 fn f64_check_uniform_layout_matches_the_shader() {

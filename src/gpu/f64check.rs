@@ -101,6 +101,7 @@ pub const F64CHECK_KERNEL: KernelSpec = KernelSpec {
     outputs: &OUTPUTS,
     band_row_multiple: 1,
     trusted: false,
+    second_uniform: None,
 };
 
 /// An adapter's f64, checked: the repairs its kernels need (override constants of

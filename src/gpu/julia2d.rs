@@ -21,6 +21,7 @@ pub const JULIA2D_KERNEL: KernelSpec = KernelSpec {
     outputs: &IMAGE_OUTPUTS,
     band_row_multiple: 1,
     trusted: false,
+    second_uniform: None,
 };
 
 /// [`JULIA2D_KERNEL`] in f64: uniform [`GpuJulia2dParams64`], the marker in f64.

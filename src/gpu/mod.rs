@@ -13,10 +13,10 @@ pub mod variant;
 
 pub use f64check::{F64Support, check_f64};
 pub use julia2d::{GpuJulia2d, JULIA2D_KERNEL, JULIA2D64_KERNEL};
-pub use kernel::{Kernel, KernelSpec, OutputSpec, WORKGROUP_SIZE};
+pub use kernel::{Kernel, KernelSpec, OutputSpec, SecondUniform, WORKGROUP_SIZE};
 pub use kernels::GpuKernels;
 pub use params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
-pub use sampler::{GpuSampler, SAMPLE_KERNEL};
+pub use sampler::{GpuSampleGrid, GpuSampler, SAMPLE_KERNEL};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 

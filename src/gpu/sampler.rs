@@ -1,8 +1,11 @@
 //! The voxel sampler (shaders/sample.wgsl) on the [`Kernel`] runner, for `qjulia mesh`: the
 //! level of the mesh's surface at every point of a grid, streamed to the host in bands of whole
-//! rows (bounded memory for any grid), through the tracer's own estimate.
+//! rows (bounded memory for any grid), through the tracer's own estimate. The tracer's `Params`
+//! are the scene's, as a render's; the grid has a uniform of its own ([`GpuSampleGrid`]).
 
-use super::kernel::{Band, Kernel, KernelSpec, OutputSpec, Run, RunTimes};
+use bytemuck::{Pod, Zeroable};
+
+use super::kernel::{Band, Kernel, KernelSpec, OutputSpec, Run, RunTimes, SecondUniform};
 use super::params::GpuParams;
 use super::shaders::SAMPLE_MODULE;
 use super::{GpuContext, Variant};
@@ -16,8 +19,24 @@ pub const SAMPLE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     bytes_per_item: 4,
 }];
 
-/// The sampler: uniform [`GpuParams`] (the tracer's, the grid in its camera fields: see
-/// shaders/sample.wgsl), one output, the levels. Trusted (no runtime checks injected): its only
+/// The sampled grid, as shaders/sample.wgsl's `SampleGrid` (binding 6; keep in sync): its first
+/// point, the spacing of its points, its points per row and rows per layer, and the band of
+/// rows (of rows of rows) this dispatch samples.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuSampleGrid {
+    pub origin: [f32; 3],
+    pub width: u32,
+    pub step: [f32; 3],
+    pub rows: u32,
+    pub row_offset: u32,
+    pub row_count: u32,
+    /// The WGSL struct's size is a multiple of its alignment (16).
+    pub _pad: [u32; 2],
+}
+
+/// The sampler: uniforms [`GpuParams`] (the tracer's, for its estimate) and [`GpuSampleGrid`]
+/// (binding 6), one output, the levels. Trusted (no runtime checks injected): its only
 /// loop is the estimate's, bounded by `max_iterations`, and `sample` checks the point against
 /// the band before it writes.
 pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
@@ -28,6 +47,10 @@ pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
     outputs: &SAMPLE_OUTPUTS,
     band_row_multiple: 1,
     trusted: true,
+    second_uniform: Some(SecondUniform {
+        binding: 6,
+        bytes: size_of::<GpuSampleGrid>() as u64,
+    }),
 };
 
 /// The sampler's pipelines on one device, one per scene [`Variant`] (built on first use).
@@ -47,21 +70,17 @@ impl GpuSampler {
         self.kernel.context()
     }
 
-    /// The uniform of the grid's rows [row, row + rows).
-    pub fn params(
-        params: &TraceParams<f32>,
-        grid: &SampleGrid<f32>,
-        row: u32,
-        rows: u32,
-    ) -> GpuParams {
+    /// The grid's uniform for its rows [row, row + rows).
+    pub fn grid_uniform(grid: &SampleGrid<f32>, row: u32, rows: u32) -> GpuSampleGrid {
         let v3 = |v: crate::algebra::Vec3<f32>| [v.x, v.y, v.z];
-        GpuParams {
-            eye: v3(grid.origin),
-            cam_forward: v3(grid.step),
+        GpuSampleGrid {
+            origin: v3(grid.origin),
             width: grid.width,
-            height: grid.rows,
-            row_stride: grid.width,
-            ..GpuParams::new(params, row, rows)
+            step: v3(grid.step),
+            rows: grid.rows,
+            row_offset: row,
+            row_count: rows,
+            _pad: [0; 2],
         }
     }
 
@@ -76,8 +95,11 @@ impl GpuSampler {
         sink: &mut dyn FnMut(u32, &[f32]) -> Result<()>,
     ) -> Result<RunTimes> {
         let constants = Variant::of(params, false).constants();
+        let trace = GpuParams::new(params, 0, grid.rows);
         let uniform = |band: Band| {
-            bytemuck::bytes_of(&Self::params(params, grid, band.row, band.rows)).to_vec()
+            let grid = Self::grid_uniform(grid, band.row, band.rows);
+            self.kernel
+                .pack_uniforms(bytemuck::bytes_of(&trace), bytemuck::bytes_of(&grid))
         };
         let run = Run {
             constants: &constants,

@@ -31,6 +31,7 @@ pub const TRACE_KERNEL: KernelSpec = KernelSpec {
     // Whole workgroup rows, so that every band starts on a cone block's row.
     band_row_multiple: super::WORKGROUP_SIZE.1,
     trusted: true,
+    second_uniform: None,
 };
 
 /// [`TRACE_KERNEL`] in f64: uniform [`GpuParams64`], the depth in f64. Trusted for the same

@@ -43,7 +43,8 @@ pub struct OutputSpec {
 }
 
 /// What a compute kernel is: its module, entry point, uniform size and outputs. Binding 0 is the
-/// uniform; bindings 1.. are the outputs, in order.
+/// uniform; bindings 1.. are the outputs, in order; a kernel may have a second uniform of its
+/// own ([`SecondUniform`]).
 #[derive(Clone, Copy, Debug)]
 pub struct KernelSpec {
     pub name: &'static str,
@@ -58,6 +59,18 @@ pub struct KernelSpec {
     /// Build the module without wgpu's runtime checks (bounds checks, loop bounding): only for a
     /// kernel that bounds its own loops (by its params) and checks its own indices.
     pub trusted: bool,
+    /// A second uniform beside binding 0's (the sampler's grid, beside the tracer's `Params`).
+    pub second_uniform: Option<SecondUniform>,
+}
+
+/// A kernel's second uniform: its binding and the `size_of` its `#[repr(C)]` struct. It rides
+/// in the same buffer as the first, from [`Kernel::second_uniform_offset`] on: a dispatch's
+/// uniform bytes are the first uniform's, zeros up to there, then the second's
+/// ([`Kernel::pack_uniforms`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SecondUniform {
+    pub binding: u32,
+    pub bytes: u64,
 }
 
 /// The rows one dispatch covers, and which of the band's dispatches it is.
@@ -153,6 +166,13 @@ impl Kernel {
             wgpu::BufferSize::new(spec.uniform_bytes),
         ))
         .chain((1..=spec.outputs.len() as u32).map(|b| entry(b, storage, None)))
+        .chain(spec.second_uniform.map(|u| {
+            entry(
+                u.binding,
+                wgpu::BufferBindingType::Uniform,
+                wgpu::BufferSize::new(u.bytes),
+            )
+        }))
         .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(spec.name),

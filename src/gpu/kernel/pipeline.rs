@@ -52,11 +52,15 @@ impl Kernel {
         std::mem::replace(&mut entry.1, true)
     }
 
-    /// A uniform buffer for this kernel's params.
+    /// A uniform buffer for this kernel's params (and its second uniform's, after them).
     pub fn uniform_buffer(&self, label: &str) -> wgpu::Buffer {
+        let size = match self.spec.second_uniform {
+            Some(second) => self.second_uniform_offset() + second.bytes,
+            None => self.spec.uniform_bytes,
+        };
         self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
-            size: self.spec.uniform_bytes,
+            size,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         })
@@ -80,21 +84,59 @@ impl Kernel {
             .collect()
     }
 
-    /// Binds a uniform buffer (binding 0) and the output arrays (bindings 1..).
+    /// Where the second uniform starts in the uniform buffer: after the first, at the device's
+    /// alignment of uniform offsets.
+    pub fn second_uniform_offset(&self) -> u64 {
+        let align = self.ctx.device.limits().min_uniform_buffer_offset_alignment as u64;
+        self.spec.uniform_bytes.next_multiple_of(align)
+    }
+
+    /// A dispatch's uniform bytes for a kernel with a second uniform: `first`, zeros up to
+    /// [`Self::second_uniform_offset`], then `second`.
+    pub fn pack_uniforms(&self, first: &[u8], second: &[u8]) -> Vec<u8> {
+        let mut bytes = first.to_vec();
+        bytes.resize(self.second_uniform_offset() as usize, 0);
+        bytes.extend_from_slice(second);
+        bytes
+    }
+
+    /// Binds a uniform buffer (binding 0, and the second uniform's binding) and the output
+    /// arrays (bindings 1..).
     pub fn bind_group(&self, uniform: &wgpu::Buffer, outputs: &[wgpu::Buffer]) -> wgpu::BindGroup {
         assert_eq!(
             outputs.len(),
             self.spec.outputs.len(),
             "one buffer per output"
         );
-        let entries: Vec<_> = std::iter::once(uniform)
-            .chain(outputs)
-            .enumerate()
-            .map(|(binding, b)| wgpu::BindGroupEntry {
-                binding: binding as u32,
-                resource: b.as_entire_binding(),
+        let part = |offset, bytes| {
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: uniform,
+                offset,
+                size: wgpu::BufferSize::new(bytes),
             })
-            .collect();
+        };
+        let first = match self.spec.second_uniform {
+            Some(_) => part(0, self.spec.uniform_bytes),
+            None => uniform.as_entire_binding(),
+        };
+        let entries: Vec<_> = std::iter::once(wgpu::BindGroupEntry {
+            binding: 0,
+            resource: first,
+        })
+        .chain(
+            outputs
+                .iter()
+                .enumerate()
+                .map(|(k, b)| wgpu::BindGroupEntry {
+                    binding: k as u32 + 1,
+                    resource: b.as_entire_binding(),
+                }),
+        )
+        .chain(self.spec.second_uniform.map(|second| wgpu::BindGroupEntry {
+            binding: second.binding,
+            resource: part(self.second_uniform_offset(), second.bytes),
+        }))
+        .collect();
         self.ctx
             .device
             .create_bind_group(&wgpu::BindGroupDescriptor {
