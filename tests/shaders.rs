@@ -137,9 +137,11 @@ fn sample_grid_uniform_layout_matches_the_shader() {
         .global_variables
         .iter()
         .find(|(_, v)| v.name.as_deref() == Some("grid"))
-        .and_then(|(_, v)| v.binding.clone())
+        .and_then(|(_, v)| v.binding)
         .expect("the sampler's grid uniform");
-    let second = qjulia::gpu::SAMPLE_KERNEL.second_uniform.expect("a second uniform");
+    let second = qjulia::gpu::SAMPLE_KERNEL
+        .second_uniform
+        .expect("a second uniform");
     assert_eq!((binding.group, binding.binding), (0, second.binding));
     assert_eq!(second.bytes as usize, size_of::<GpuSampleGrid>());
 }
