@@ -753,3 +753,20 @@ fn a_deep_animation_renders_the_frames_of_qjulia_animate() {
     let stats = common::stderr(&out);
     assert!(stats.contains("(f64)"), "{stats}");
 }
+
+#[test]
+fn an_export_goes_on_and_is_announced_when_another_scene_is_chosen() {
+    let Some(mut harness) = harness("explorer export across scenes") else {
+        return;
+    };
+    settle(&mut harness);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("before.stl");
+    harness.state_mut().mesh_resolution = 16;
+    harness.state_mut().start_mesh_export(path.clone());
+    // A preset chosen while the export runs: the export stays the app's, and says it is done.
+    let other = qjulia::scene::presets::find("gallery").unwrap().scene();
+    harness.state_mut().set_scene(other);
+    wait_for_message(&mut harness, "exported");
+    assert!(path.is_file());
+}

@@ -188,8 +188,10 @@ impl ExplorerApp {
     pub fn set_scene(&mut self, scene: Scene) {
         self.state = self.state.for_scene(scene);
         let old = std::mem::take(&mut self.runtime);
+        // What runs goes on and is still shown: an export, a render job, the dialog.
         self.runtime = Runtime {
             viewport: old.viewport.for_new_scene(),
+            export: old.export,
             dialog: old.dialog,
             render: old.render,
             render_window: old.render_window,
@@ -220,16 +222,21 @@ impl ExplorerApp {
     }
 
     /// Loads a scene file, its `[animation]` into the timeline; on error the previous scene
-    /// stays and the error is shown. As it always has, a new timeline closes the "Render
-    /// animation…" window and lets go of its job.
+    /// stays and the error is shown. A new timeline starts the "Render animation…" window's
+    /// frame range afresh (it was the old animation's); a job running goes on with the
+    /// animation it was given, and is still shown.
     pub fn open(&mut self, path: &Path) {
         match persistence::read_scene_file(path) {
             Ok((scene, animation)) => {
                 let keys = animation.keys.len();
                 self.set_scene(scene.clone());
                 self.state.timeline = Timeline::new(scene, animation);
-                self.runtime.render_window = RenderWindow::default();
-                self.runtime.render = None;
+                let window = std::mem::take(&mut self.runtime.render_window);
+                self.runtime.render_window = RenderWindow {
+                    open: window.open,
+                    dir: window.dir,
+                    ..RenderWindow::default()
+                };
                 self.tell(
                     format!("opened {} ({keys} keyframes)", path.display()),
                     false,
