@@ -770,3 +770,28 @@ fn an_export_goes_on_and_is_announced_when_another_scene_is_chosen() {
     wait_for_message(&mut harness, "exported");
     assert!(path.is_file());
 }
+
+#[test]
+fn ctrl_q_closes_the_window_as_the_help_says() {
+    let Some(mut harness) = harness("explorer ctrl+q") else {
+        return;
+    };
+    harness.step();
+    let closes = |h: &Harness<'static, ExplorerApp>| {
+        h.output()
+            .viewport_output
+            .values()
+            .any(|v| v.commands.contains(&egui::ViewportCommand::Close))
+    };
+    assert!(!closes(&harness));
+    // One key-down event, so that the step that handles it is the one whose output is read.
+    harness.event(egui::Event::Key {
+        key: egui::Key::Q,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    });
+    harness.step();
+    assert!(closes(&harness), "Ctrl+Q asked nothing to close");
+}

@@ -61,13 +61,18 @@ pub fn shortcuts(
         return commands;
     }
     let cmd = Modifiers::COMMAND;
-    let (open, save, export) = ctx.input_mut(|i| {
+    let (open, save, export, quit) = ctx.input_mut(|i| {
         (
             i.consume_key(cmd, Key::O),
             i.consume_key(cmd, Key::S),
             i.consume_key(cmd, Key::E),
+            i.consume_key(cmd, Key::Q),
         )
     });
+    if quit {
+        // eframe saves what persists (the scene, the window size) as the window closes.
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
     if open {
         commands.push(Command::OpenDialog(Purpose::OpenScene));
     }
