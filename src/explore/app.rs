@@ -468,23 +468,7 @@ impl eframe::App for ExplorerApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A storage in memory, like eframe's file storage.
-    #[derive(Default)]
-    struct Memory(std::collections::HashMap<String, String>);
-
-    impl eframe::Storage for Memory {
-        fn get_string(&self, key: &str) -> Option<String> {
-            self.0.get(key).cloned()
-        }
-        fn set_string(&mut self, key: &str, value: String) {
-            self.0.insert(key.to_string(), value);
-        }
-        fn remove_string(&mut self, key: &str) {
-            self.0.remove(key);
-        }
-        fn flush(&mut self) {}
-    }
+    use crate::explore::persistence::Memory;
 
     #[test]
     fn the_scene_and_resolution_persist_between_runs() {

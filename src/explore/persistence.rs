@@ -71,26 +71,28 @@ pub fn write_scene_file(timeline: &mut Timeline, view: &Scene, path: &Path) -> (
     }
 }
 
+/// A storage in memory, like eframe's file storage (for the tests of what persists).
+#[cfg(test)]
+#[derive(Default)]
+pub(super) struct Memory(pub std::collections::BTreeMap<String, String>);
+
+#[cfg(test)]
+impl eframe::Storage for Memory {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_string(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A storage in memory, like eframe's file storage.
-    #[derive(Default)]
-    struct Memory(std::collections::BTreeMap<String, String>);
-
-    impl eframe::Storage for Memory {
-        fn get_string(&self, key: &str) -> Option<String> {
-            self.0.get(key).cloned()
-        }
-        fn set_string(&mut self, key: &str, value: String) {
-            self.0.insert(key.to_string(), value);
-        }
-        fn remove_string(&mut self, key: &str) {
-            self.0.remove(key);
-        }
-        fn flush(&mut self) {}
-    }
 
     /// The keys and their values' form stay those earlier runs wrote, so that they still load.
     #[test]
