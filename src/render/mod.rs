@@ -251,9 +251,7 @@ impl Renderer {
                 )?;
                 Ok(times.seconds)
             }
-            (Some(_), Precision::F64) => Err(Error::Unsupported(
-                "the mesh sampler runs in f32 on the GPU".into(),
-            )),
+            (Some(_), Precision::F64) => Err(Error::Unsupported(plan::SAMPLER_F32_ONLY.into())),
             (None, Precision::F32) => sample_cpu::<f32>(scene, grid, sink),
             (None, Precision::F64) => sample_cpu::<f64>(scene, grid, sink),
         }

@@ -40,6 +40,9 @@ impl Work {
     }
 }
 
+/// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
+pub(super) const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
+
 /// Why f64 is refused on a GPU (CONTRACT.md: only where the adapter has SHADER_F64 and the
 /// start-up check passes); the check's reason follows it.
 pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU";
@@ -106,14 +109,14 @@ impl Planner {
         let mut decision = precision::decide(self.choice, scene, &work);
         let kernel = work.kernel();
         let asked = decision.precision;
-        let index = match self
+        let found = self
             .made
             .iter()
-            .position(|m| m.kernel == kernel && m.asked == asked)
-        {
+            .position(|m| m.kernel == kernel && m.asked == asked);
+        let index = match found {
             Some(index) => index,
             None => {
-                let made = self.make(scene, &work, &decision, notice)?;
+                let made = self.make(&work, &decision, notice)?;
                 self.made.push(made);
                 self.made.len() - 1
             }
@@ -129,6 +132,11 @@ impl Planner {
             };
         }
         let warnings = precision::warnings(scene, &work, decision.precision);
+        if found.is_none() {
+            for warning in &warnings {
+                notice(&format!("warning: {warning}"));
+            }
+        }
         let renderer = Renderer {
             reason: decision.reason.clone(),
             ..made.renderer.clone()
@@ -140,10 +148,10 @@ impl Planner {
         })
     }
 
-    /// A renderer for `work` in the precision decided, telling `notice` what it chose.
+    /// A renderer for `work` in the precision decided, telling `notice` what it chose (the
+    /// warnings of the precision that runs follow, from [`Self::plan`]).
     fn make(
         &mut self,
-        scene: &Scene,
         work: &Work,
         decision: &Decision,
         notice: &mut dyn FnMut(&str),
@@ -176,9 +184,6 @@ impl Planner {
         } else {
             self.choose(self.backend, decision.precision, kernel, notice)?
         };
-        for warning in precision::warnings(scene, work, renderer.precision) {
-            notice(&format!("warning: {warning}"));
-        }
         Ok(Made {
             kernel,
             asked: decision.precision,
@@ -234,9 +239,7 @@ impl Planner {
             (Kernel::Sampler, Precision::F32) => kernels.sampler().map(drop),
             (Kernel::Slice, Precision::F64) => kernels.tracer64().map(drop),
             (Kernel::Julia2d, Precision::F64) => kernels.julia2d64().map(drop),
-            (Kernel::Sampler, Precision::F64) => Err(Error::Unsupported(
-                "the mesh sampler runs in f32 on the GPU".into(),
-            )),
+            (Kernel::Sampler, Precision::F64) => Err(Error::Unsupported(SAMPLER_F32_ONLY.into())),
         };
         built.map_err(|e| match precision {
             Precision::F64 => Error::Unsupported(format!("{GPU_F64_UNSUPPORTED}: {e}")),
