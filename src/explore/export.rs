@@ -9,7 +9,6 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{Receiver, channel};
 
 use crate::output::{OutputPaths, write_outputs, write_view_outputs};
-use crate::precision::Precision;
 use crate::render::{Picture, Planner};
 use crate::scene::Scene;
 
@@ -40,11 +39,9 @@ impl Export {
         };
         std::thread::spawn(move || {
             // Decided by the scene exported, at its image size, as `render` decides it.
-            let export = || -> crate::Result<()> {
+            let mut export = || -> crate::Result<()> {
                 let plan = planner.plan(&scene, picture.into(), &mut |_| {})?;
                 let (frame, stats) = plan.renderer.render_frame(&scene, picture)?;
-                let mut paths = paths;
-                paths.depth_f64 = plan.decision.precision == Precision::F64;
                 match picture {
                     Picture::Slice { .. } => write_view_outputs(&paths, &frame, &stats, &scene),
                     Picture::Julia2d => write_outputs(&paths, &frame, &stats, &scene),
