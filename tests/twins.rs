@@ -148,6 +148,18 @@ const SAMPLE: Twin = Twin {
     ],
 };
 
+const BSDF: Twin = Twin {
+    wgsl: "shaders/bsdf.wgsl",
+    rust: "src/cpu/bsdf.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "pi",
+        reason: "the shader's `PI` constant, in the precision of the generic float",
+    }],
+};
+
 /// The source text with comments and string literals blanked out (replaced by spaces, so that
 /// nothing inside them reads as code).
 fn code_only(source: &str) -> String {
@@ -340,8 +352,13 @@ fn sample_twins_match() {
 }
 
 #[test]
+fn bsdf_twins_match() {
+    check(&BSDF);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE] {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

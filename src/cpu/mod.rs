@@ -1,6 +1,7 @@
 //! The pure-Rust reference tracer: shaders/*.wgsl written again in Rust, generic over f32 and
 //! f64, parallel over rows with rayon. The tests hold the GPU to it.
 
+pub mod bsdf;
 pub mod julia2d;
 pub mod sample;
 pub mod trace;

@@ -1,5 +1,6 @@
 //! The GPU path: adapter and device choice, and the kernels on the one runner ([`kernel`]).
 
+pub mod bsdf_probe;
 pub mod f64check;
 mod julia2d;
 pub mod kernel;

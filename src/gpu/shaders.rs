@@ -24,6 +24,10 @@ pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 /// The voxel sampler of `qjulia mesh` (twin: src/cpu/sample.rs); needs a prelude,
 /// [`ALGEBRA_WGSL`] and [`TRACE_WGSL`] in front of it, whose estimate it runs.
 pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
+/// The path tracer's BSDF (twin: src/cpu/bsdf.rs); f32 throughout, needs no prelude.
+pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
+/// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
+pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 /// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
@@ -84,6 +88,12 @@ pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
+/// The BSDF's test kernel: the BSDF, then the probe.
+pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "bsdf_probe",
+    parts: &[BSDF_WGSL, BSDF_PROBE_WGSL],
+};
+
 /// Every module the GPU path builds; the tests validate each with naga.
 pub const ALL_MODULES: &[ShaderModuleSource] = &[
     TRACE_MODULE,
@@ -92,6 +102,7 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     JULIA2D64_MODULE,
     F64CHECK_MODULE,
     SAMPLE_MODULE,
+    BSDF_PROBE_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with

@@ -1,0 +1,52 @@
+// A test kernel for shaders/bsdf.wgsl: one BSDF sample per item, from inputs every side derives
+// the same way from the item's index, written out whole, so that tests/bsdf.rs can hold the GPU's
+// BSDF to its CPU twin (src/cpu/bsdf.rs). Host side and the inputs' definition:
+// src/gpu/bsdf_probe.rs. Needs shaders/bsdf.wgsl in front of it.
+
+// The probe's uniform (keep in sync with `GpuBsdfProbe` in src/gpu/bsdf_probe.rs).
+struct Probe {
+    albedo: vec3<f32>,
+    roughness: f32,
+    metallic: f32,
+    specular: f32,
+    width: u32,
+    row_offset: u32,
+    row_count: u32,
+}
+
+@group(0) @binding(0) var<uniform> probe: Probe;
+// Per item: (wi, pdf) and (f, the specular probability).
+@group(0) @binding(1) var<storage, read_write> out_sample: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> out_value: array<vec4<f32>>;
+
+// A u32 hash (Wellons' lowbias32), the probe's source of inputs.
+fn probe_hash(x: u32) -> u32 {
+    var h = x;
+    h ^= h >> 16u;
+    h *= 0x7feb352du;
+    h ^= h >> 15u;
+    h *= 0x846ca68bu;
+    h ^= h >> 16u;
+    return h;
+}
+
+// Input k (0..4) of item n, in [0, 1): the hash's top 24 bits, exactly.
+fn probe_input(n: u32, k: u32) -> f32 {
+    return f32(probe_hash(n * 4u + k) >> 8u) * (1.0 / 16777216.0);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn bsdf_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= probe.width || gid.y >= probe.row_count {
+        return;
+    }
+    let n = (probe.row_offset + gid.y) * probe.width + gid.x;
+    let m = Material(probe.albedo, probe.roughness, probe.metallic, probe.specular);
+    // wo on a cosine hemisphere from inputs 0 and 1, then the sample from 2 (lobe) and 3, 0.
+    let wo = sample_cosine_hemisphere(vec2<f32>(probe_input(n, 0u), probe_input(n, 1u)));
+    let u = vec2<f32>(probe_input(n, 3u), probe_input(n, 0u));
+    let s = bsdf_sample(m, wo, probe_input(n, 2u), u);
+    let row = gid.y * probe.width + gid.x;
+    out_sample[row] = vec4<f32>(s.wi, s.pdf);
+    out_value[row] = vec4<f32>(s.f, specular_probability(m, wo));
+}
