@@ -1,0 +1,126 @@
+//! The display transform of path mode: linear radiance to the 8-bit sRGB a PNG holds. One
+//! function serves every output that shows a path-traced picture (the PNG, the explorer's view,
+//! `merge`), so that they give the same bytes. Phong mode keeps the seed's clamp, mean and
+//! round, with no curve, and does not come here.
+//!
+//! The chain, per channel, in f64: exposure (`x 2^exposure`), the tone map, the sRGB transfer
+//! function, then rounding to 8 bits (`floor(255 v + 0.5)`). The book's chapter "Display"
+//! (docs/book/display.md) gives the formulas.
+
+use std::fmt;
+use std::str::FromStr;
+
+use rayon::prelude::*;
+
+/// `image.tone_map`: the curve from exposed linear radiance to [0, 1].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ToneMap {
+    /// A clamp to [0, 1].
+    #[default]
+    None,
+    /// Reinhard's simple operator `x / (1 + x)` (Reinhard et al. 2002, eq. 3), per channel.
+    Reinhard,
+    /// Narkowicz's 2015 fit of the ACES filmic curve (RRT + ODT),
+    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, per channel, clamped to [0, 1].
+    Aces,
+}
+
+impl ToneMap {
+    /// Every tone map, in the order the scene file lists them.
+    pub const ALL: [ToneMap; 3] = [ToneMap::None, ToneMap::Reinhard, ToneMap::Aces];
+
+    /// The name the scene file uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneMap::None => "none",
+            ToneMap::Reinhard => "reinhard",
+            ToneMap::Aces => "aces",
+        }
+    }
+
+    /// The curve at `x >= 0` (exposure applied), in [0, 1]; NaN and negative values give 0.
+    pub fn apply(self, x: f64) -> f64 {
+        // `max` keeps a NaN out: f64::max returns the other operand.
+        let x = x.max(0.0);
+        let y = match self {
+            ToneMap::None => x,
+            ToneMap::Reinhard => reinhard(x),
+            ToneMap::Aces => aces_narkowicz(x),
+        };
+        y.clamp(0.0, 1.0)
+    }
+}
+
+impl fmt::Display for ToneMap {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ToneMap {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        ToneMap::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = ToneMap::ALL.iter().map(|t| format!("\"{t}\"")).collect();
+                format!("unknown tone map \"{s}\" (expected {})", names.join(", "))
+            })
+    }
+}
+
+/// Reinhard's simple operator, `x / (1 + x)`.
+pub fn reinhard(x: f64) -> f64 {
+    x / (1.0 + x)
+}
+
+/// Narkowicz's 2015 ACES fit, `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, unclamped.
+pub fn aces_narkowicz(x: f64) -> f64 {
+    x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of `v` in [0, 1]: `12.92 v` up to 0.0031308,
+/// `1.055 v^(1/2.4) - 0.055` above.
+pub fn srgb_encode(v: f64) -> f64 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// `v` in [0, 1] rounded to 8 bits: `floor(255 v + 0.5)`.
+pub fn quantise(v: f64) -> u8 {
+    (255.0 * v.clamp(0.0, 1.0) + 0.5).floor() as u8
+}
+
+/// The display transform: `image.exposure` (stops) and `image.tone_map`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Display {
+    pub exposure: f64,
+    pub tone_map: ToneMap,
+}
+
+impl Display {
+    /// One channel of linear radiance as its 8-bit sRGB value.
+    pub fn encode(&self, linear: f32) -> u8 {
+        let exposed = linear as f64 * self.exposure.exp2();
+        quantise(srgb_encode(self.tone_map.apply(exposed)))
+    }
+
+    /// Linear RGB triples (row by row) as 8-bit sRGB bytes, in parallel.
+    pub fn rgb8(&self, linear: &[[f32; 3]]) -> Vec<u8> {
+        let mut out = vec![0; linear.len() * 3];
+        out.par_chunks_mut(3 * 4096)
+            .zip(linear.par_chunks(4096))
+            .for_each(|(out, linear)| {
+                for (o, rgb) in out.chunks_exact_mut(3).zip(linear) {
+                    for (o, &c) in o.iter_mut().zip(rgb) {
+                        *o = self.encode(c);
+                    }
+                }
+            });
+        out
+    }
+}
