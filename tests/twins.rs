@@ -160,6 +160,25 @@ const BSDF: Twin = Twin {
     }],
 };
 
+const LIGHT: Twin = Twin {
+    wgsl: "shaders/light.wgsl",
+    rust: "src/cpu/light.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "light_pi",
+            reason: "the shader's `LIGHT_PI` constant, in the precision of the generic float",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "mix3",
+            reason: "WGSL's builtin `mix` for vectors",
+        },
+    ],
+};
+
 /// The source text with comments and string literals blanked out (replaced by spaces, so that
 /// nothing inside them reads as code).
 fn code_only(source: &str) -> String {
@@ -357,8 +376,13 @@ fn bsdf_twins_match() {
 }
 
 #[test]
+fn light_twins_match() {
+    check(&LIGHT);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF] {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF, &LIGHT] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

@@ -3,6 +3,7 @@
 
 pub mod bsdf;
 pub mod julia2d;
+pub mod light;
 pub mod sample;
 pub mod trace;
 

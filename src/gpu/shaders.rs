@@ -26,6 +26,9 @@ pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
 /// The path tracer's BSDF (twin: src/cpu/bsdf.rs); f32 throughout, needs no prelude.
 pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
+/// The path tracer's light (twin: src/cpu/light.rs); f32, needs [`BSDF_WGSL`] in front (its
+/// shading frame).
+pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
 /// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
 pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
@@ -88,10 +91,10 @@ pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
-/// The BSDF's test kernel: the BSDF, then the probe.
+/// The BSDF's and the light's test kernel: the BSDF, the light, then the probe.
 pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "bsdf_probe",
-    parts: &[BSDF_WGSL, BSDF_PROBE_WGSL],
+    parts: &[BSDF_WGSL, LIGHT_WGSL, BSDF_PROBE_WGSL],
 };
 
 /// Every module the GPU path builds; the tests validate each with naga.

@@ -1,0 +1,239 @@
+//! The path tracer's light on the CPU twin (src/cpu/light.rs): the sky's gradient, the cone
+//! sampling of the sun and the sphere light against their densities, and next-event
+//! estimation, BSDF sampling and their power-heuristic blend against the closed-form
+//! irradiance of a sphere light, E = pi L (r/d)^2 cos(theta).
+
+use std::f64::consts::PI;
+
+use qjulia::algebra::{Vec2, Vec3};
+use qjulia::cpu::bsdf::sample_cosine_hemisphere;
+use qjulia::cpu::light::{
+    Sky, SphereLight, Sun, cone_solid_angle, intersect_sphere, power_heuristic,
+    sample_sphere_light, sample_sun, sky_radiance, sphere_light_pdf, sphere_light_radiance,
+    sun_pdf, sun_radiance,
+};
+
+/// SplitMix64, the tests' own random numbers.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+    fn vec2(&mut self) -> Vec2<f64> {
+        Vec2::new(self.next(), self.next())
+    }
+}
+
+fn v(x: f64, y: f64, z: f64) -> Vec3<f64> {
+    Vec3::new(x, y, z)
+}
+
+#[test]
+fn the_sky_is_its_three_colours_at_zenith_horizon_and_nadir() {
+    let sky = Sky {
+        zenith: v(0.2, 0.4, 0.9),
+        horizon: v(0.8, 0.85, 0.9),
+        ground: v(0.3, 0.25, 0.2),
+        up: v(0.0, 1.0, 0.0),
+        intensity: 2.0,
+    };
+    assert_eq!(sky_radiance(sky, v(0.0, 1.0, 0.0)), sky.zenith * 2.0);
+    assert_eq!(sky_radiance(sky, v(1.0, 0.0, 0.0)), sky.horizon * 2.0);
+    assert_eq!(sky_radiance(sky, v(0.0, -1.0, 0.0)), sky.ground * 2.0);
+    // Halfway up in sqrt(s): s = 1/4 is the midpoint of horizon and zenith.
+    let d = v((1.0f64 - 0.0625).sqrt(), 0.25, 0.0);
+    let mid = (sky.horizon + sky.zenith) * 0.5 * 2.0;
+    assert!((sky_radiance(sky, d) - mid).length() < 1e-12);
+    // One colour everywhere is a uniform sky.
+    let white = Sky {
+        zenith: v(1.0, 1.0, 1.0),
+        horizon: v(1.0, 1.0, 1.0),
+        ground: v(1.0, 1.0, 1.0),
+        up: v(0.0, 0.0, 1.0),
+        intensity: 1.0,
+    };
+    let mut rng = SplitMix(3);
+    for _ in 0..100 {
+        let u = rng.vec2();
+        let c = 2.0 * u.x - 1.0;
+        let s = (1.0 - c * c).sqrt();
+        let d = v(s * (2.0 * PI * u.y).cos(), s * (2.0 * PI * u.y).sin(), c);
+        assert_eq!(sky_radiance(white, d), v(1.0, 1.0, 1.0));
+    }
+}
+
+#[test]
+fn the_sun_is_uniform_over_its_disc_and_gives_its_irradiance() {
+    let mut rng = SplitMix(5);
+    for radius_deg in [0.53f64, 5.0, 30.0] {
+        let dir = v(0.3, 0.8, 0.52).normalize();
+        let sun = Sun {
+            direction: dir,
+            cos_radius: radius_deg.to_radians().cos(),
+            irradiance: v(3.0, 2.0, 1.0),
+        };
+        let omega = cone_solid_angle(sun.cos_radius);
+        // The closed form of the cap's solid angle, 2 pi (1 - cos r).
+        assert!((omega - 2.0 * PI * (1.0 - radius_deg.to_radians().cos())).abs() < 1e-15);
+        // Samples: inside the disc, with the density sun_pdf gives, uniform in cos(theta).
+        let bins = 10;
+        let mut counts = vec![0usize; bins];
+        let n = 100_000;
+        for _ in 0..n {
+            let s = sample_sun(sun, rng.vec2());
+            let c = s.wi.dot(dir);
+            assert!(c >= sun.cos_radius - 1e-12, "outside the disc");
+            assert!((s.wi.length() - 1.0).abs() < 1e-12);
+            assert_eq!(s.pdf, sun_pdf(sun, s.wi));
+            assert_eq!(s.radiance, sun_radiance(sun, s.wi));
+            let k = ((1.0 - c) / (1.0 - sun.cos_radius) * bins as f64) as usize;
+            counts[k.min(bins - 1)] += 1;
+        }
+        let expected = n as f64 / bins as f64;
+        let chi2: f64 = counts
+            .iter()
+            .map(|&o| (o as f64 - expected).powi(2) / expected)
+            .sum();
+        assert!(
+            chi2 < 9.0 + 6.0 * 18f64.sqrt(),
+            "{radius_deg}: chi-square {chi2}"
+        );
+        // Its radiance integrated over the disc, facing it, is its irradiance: L omega.
+        let e = sun_radiance(sun, dir) * omega;
+        assert!((e - sun.irradiance).length() < 1e-12);
+        assert_eq!(sun_radiance(sun, -dir), v(0.0, 0.0, 0.0));
+        assert_eq!(sun_pdf(sun, -dir), 0.0);
+    }
+}
+
+#[test]
+fn rays_meet_spheres_where_they_should() {
+    let c = v(0.0, 0.0, 5.0);
+    let t = intersect_sphere(v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), c, 1.0);
+    assert!((t - 4.0).abs() < 1e-12);
+    // From inside, the far side.
+    let t = intersect_sphere(c, v(1.0, 0.0, 0.0), c, 1.0);
+    assert!((t - 1.0).abs() < 1e-12);
+    // Behind, and beside.
+    assert_eq!(
+        intersect_sphere(v(0.0, 0.0, 0.0), v(0.0, 0.0, -1.0), c, 1.0),
+        -1.0
+    );
+    assert_eq!(
+        intersect_sphere(v(2.0, 0.0, 0.0), v(0.0, 0.0, 1.0), c, 1.0),
+        -1.0
+    );
+}
+
+#[test]
+fn the_power_heuristic_weights_sum_to_one() {
+    let mut rng = SplitMix(7);
+    for _ in 0..1000 {
+        let (a, b) = (rng.next() * 10.0, rng.next() * 10.0);
+        let s = power_heuristic(a, b) + power_heuristic(b, a);
+        assert!((s - 1.0).abs() < 1e-12);
+    }
+    assert_eq!(power_heuristic(1.0, 0.0), 1.0);
+    assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+}
+
+/// One estimate of the irradiance at the origin (normal +z) from the sphere light, by `n`
+/// samples of the given strategy: its mean and standard error.
+fn irradiance(light: SphereLight<f64>, strategy: &str, n: usize, seed: u64) -> (f64, f64) {
+    let mut rng = SplitMix(seed);
+    let p = v(0.0, 0.0, 0.0);
+    let l = sphere_light_radiance(light).x;
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for _ in 0..n {
+        let mut x = 0.0;
+        // Next-event estimation: a direction toward the light.
+        if strategy != "bsdf" {
+            let s = sample_sphere_light(light, p, rng.vec2());
+            if s.pdf > 0.0 && s.wi.z > 0.0 {
+                let cos = s.wi.z;
+                let w = if strategy == "both" {
+                    power_heuristic(s.pdf, cos / PI)
+                } else {
+                    1.0
+                };
+                x += w * s.radiance.x * cos / s.pdf;
+            }
+        }
+        // BSDF sampling: a cosine-distributed direction, which may hit the light.
+        if strategy != "light" {
+            let wi = sample_cosine_hemisphere(rng.vec2());
+            let pdf = wi.z / PI;
+            if intersect_sphere(p, wi, light.center, light.radius) > 0.0 {
+                let w = if strategy == "both" {
+                    power_heuristic(pdf, sphere_light_pdf(light, p, wi))
+                } else {
+                    1.0
+                };
+                x += w * l * wi.z / pdf;
+            }
+        }
+        sum += x;
+        sum2 += x * x;
+    }
+    let mean = sum / n as f64;
+    (
+        mean,
+        ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
+    )
+}
+
+#[test]
+fn nee_bsdf_sampling_and_mis_agree_with_the_closed_form_irradiance() {
+    // Lights wholly above the horizon of the point, near and far, small and large.
+    for (center, radius) in [
+        (v(0.0, 0.0, 3.0), 1.0),
+        (v(1.0, 0.5, 2.0), 0.5),
+        (v(0.0, 2.0, 2.5), 0.3),
+        (v(0.0, 0.0, 1.5), 1.2),
+    ] {
+        let light = SphereLight {
+            center,
+            radius,
+            intensity: v(2.0, 2.0, 2.0),
+        };
+        let d = center.length();
+        let cos = center.z / d;
+        assert!(cos > radius / d, "the light is wholly above the horizon");
+        let l = sphere_light_radiance(light).x;
+        let closed = PI * l * (radius / d).powi(2) * cos;
+        // Intensity is the irradiance at distance 1: E = intensity cos / d^2.
+        assert!((closed - 2.0 * cos / (d * d)).abs() < 1e-12);
+        for (k, strategy) in ["light", "bsdf", "both"].into_iter().enumerate() {
+            let (mean, se) = irradiance(light, strategy, 200_000, 11 + k as u64);
+            assert!(
+                (mean - closed).abs() < 3.0 * se + 1e-12,
+                "{strategy}, light at {center:?} r {radius}: {mean} +- {se}, closed form {closed}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_point_light_gives_intensity_over_distance_squared() {
+    let light = SphereLight {
+        center: v(0.0, 0.0, 2.0),
+        radius: 0.0,
+        intensity: v(4.0, 4.0, 4.0),
+    };
+    let s = sample_sphere_light(light, v(0.0, 0.0, 0.0), Vec2::new(0.3, 0.7));
+    assert!(s.delta);
+    assert_eq!(s.wi, v(0.0, 0.0, 1.0));
+    assert_eq!(s.radiance, v(1.0, 1.0, 1.0));
+    assert_eq!(s.distance, 2.0);
+    // No direction hits it, so BSDF sampling never finds it.
+    assert_eq!(
+        sphere_light_pdf(light, v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0)),
+        0.0
+    );
+}
