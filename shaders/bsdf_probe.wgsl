@@ -1,4 +1,5 @@
-// A test kernel for shaders/bsdf.wgsl: one BSDF sample per item, from inputs every side derives
+// A test kernel for shaders/bsdf.wgsl and shaders/light.wgsl: one BSDF sample and one sample of
+// each light per item, from inputs every side derives
 // the same way from the item's index, written out whole, so that tests/bsdf.rs can hold the GPU's
 // BSDF to its CPU twin (src/cpu/bsdf.rs). Host side and the inputs' definition:
 // src/gpu/bsdf_probe.rs. Needs shaders/bsdf.wgsl in front of it.
@@ -18,6 +19,24 @@ struct Probe {
 // Per item: (wi, pdf) and (f, the specular probability).
 @group(0) @binding(1) var<storage, read_write> out_sample: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> out_value: array<vec4<f32>>;
+// Per item: the sun's sample (wi, pdf), the sphere light's (wi, pdf), and (the sphere light's
+// radiance.x and distance, the sky's radiance.x along the sun's wi, the sphere light's pdf of it).
+@group(0) @binding(3) var<storage, read_write> out_sun: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> out_light: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> out_light_value: array<vec4<f32>>;
+
+// The probe's lights (keep in sync with `probe_lights` in src/gpu/bsdf_probe.rs).
+fn probe_sky() -> Sky {
+    return Sky(vec3<f32>(0.2, 0.4, 0.9), vec3<f32>(0.8, 0.85, 0.9), vec3<f32>(0.3, 0.25, 0.2), vec3<f32>(0.0, 1.0, 0.0), 1.5);
+}
+
+fn probe_sun() -> Sun {
+    return Sun(normalize(vec3<f32>(0.3, 0.8, 0.52)), 0.99, vec3<f32>(3.0, 2.0, 1.0));
+}
+
+fn probe_sphere_light() -> SphereLight {
+    return SphereLight(vec3<f32>(1.0, 2.0, 3.0), 0.5, vec3<f32>(2.0, 2.0, 2.0));
+}
 
 // A u32 hash (Wellons' lowbias32), the probe's source of inputs.
 fn probe_hash(x: u32) -> u32 {
@@ -49,4 +68,16 @@ fn bsdf_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     let row = gid.y * probe.width + gid.x;
     out_sample[row] = vec4<f32>(s.wi, s.pdf);
     out_value[row] = vec4<f32>(s.f, specular_probability(m, wo));
+    // The lights, seen from a point in the cube [-1, 1]^3.
+    let p = vec3<f32>(probe_input(n, 0u), probe_input(n, 1u), probe_input(n, 2u)) * 2.0 - 1.0;
+    let sun = sample_sun(probe_sun(), u);
+    out_sun[row] = vec4<f32>(sun.wi, sun.pdf);
+    let light = sample_sphere_light(probe_sphere_light(), p, u);
+    out_light[row] = vec4<f32>(light.wi, light.pdf);
+    out_light_value[row] = vec4<f32>(
+        light.radiance.x,
+        light.distance,
+        sky_radiance(probe_sky(), sun.wi).x,
+        sphere_light_pdf(probe_sphere_light(), p, sun.wi),
+    );
 }

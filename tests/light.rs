@@ -237,3 +237,61 @@ fn a_point_light_gives_intensity_over_distance_squared() {
         0.0
     );
 }
+
+mod common;
+
+#[test]
+fn the_gpu_light_agrees_with_the_cpu_twin() {
+    use qjulia::gpu::bsdf_probe::{probe_bsdf, probe_inputs, probe_lights, probe_point};
+    let Some(gpu) = common::gpu("the_gpu_light_agrees_with_the_cpu_twin") else {
+        return;
+    };
+    let material = qjulia::cpu::bsdf::Material {
+        albedo: Vec3::new(0.5f32, 0.5, 0.5),
+        roughness: 0.5,
+        metallic: 0.0,
+        specular: 0.5,
+    };
+    let count = 4096;
+    let results = probe_bsdf(gpu.context().clone(), material, count).unwrap();
+    let (sky, sun, light) = probe_lights();
+    let close = |a: f32, b: f32, tol: f32| (a - b).abs() <= tol * a.abs().max(1.0);
+    let mut rim = 0;
+    for (n, r) in results.iter().enumerate() {
+        let (_, _, u) = probe_inputs(n as u32);
+        let p = probe_point(n as u32);
+        let s = sample_sun(sun, u);
+        let gpu_wi = Vec3::new(r.sun[0], r.sun[1], r.sun[2]);
+        assert!((s.wi - gpu_wi).length() < 1e-5, "item {n}: sun wi");
+        assert!(close(s.pdf, r.sun[3], 1e-5), "item {n}: sun pdf");
+        let l = sample_sphere_light(light, p, u);
+        let gpu_wi = Vec3::new(r.light[0], r.light[1], r.light[2]);
+        assert!((l.wi - gpu_wi).length() < 1e-4, "item {n}: light wi");
+        assert!(close(l.pdf, r.light[3], 1e-4), "item {n}: light pdf");
+        assert!(
+            close(l.radiance.x, r.light_value[0], 1e-5),
+            "item {n}: radiance"
+        );
+        assert!(
+            close(l.distance, r.light_value[1], 1e-4),
+            "item {n}: distance"
+        );
+        let sky_x = sky_radiance(sky, r_sun_wi(r));
+        assert!(close(sky_x.x, r.light_value[2], 1e-5), "item {n}: sky");
+        // Whether the sun's direction hits the sphere light may differ at its rim.
+        let pdf = sphere_light_pdf(light, p, r_sun_wi(r));
+        if (pdf == 0.0) != (r.light_value[3] == 0.0) {
+            rim += 1;
+        } else {
+            assert!(
+                close(pdf, r.light_value[3], 1e-4),
+                "item {n}: light pdf of sun wi"
+            );
+        }
+    }
+    assert!(rim <= 2, "{rim} directions disagree on hitting the light");
+}
+
+fn r_sun_wi(r: &qjulia::gpu::bsdf_probe::ProbeResult) -> Vec3<f32> {
+    Vec3::new(r.sun[0], r.sun[1], r.sun[2])
+}

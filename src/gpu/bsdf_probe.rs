@@ -1,6 +1,7 @@
-//! A test kernel for the path tracer's BSDF (shaders/bsdf_probe.wgsl over shaders/bsdf.wgsl):
-//! one BSDF sample per item from inputs derived from the item's index, so that a test can hold
-//! the GPU's BSDF to its CPU twin (src/cpu/bsdf.rs). Not used by any render.
+//! A test kernel for the path tracer's BSDF and light (shaders/bsdf_probe.wgsl over
+//! shaders/bsdf.wgsl and shaders/light.wgsl): one BSDF sample and one sample of each light per
+//! item, from inputs derived from the item's index, so that a test can hold the GPU's functions
+//! to their CPU twins (src/cpu/bsdf.rs, src/cpu/light.rs). Not used by any render.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -9,6 +10,7 @@ use super::kernel::{Kernel, KernelSpec, OutputSpec, Run};
 use super::shaders::BSDF_PROBE_MODULE;
 use crate::algebra::{Vec2, Vec3};
 use crate::cpu::bsdf::{BsdfSample, Material};
+use crate::cpu::light::{Sky, SphereLight, Sun};
 use crate::error::Result;
 
 /// The probe's uniform, as shaders/bsdf_probe.wgsl's `Probe` (keep in sync).
@@ -26,7 +28,7 @@ pub struct GpuBsdfProbe {
     pub _pad: [u32; 3],
 }
 
-const OUTPUTS: [OutputSpec; 2] = [
+const OUTPUTS: [OutputSpec; 5] = [
     OutputSpec {
         name: "sample",
         bytes_per_item: 16,
@@ -35,7 +37,48 @@ const OUTPUTS: [OutputSpec; 2] = [
         name: "value",
         bytes_per_item: 16,
     },
+    OutputSpec {
+        name: "sun",
+        bytes_per_item: 16,
+    },
+    OutputSpec {
+        name: "light",
+        bytes_per_item: 16,
+    },
+    OutputSpec {
+        name: "light_value",
+        bytes_per_item: 16,
+    },
 ];
+
+/// The probe's sky, sun and sphere light, as the shader's `probe_sky`, `probe_sun` and
+/// `probe_sphere_light` (keep in sync).
+pub fn probe_lights() -> (Sky<f32>, Sun<f32>, SphereLight<f32>) {
+    (
+        Sky {
+            zenith: Vec3::new(0.2, 0.4, 0.9),
+            horizon: Vec3::new(0.8, 0.85, 0.9),
+            ground: Vec3::new(0.3, 0.25, 0.2),
+            up: Vec3::new(0.0, 1.0, 0.0),
+            intensity: 1.5,
+        },
+        Sun {
+            direction: Vec3::new(0.3, 0.8, 0.52).normalize(),
+            cos_radius: 0.99,
+            irradiance: Vec3::new(3.0, 2.0, 1.0),
+        },
+        SphereLight {
+            center: Vec3::new(1.0, 2.0, 3.0),
+            radius: 0.5,
+            intensity: Vec3::new(2.0, 2.0, 2.0),
+        },
+    )
+}
+
+/// Item `n`'s point for the lights, in [-1, 1]^3 (the shader's `p`).
+pub fn probe_point(n: u32) -> Vec3<f32> {
+    Vec3::new(probe_input(n, 0), probe_input(n, 1), probe_input(n, 2)) * 2.0 - Vec3::splat(1.0)
+}
 
 const PROBE_KERNEL: KernelSpec = KernelSpec {
     name: "bsdf_probe",
@@ -75,11 +118,16 @@ pub fn probe_inputs(n: u32) -> (Vec2<f32>, f32, Vec2<f32>) {
     )
 }
 
-/// One item's result: the sample and the specular probability for its wo.
+/// One item's result: the BSDF sample and the specular probability for its wo; the sun's and
+/// the sphere light's samples (wi, pdf); the sphere light's radiance.x and distance, the sky's
+/// radiance.x along the sun's wi and the sphere light's pdf of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProbeResult {
     pub sample: BsdfSample<f32>,
     pub specular_probability: f32,
+    pub sun: [f32; 4],
+    pub light: [f32; 4],
+    pub light_value: [f32; 4],
 }
 
 /// Runs the probe for items 0..`count` (rows of 64) with material `m`.
@@ -103,7 +151,7 @@ pub fn probe_bsdf(ctx: GpuContext, m: Material<f32>, count: u32) -> Result<Vec<P
     let run = Run {
         constants: &[],
         size: (width, rows),
-        read: &[true, true],
+        read: &[true; 5],
         dispatches_per_band: 1,
         params: &uniform,
     };
@@ -113,15 +161,21 @@ pub fn probe_bsdf(ctx: GpuContext, m: Material<f32>, count: u32) -> Result<Vec<P
         |out| {
             let s: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[0].expect("read back"));
             let v: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[1].expect("read back"));
-            s.iter()
-                .zip(v)
-                .map(|(s, v)| ProbeResult {
+            let sun: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[2].expect("read back"));
+            let light: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[3].expect("read back"));
+            let lv: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[4].expect("read back"));
+            (0..s.len())
+                .map(|k| (s[k], v[k], sun[k], light[k], lv[k]))
+                .map(|(s, v, sun, light, light_value)| ProbeResult {
                     sample: BsdfSample {
                         wi: Vec3::new(s[0], s[1], s[2]),
                         f: Vec3::new(v[0], v[1], v[2]),
                         pdf: s[3],
                     },
                     specular_probability: v[3],
+                    sun,
+                    light,
+                    light_value,
                 })
                 .collect::<Vec<_>>()
         },
