@@ -160,6 +160,31 @@ const BSDF: Twin = Twin {
     }],
 };
 
+const PATH: Twin = Twin {
+    wgsl: "shaders/path.wgsl",
+    rust: "src/cpu/path.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "max3",
+            reason: "WGSL's `max(c.x, max(c.y, c.z))`, written out there",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "any_positive",
+            reason: "WGSL's `any(c > vec3(0.0))`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "path_main",
+            reason: "the entry point: the samples' running mean and the writes; on the CPU the \
+                     caller loops over `trace_path`",
+        },
+    ],
+};
+
 const LIGHT: Twin = Twin {
     wgsl: "shaders/light.wgsl",
     rust: "src/cpu/light.rs",
@@ -381,8 +406,13 @@ fn light_twins_match() {
 }
 
 #[test]
+fn path_twins_match() {
+    check(&PATH);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF, &LIGHT] {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF, &LIGHT, &PATH] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

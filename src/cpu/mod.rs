@@ -4,6 +4,7 @@
 pub mod bsdf;
 pub mod julia2d;
 pub mod light;
+pub mod path;
 pub mod sample;
 pub mod trace;
 

@@ -7,6 +7,7 @@ pub mod kernel;
 mod kernels;
 mod params;
 pub mod params_json;
+pub mod path;
 mod sampler;
 pub mod shaders;
 mod tracer;

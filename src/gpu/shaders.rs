@@ -29,6 +29,9 @@ pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
 /// The path tracer's light (twin: src/cpu/light.rs); f32, needs [`BSDF_WGSL`] in front (its
 /// shading frame).
 pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
+/// The path tracer (twin: src/cpu/path.rs); needs a prelude, [`ALGEBRA_WGSL`], [`TRACE_WGSL`],
+/// [`BSDF_WGSL`] and [`LIGHT_WGSL`] in front.
+pub const PATH_WGSL: &str = include_str!("../../shaders/path.wgsl");
 /// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
 pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
@@ -91,6 +94,32 @@ pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
+/// The path tracer in f32: the tracer's module, the material, the light, then the path kernel.
+pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "path",
+    parts: &[
+        REAL32_WGSL,
+        ALGEBRA_WGSL,
+        TRACE_WGSL,
+        BSDF_WGSL,
+        LIGHT_WGSL,
+        PATH_WGSL,
+    ],
+};
+
+/// The path tracer in f64 (geometry in f64; material, light and radiance in f32).
+pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "path64",
+    parts: &[
+        REAL64_WGSL,
+        ALGEBRA_WGSL,
+        TRACE_WGSL,
+        BSDF_WGSL,
+        LIGHT_WGSL,
+        PATH_WGSL,
+    ],
+};
+
 /// The BSDF's and the light's test kernel: the BSDF, the light, then the probe.
 pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "bsdf_probe",
@@ -106,6 +135,8 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     F64CHECK_MODULE,
     SAMPLE_MODULE,
     BSDF_PROBE_MODULE,
+    PATH_MODULE,
+    PATH64_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with

@@ -1,0 +1,304 @@
+// The path tracer (shading.model = "path"): one invocation per pixel, paths of up to `bounces`
+// scattering events through the set, with next-event estimation toward the sun and the sphere
+// light, combined with BSDF sampling by the power heuristic, Russian roulette and a clamp.
+// The book's chapter "Path tracing" gives the estimator exactly.
+//
+// Twin: src/cpu/path.rs, same names, same order (tests/twins.rs). Needs a prelude, algebra.wgsl,
+// trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl and
+// light.wgsl in front of it (src/gpu/shaders.rs). Geometry is in `Real` (f32 or f64); the
+// material, the light and the radiance are f32 (shaders/bsdf.wgsl says why).
+
+// The path tracer's own parameters, a second uniform beside the tracer's Params (keep in sync
+// with `GpuPathParams` in src/gpu/path.rs; its CPU twin is `PathParams` in src/cpu/path.rs).
+struct PathParams {
+    sky_zenith: vec3<f32>,
+    sky_intensity: f32,
+    sky_horizon: vec3<f32>,
+    bounces: u32,
+    sky_ground: vec3<f32>,
+    roulette_start: u32,
+    sky_up: vec3<f32>,
+    clamp_contribution: f32,
+    sun_direction: vec3<f32>,
+    sun_cos_radius: f32,
+    sun_irradiance: vec3<f32>,
+    sampler: u32,
+    light_intensity: vec3<f32>,
+    strategy: u32,
+    roughness: f32,
+    metallic: f32,
+    specular: f32,
+    seed: u32,
+}
+
+@group(0) @binding(6) var<uniform> path: PathParams;
+
+// path.strategy: which estimators light a hit (the MIS test's hook; scenes use both).
+const STRATEGY_BOTH: u32 = 0u;
+const STRATEGY_LIGHT: u32 = 1u;
+const STRATEGY_BSDF: u32 = 2u;
+
+// The sampler's dimensions, in the order the book states: the image plane, the lens, then per
+// scattering event the light (choice, 2D), the BSDF (lobe, 2D) and the roulette.
+const DIM_PIXEL: u32 = 0u;
+const DIM_LENS: u32 = 2u;
+const DIM_BOUNCE: u32 = 4u;
+const DIMS_PER_BOUNCE: u32 = 7u;
+const DIM_LIGHT_CHOICE: u32 = 0u;
+const DIM_LIGHT: u32 = 1u;
+const DIM_BSDF_LOBE: u32 = 3u;
+const DIM_BSDF: u32 = 4u;
+const DIM_ROULETTE: u32 = 6u;
+
+// Rays leave a hit from p + SURFACE_OFFSET epsilon n: the estimate is about half the true
+// distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold (a
+// ray that starts within it would hit the surface it leaves).
+const SURFACE_OFFSET: Real = 4.0;
+
+// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
+struct PathResult {
+    radiance: vec3<f32>,
+    depth: Real,
+    steps: u32,
+    hit: bool,
+}
+
+// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j).
+fn path_random(i: u32, j: u32, sample: u32, dim: u32) -> f32 {
+    let pixel = j * params.width + i;
+    var h = pixel * 0x9e3779b9u ^ (sample * 0x85ebca6bu) ^ (dim * 0xc2b2ae35u) ^ path.seed;
+    h ^= h >> 16u;
+    h *= 0x7feb352du;
+    h ^= h >> 15u;
+    h *= 0x846ca68bu;
+    h ^= h >> 16u;
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+fn path_sky() -> Sky {
+    return Sky(path.sky_zenith, path.sky_horizon, path.sky_ground, path.sky_up, path.sky_intensity);
+}
+
+fn path_sun() -> Sun {
+    return Sun(path.sun_direction, path.sun_cos_radius, path.sun_irradiance);
+}
+
+fn path_sphere_light() -> SphereLight {
+    return SphereLight(vec3<f32>(params.light), f32(params.light_radius), path.light_intensity);
+}
+
+// The hit's material: the albedo is the diffuse colour, or the orbit trap's palette colour.
+fn path_material(p: vec3<Real>) -> Material {
+    var albedo = vec3<f32>(params.diffuse);
+    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
+        albedo = vec3<f32>(palette(orbit_trap(slice_point(p))));
+    }
+    return Material(albedo, path.roughness, path.metallic, path.specular);
+}
+
+// Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray, the
+// tracer's own sphere trace (no pixel epsilon) within the bounding ball.
+fn unoccluded(origin: vec3<Real>, dir: vec3<Real>, t_max: Real) -> bool {
+    let bounds = intersect_bounds(origin, dir);
+    let t_end = min(bounds.t_exit, t_max);
+    if !bounds.hit || bounds.t_enter >= t_end {
+        return true;
+    }
+    return !sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
+}
+
+// A contribution after the first scattering event, clamped: scaled so that its largest channel
+// is at most path.clamp_contribution (0: off).
+fn clamp_indirect(c: vec3<f32>, bounce: u32) -> vec3<f32> {
+    let m = max(c.x, max(c.y, c.z));
+    if bounce == 0u || path.clamp_contribution <= 0.0 || m <= path.clamp_contribution {
+        return c;
+    }
+    return c * (path.clamp_contribution / m);
+}
+
+// Next-event estimation at a hit: the sun and the sphere light, each by one sample toward it
+// and a shadow ray, weighted against BSDF sampling by the power heuristic.
+fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+    let u = vec2<f32>(path_random(i, j, sample, dim + DIM_LIGHT), path_random(i, j, sample, dim + DIM_LIGHT + 1u));
+    let origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
+    if any(path.sun_irradiance > vec3<f32>(0.0)) {
+        let ls = sample_sun(path_sun(), u);
+        let wi = to_local(f, ls.wi);
+        if wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), 3.0e38) {
+            var w = 1.0;
+            if path.strategy == STRATEGY_BOTH {
+                w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+            }
+            sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf);
+        }
+    }
+    if any(path.light_intensity > vec3<f32>(0.0)) {
+        let light = path_sphere_light();
+        let ls = sample_sphere_light(light, vec3<f32>(p), u);
+        let wi = to_local(f, ls.wi);
+        if ls.pdf > 0.0 && wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), Real(ls.distance)) {
+            if ls.delta {
+                sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z;
+            } else {
+                var w = 1.0;
+                if path.strategy == STRATEGY_BOTH {
+                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                }
+                sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf);
+            }
+        }
+    }
+    return sum;
+}
+
+// The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
+// weighted against next-event estimation (bsdf_pdf the density the ray was drawn with; a camera
+// ray, drawn with no density, sees the sun whole).
+fn escaped(dir: vec3<f32>, bounce: u32, bsdf_pdf_prev: f32) -> vec3<f32> {
+    var c = sky_radiance(path_sky(), dir);
+    if any(path.sun_irradiance > vec3<f32>(0.0)) {
+        var w = 1.0;
+        if bounce > 0u {
+            if path.strategy == STRATEGY_LIGHT {
+                w = 0.0;
+            } else if path.strategy == STRATEGY_BOTH {
+                w = power_heuristic(bsdf_pdf_prev, sun_pdf(path_sun(), dir));
+            }
+        }
+        c += w * sun_radiance(path_sun(), dir);
+    }
+    return c;
+}
+
+// The emission of the sphere light seen along a ray from origin, weighted as escaped weights the
+// sun.
+fn light_emission(origin: vec3<f32>, dir: vec3<f32>, bounce: u32, bsdf_pdf_prev: f32) -> vec3<f32> {
+    var w = 1.0;
+    if bounce > 0u {
+        if path.strategy == STRATEGY_LIGHT {
+            w = 0.0;
+        } else if path.strategy == STRATEGY_BOTH {
+            w = power_heuristic(bsdf_pdf_prev, sphere_light_pdf(path_sphere_light(), origin, dir));
+        }
+    }
+    return w * sphere_light_radiance(path_sphere_light());
+}
+
+// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre, the
+// others at the sampler's image-plane dimensions. Trace, and at each of up to `bounces` hits add
+// the direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
+// sun, one that meets the sphere light first its emission. The last scattered ray is traced for
+// that alone.
+fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
+    var s = vec2<f32>(0.5, 0.5);
+    if sample > 0u {
+        s = vec2<f32>(path_random(i, j, sample, DIM_PIXEL), path_random(i, j, sample, DIM_PIXEL + 1u));
+    }
+    var dir = camera_ray_at(Real(i) + Real(s.x), Real(j) + Real(s.y));
+    var origin = params.eye;
+    var throughput = vec3<f32>(1.0);
+    var radiance = vec3<f32>(0.0);
+    var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false);
+    var pdf_prev: f32 = 0.0;
+    let light_on = params.light_radius > 0.0 && any(path.light_intensity > vec3<f32>(0.0));
+    for (var bounce = 0u; bounce <= path.bounces; bounce++) {
+        let bounds = intersect_bounds(origin, dir);
+        var trace = Trace(0.0, 0u, false);
+        if bounds.hit {
+            var eps_slope: Real = 0.0;
+            if bounce == 0u {
+                eps_slope = params.pixel_epsilon * params.pixel_angle;
+            }
+            trace = sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, eps_slope);
+        }
+        if bounce == 0u {
+            result.depth = trace.t;
+            result.steps = trace.steps;
+            result.hit = trace.hit;
+        }
+        let dir32 = vec3<f32>(dir);
+        if light_on {
+            let light = path_sphere_light();
+            let t_light = intersect_sphere(vec3<f32>(origin), dir32, light.center, light.radius);
+            if t_light > 0.0 && (!trace.hit || Real(t_light) < trace.t) {
+                let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
+                radiance += clamp_indirect(throughput * e, bounce);
+                break;
+            }
+        }
+        if !trace.hit {
+            radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), bounce);
+            break;
+        }
+        if bounce == path.bounces {
+            break;
+        }
+        let p = origin + trace.t * dir;
+        let n = vec3<f32>(estimate_normal(p, dir));
+        let f = basis_from_normal(n);
+        let wo = to_local(f, -dir32);
+        if wo.z <= 0.0 {
+            break;
+        }
+        let m = path_material(p);
+        if path.strategy != STRATEGY_BSDF {
+            radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, p, f, wo, m), bounce);
+        }
+        let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
+        let bs = bsdf_sample(m, wo, path_random(i, j, sample, dim + DIM_BSDF_LOBE), u);
+        if bs.pdf <= 0.0 {
+            break;
+        }
+        throughput *= bs.f * (bs.wi.z / bs.pdf);
+        pdf_prev = bs.pdf;
+        origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(n);
+        dir = real_normalize(vec3<Real>(to_world(f, bs.wi)));
+        // Russian roulette from bounce roulette_start on: go on with probability q, the
+        // throughput's largest channel (at most 0.95), and divide by it, so the mean is kept.
+        if bounce + 1u >= path.roulette_start {
+            let q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+            if path_random(i, j, sample, dim + DIM_ROULETTE) >= q {
+                break;
+            }
+            throughput /= q;
+        }
+    }
+    result.radiance = radiance;
+    return result;
+}
+
+// One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
+// the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
+// m_(k-1)) / (k + 1)); sample 0 gives the depth and the steps.
+@compute @workgroup_size(8, 8, 1)
+fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let row = gid.y;
+    if i >= params.width || row >= params.row_count {
+        return;
+    }
+    let j = params.row_offset + row;
+    let index = (params.out_row + row) * params.row_stride + i;
+    estimates = 0u;
+    var mean = vec3<f32>(0.0);
+    var made = 0u;
+    if params.sample_start > 0u {
+        mean = accumulated[index].xyz;
+        made = out_estimates[index];
+    }
+    for (var k = params.sample_start; k < params.sample_end; k++) {
+        let r = trace_path(i, j, k);
+        mean += (r.radiance - mean) / f32(k + 1u);
+        if k == 0u {
+            out_depth[index] = select(-1.0, r.depth, r.hit);
+            out_steps[index] = r.steps;
+        }
+    }
+    accumulated[index] = vec4<f32>(mean, 0.0);
+    out_estimates[index] = made + estimates;
+    out_colour[index] = 0u;
+}

@@ -1,0 +1,350 @@
+//! The path tracer (`shading.model = "path"`): the twin of shaders/path.wgsl, same names, same
+//! order (tests/twins.rs), generic over f32 and f64 (the shader's material, light and radiance
+//! are f32 in both of its precisions). The book's chapter "Path tracing" gives the estimator.
+
+use super::bsdf::{
+    Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, to_local, to_world,
+};
+use super::light::{
+    Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
+    sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_pdf, sun_radiance,
+};
+use crate::algebra::{Real, Vec3};
+use crate::params::TraceParams;
+use crate::scene::Colouring;
+
+/// Which estimators light a hit (the MIS test's hook; scenes use both): the shader's
+/// `path.strategy`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Strategy {
+    #[default]
+    Both = 0,
+    Light = 1,
+    Bsdf = 2,
+}
+
+/// The sampler's dimensions, in the order the book states: the image plane, the lens, then per
+/// scattering event the light (choice, 2D), the BSDF (lobe, 2D) and the roulette.
+pub const DIM_PIXEL: u32 = 0;
+pub const DIM_LENS: u32 = 2;
+pub const DIM_BOUNCE: u32 = 4;
+pub const DIMS_PER_BOUNCE: u32 = 7;
+pub const DIM_LIGHT_CHOICE: u32 = 0;
+pub const DIM_LIGHT: u32 = 1;
+pub const DIM_BSDF_LOBE: u32 = 3;
+pub const DIM_BSDF: u32 = 4;
+pub const DIM_ROULETTE: u32 = 6;
+
+/// Rays leave a hit from p + SURFACE_OFFSET epsilon n: the estimate is about half the true
+/// distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold.
+pub const SURFACE_OFFSET: f64 = 4.0;
+
+/// The path tracer's own parameters (the shader's `PathParams`, a second uniform; keep in
+/// sync with `GpuPathParams`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathParams<F> {
+    pub sky: Sky<F>,
+    pub sun: Sun<F>,
+    /// The sphere light's colour times its intensity; its centre and radius are the tracer's
+    /// `light` and `light_radius`.
+    pub light_intensity: Vec3<F>,
+    pub bounces: u32,
+    pub roulette_start: u32,
+    /// 0: off.
+    pub clamp_contribution: F,
+    pub sampler: u32,
+    pub strategy: Strategy,
+    pub roughness: F,
+    pub metallic: F,
+    pub specular: F,
+    pub seed: u32,
+}
+
+/// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathResult<F> {
+    pub radiance: Vec3<F>,
+    pub depth: F,
+    pub steps: u32,
+    pub hit: bool,
+}
+
+fn max3<F: Real>(c: Vec3<F>) -> F {
+    c.x.max(c.y.max(c.z))
+}
+
+fn any_positive<F: Real>(c: Vec3<F>) -> bool {
+    c.x > F::zero() || c.y > F::zero() || c.z > F::zero()
+}
+
+impl<F: Real> TraceParams<F> {
+    /// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j).
+    pub fn path_random(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32, dim: u32) -> F {
+        let pixel = j.wrapping_mul(self.width).wrapping_add(i);
+        let mut h = pixel.wrapping_mul(0x9e37_79b9)
+            ^ sample.wrapping_mul(0x85eb_ca6b)
+            ^ dim.wrapping_mul(0xc2b2_ae35)
+            ^ path.seed;
+        h ^= h >> 16;
+        h = h.wrapping_mul(0x7feb_352d);
+        h ^= h >> 15;
+        h = h.wrapping_mul(0x846c_a68b);
+        h ^= h >> 16;
+        F::lit((h >> 8) as f64 * (1.0 / 16_777_216.0))
+    }
+
+    pub fn path_sky(&self, path: &PathParams<F>) -> Sky<F> {
+        path.sky
+    }
+
+    pub fn path_sun(&self, path: &PathParams<F>) -> Sun<F> {
+        path.sun
+    }
+
+    pub fn path_sphere_light(&self, path: &PathParams<F>) -> SphereLight<F> {
+        SphereLight {
+            center: self.light,
+            radius: self.light_radius,
+            intensity: path.light_intensity,
+        }
+    }
+
+    /// The hit's material: the albedo is the diffuse colour, or the orbit trap's palette
+    /// colour.
+    pub fn path_material(&self, path: &PathParams<F>, p: Vec3<F>) -> Material<F> {
+        let mut albedo = self.diffuse;
+        if self.colouring == Colouring::OrbitTrap {
+            albedo = self.palette(self.orbit_trap(self.slice_point(p)));
+        }
+        Material {
+            albedo,
+            roughness: path.roughness,
+            metallic: path.metallic,
+            specular: path.specular,
+        }
+    }
+
+    /// Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray,
+    /// the tracer's own sphere trace (no pixel epsilon) within the bounding ball.
+    pub fn unoccluded(&self, origin: Vec3<F>, dir: Vec3<F>, t_max: F) -> bool {
+        let bounds = self.intersect_bounds(origin, dir);
+        let t_end = bounds.t_exit.min(t_max);
+        if !bounds.hit || bounds.t_enter >= t_end {
+            return true;
+        }
+        !self
+            .sphere_trace(origin, dir, bounds.t_enter, t_end, F::zero())
+            .hit
+    }
+
+    /// A contribution after the first scattering event, clamped: scaled so that its largest
+    /// channel is at most `clamp_contribution` (0: off).
+    pub fn clamp_indirect(&self, path: &PathParams<F>, c: Vec3<F>, bounce: u32) -> Vec3<F> {
+        let m = max3(c);
+        if bounce == 0 || path.clamp_contribution <= F::zero() || m <= path.clamp_contribution {
+            return c;
+        }
+        c * (path.clamp_contribution / m)
+    }
+
+    /// Next-event estimation at a hit: the sun and the sphere light, each by one sample toward
+    /// it and a shadow ray, weighted against BSDF sampling by the power heuristic.
+    #[allow(clippy::too_many_arguments)]
+    pub fn direct_light(
+        &self,
+        path: &PathParams<F>,
+        (i, j, sample): (u32, u32, u32),
+        bounce: u32,
+        p: Vec3<F>,
+        f: Basis<F>,
+        wo: Vec3<F>,
+        m: Material<F>,
+    ) -> Vec3<F> {
+        let mut sum = Vec3::zero();
+        let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+        let u = crate::algebra::Vec2::new(
+            self.path_random(path, i, j, sample, dim + DIM_LIGHT),
+            self.path_random(path, i, j, sample, dim + DIM_LIGHT + 1),
+        );
+        let origin = p + f.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+        if any_positive(path.sun.irradiance) {
+            let ls = sample_sun(self.path_sun(path), u);
+            let wi = to_local(f, ls.wi);
+            if wi.z > F::zero() && self.unoccluded(origin, ls.wi, F::lit(3.0e38)) {
+                let mut w = F::one();
+                if path.strategy == Strategy::Both {
+                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                }
+                sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf);
+            }
+        }
+        if any_positive(path.light_intensity) {
+            let light = self.path_sphere_light(path);
+            let ls = sample_sphere_light(light, p, u);
+            let wi = to_local(f, ls.wi);
+            if ls.pdf > F::zero() && wi.z > F::zero() && self.unoccluded(origin, ls.wi, ls.distance)
+            {
+                if ls.delta {
+                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * wi.z;
+                } else {
+                    let mut w = F::one();
+                    if path.strategy == Strategy::Both {
+                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                    }
+                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf);
+                }
+            }
+        }
+        sum
+    }
+
+    /// The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
+    /// weighted against next-event estimation (`bsdf_pdf_prev` the density the ray was drawn
+    /// with; a camera ray, drawn with no density, sees the sun whole).
+    pub fn escaped(
+        &self,
+        path: &PathParams<F>,
+        dir: Vec3<F>,
+        bounce: u32,
+        bsdf_pdf_prev: F,
+    ) -> Vec3<F> {
+        let mut c = sky_radiance(self.path_sky(path), dir);
+        if any_positive(path.sun.irradiance) {
+            let mut w = F::one();
+            if bounce > 0 {
+                if path.strategy == Strategy::Light {
+                    w = F::zero();
+                } else if path.strategy == Strategy::Both {
+                    w = power_heuristic(bsdf_pdf_prev, sun_pdf(self.path_sun(path), dir));
+                }
+            }
+            c += sun_radiance(self.path_sun(path), dir) * w;
+        }
+        c
+    }
+
+    /// The emission of the sphere light seen along a ray from `origin`, weighted as
+    /// [`Self::escaped`] weights the sun.
+    pub fn light_emission(
+        &self,
+        path: &PathParams<F>,
+        origin: Vec3<F>,
+        dir: Vec3<F>,
+        bounce: u32,
+        bsdf_pdf_prev: F,
+    ) -> Vec3<F> {
+        let light = self.path_sphere_light(path);
+        let mut w = F::one();
+        if bounce > 0 {
+            if path.strategy == Strategy::Light {
+                w = F::zero();
+            } else if path.strategy == Strategy::Both {
+                w = power_heuristic(bsdf_pdf_prev, sphere_light_pdf(light, origin, dir));
+            }
+        }
+        sphere_light_radiance(light) * w
+    }
+
+    /// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre,
+    /// the others at the sampler's image-plane dimensions. Trace, and at each of up to
+    /// `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves the
+    /// region takes the sky and the sun, one that meets the sphere light first its emission.
+    /// The last scattered ray is traced for that alone.
+    pub fn trace_path(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> PathResult<F> {
+        let half = F::lit(0.5);
+        let mut s = (half, half);
+        if sample > 0 {
+            s = (
+                self.path_random(path, i, j, sample, DIM_PIXEL),
+                self.path_random(path, i, j, sample, DIM_PIXEL + 1),
+            );
+        }
+        let mut dir = self.camera_ray_at(F::lit(i as f64) + s.0, F::lit(j as f64) + s.1);
+        let mut origin = self.eye;
+        let mut throughput = Vec3::splat(F::one());
+        let mut radiance = Vec3::zero();
+        let mut result = PathResult {
+            radiance: Vec3::zero(),
+            depth: -F::one(),
+            steps: 0,
+            hit: false,
+        };
+        let mut pdf_prev = F::zero();
+        let light_on = self.light_radius > F::zero() && any_positive(path.light_intensity);
+        for bounce in 0..=path.bounces {
+            let bounds = self.intersect_bounds(origin, dir);
+            let mut trace = super::trace::Trace {
+                t: F::zero(),
+                steps: 0,
+                hit: false,
+            };
+            if bounds.hit {
+                let mut eps_slope = F::zero();
+                if bounce == 0 {
+                    eps_slope = self.pixel_epsilon * self.pixel_angle;
+                }
+                trace = self.sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, eps_slope);
+            }
+            if bounce == 0 {
+                result.depth = trace.t;
+                result.steps = trace.steps;
+                result.hit = trace.hit;
+            }
+            if light_on {
+                let light = self.path_sphere_light(path);
+                let t_light = intersect_sphere(origin, dir, light.center, light.radius);
+                if t_light > F::zero() && (!trace.hit || t_light < trace.t) {
+                    let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
+                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), bounce);
+                    break;
+                }
+            }
+            if !trace.hit {
+                let e = self.escaped(path, dir, bounce, pdf_prev);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(e), bounce);
+                break;
+            }
+            if bounce == path.bounces {
+                break;
+            }
+            let p = origin + dir * trace.t;
+            let n = self.estimate_normal(p, dir);
+            let f = basis_from_normal(n);
+            let wo = to_local(f, -dir);
+            if wo.z <= F::zero() {
+                break;
+            }
+            let m = self.path_material(path, p);
+            if path.strategy != Strategy::Bsdf {
+                let d = self.direct_light(path, (i, j, sample), bounce, p, f, wo, m);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
+            }
+            let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+            let u = crate::algebra::Vec2::new(
+                self.path_random(path, i, j, sample, dim + DIM_BSDF),
+                self.path_random(path, i, j, sample, dim + DIM_BSDF + 1),
+            );
+            let lobe = self.path_random(path, i, j, sample, dim + DIM_BSDF_LOBE);
+            let bs = bsdf_sample(m, wo, lobe, u);
+            if bs.pdf <= F::zero() {
+                break;
+            }
+            throughput = throughput.mul_elem(bs.f) * (bs.wi.z / bs.pdf);
+            pdf_prev = bs.pdf;
+            origin = p + n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+            dir = to_world(f, bs.wi).normalize();
+            // Russian roulette from bounce roulette_start on: go on with probability q, the
+            // throughput's largest channel (at most 0.95), and divide by it, so the mean is
+            // kept.
+            if bounce + 1 >= path.roulette_start {
+                let q = max3(throughput).min(F::lit(0.95));
+                if self.path_random(path, i, j, sample, dim + DIM_ROULETTE) >= q {
+                    break;
+                }
+                throughput = throughput / q;
+            }
+        }
+        result.radiance = radiance;
+        result
+    }
+}
