@@ -148,6 +148,14 @@ const SAMPLE: Twin = Twin {
     ],
 };
 
+const SOBOL: Twin = Twin {
+    wgsl: "shaders/sobol.wgsl",
+    rust: "src/cpu/sobol.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
 /// The source text with comments and string literals blanked out (replaced by spaces, so that
 /// nothing inside them reads as code).
 fn code_only(source: &str) -> String {
@@ -340,8 +348,13 @@ fn sample_twins_match() {
 }
 
 #[test]
+fn sobol_twins_match() {
+    check(&SOBOL);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE] {
+    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

@@ -3,6 +3,7 @@
 
 pub mod julia2d;
 pub mod sample;
+pub mod sobol;
 pub mod trace;
 
 use std::cell::Cell;

@@ -26,6 +26,11 @@ pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
+/// The path tracer's sampler (twin: src/cpu/sobol.rs); integer only, needs nothing in front of
+/// it, so that a kernel can put it before its own code.
+pub const SOBOL_WGSL: &str = include_str!("../../shaders/sobol.wgsl");
+/// The sampler's test-support kernel (src/gpu/sobol_probe.rs); needs [`SOBOL_WGSL`].
+pub const SOBOL_PROBE_WGSL: &str = include_str!("../../shaders/sobol_probe.wgsl");
 /// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
 pub const F64CHECK_WGSL: &str = include_str!("../../shaders/f64check.wgsl");
 
@@ -84,6 +89,12 @@ pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
+/// The sampler's probe (test support): the sampler alone, then the probe kernel.
+pub const SOBOL_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "sobol_probe",
+    parts: &[SOBOL_WGSL, SOBOL_PROBE_WGSL],
+};
+
 /// Every module the GPU path builds; the tests validate each with naga.
 pub const ALL_MODULES: &[ShaderModuleSource] = &[
     TRACE_MODULE,
@@ -92,6 +103,7 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     JULIA2D64_MODULE,
     F64CHECK_MODULE,
     SAMPLE_MODULE,
+    SOBOL_PROBE_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with
