@@ -46,9 +46,9 @@ fn textbook_sobol(n: u32, (s, a, m0): (u32, u32, &[u32]), bits: u32) -> f64 {
         m.push(x);
     }
     let mut x = 0u64;
-    for k in 0..bits as usize {
+    for (k, &mk) in m.iter().enumerate() {
         if (n >> k) & 1 == 1 {
-            x ^= m[k] << (bits as usize - 1 - k);
+            x ^= mk << (bits as usize - 1 - k);
         }
     }
     x as f64 / (1u64 << bits) as f64
