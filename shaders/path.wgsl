@@ -4,8 +4,8 @@
 // The book's chapter "Path tracing" gives the estimator exactly.
 //
 // Twin: src/cpu/path.rs, same names, same order (tests/twins.rs). Needs a prelude, algebra.wgsl,
-// trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl and
-// light.wgsl in front of it (src/gpu/shaders.rs). Geometry is in `Real` (f32 or f64); the
+// trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl,
+// light.wgsl and sobol.wgsl in front of it (src/gpu/shaders.rs). Geometry is in `Real` (f32 or f64); the
 // material, the light and the radiance are f32 (shaders/bsdf.wgsl says why).
 
 // The path tracer's own parameters, a second uniform beside the tracer's Params (keep in sync
@@ -28,7 +28,7 @@ struct PathParams {
     roughness: f32,
     metallic: f32,
     specular: f32,
-    seed: u32,
+    pad: u32,
 }
 
 @group(0) @binding(6) var<uniform> path: PathParams;
@@ -37,18 +37,6 @@ struct PathParams {
 const STRATEGY_BOTH: u32 = 0u;
 const STRATEGY_LIGHT: u32 = 1u;
 const STRATEGY_BSDF: u32 = 2u;
-
-// The sampler's dimensions, in the order the book states: the image plane, the lens, then per
-// scattering event the light (choice, 2D), the BSDF (lobe, 2D) and the roulette.
-const DIM_PIXEL: u32 = 0u;
-const DIM_LENS: u32 = 2u;
-const DIM_BOUNCE: u32 = 4u;
-const DIMS_PER_BOUNCE: u32 = 7u;
-const DIM_LIGHT_CHOICE: u32 = 0u;
-const DIM_LIGHT: u32 = 1u;
-const DIM_BSDF_LOBE: u32 = 3u;
-const DIM_BSDF: u32 = 4u;
-const DIM_ROULETTE: u32 = 6u;
 
 // Rays leave a hit from p + SURFACE_OFFSET epsilon n: the estimate is about half the true
 // distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold (a
@@ -63,16 +51,10 @@ struct PathResult {
     hit: bool,
 }
 
-// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j).
+// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the scene's
+// sampler (shaders/sobol.wgsl: the dimensions' order is stated there).
 fn path_random(i: u32, j: u32, sample: u32, dim: u32) -> f32 {
-    let pixel = j * params.width + i;
-    var h = pixel * 0x9e3779b9u ^ (sample * 0x85ebca6bu) ^ (dim * 0xc2b2ae35u) ^ path.seed;
-    h ^= h >> 16u;
-    h *= 0x7feb352du;
-    h ^= h >> 15u;
-    h *= 0x846ca68bu;
-    h ^= h >> 16u;
-    return f32(h >> 8u) * (1.0 / 16777216.0);
+    return to_unit(sample_bits(path.sampler, j * params.width + i, sample, dim));
 }
 
 fn path_sky() -> Sky {
@@ -121,7 +103,7 @@ fn clamp_indirect(c: vec3<f32>, bounce: u32) -> vec3<f32> {
 // and a shadow ray, weighted against BSDF sampling by the power heuristic.
 fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
-    let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+    let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
     let u = vec2<f32>(path_random(i, j, sample, dim + DIM_LIGHT), path_random(i, j, sample, dim + DIM_LIGHT + 1u));
     let origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
@@ -247,9 +229,9 @@ fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
         if path.strategy != STRATEGY_BSDF {
             radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, p, f, wo, m), bounce);
         }
-        let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
-        let bs = bsdf_sample(m, wo, path_random(i, j, sample, dim + DIM_BSDF_LOBE), u);
+        let bs = bsdf_sample(m, wo, path_random(i, j, sample, dim + DIM_BSDF_CHOICE), u);
         if bs.pdf <= 0.0 {
             break;
         }

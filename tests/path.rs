@@ -49,7 +49,6 @@ fn furnace<F: Real>(bounces: u32, roughness: f64, metallic: f64, specular: f64) 
         roughness: F::lit(roughness),
         metallic: F::lit(metallic),
         specular: F::lit(specular),
-        seed: 0,
     }
 }
 

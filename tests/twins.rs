@@ -204,6 +204,14 @@ const LIGHT: Twin = Twin {
     ],
 };
 
+const SOBOL: Twin = Twin {
+    wgsl: "shaders/sobol.wgsl",
+    rust: "src/cpu/sobol.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
 /// The source text with comments and string literals blanked out (replaced by spaces, so that
 /// nothing inside them reads as code).
 fn code_only(source: &str) -> String {
@@ -396,6 +404,11 @@ fn sample_twins_match() {
 }
 
 #[test]
+fn sobol_twins_match() {
+    check(&SOBOL);
+}
+
+#[test]
 fn bsdf_twins_match() {
     check(&BSDF);
 }
@@ -412,7 +425,9 @@ fn path_twins_match() {
 
 #[test]
 fn every_exception_has_a_reason() {
-    for twin in [&TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &BSDF, &LIGHT, &PATH] {
+    for twin in [
+        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &PATH,
+    ] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);
         }

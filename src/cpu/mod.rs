@@ -6,6 +6,7 @@ pub mod julia2d;
 pub mod light;
 pub mod path;
 pub mod sample;
+pub mod sobol;
 pub mod trace;
 
 use std::cell::Cell;

@@ -9,6 +9,10 @@ use super::light::{
     Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
     sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_pdf, sun_radiance,
 };
+use super::sobol::{
+    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
+    DIMS_PER_BOUNCE, sample_bits, to_unit,
+};
 use crate::algebra::{Real, Vec3};
 use crate::params::TraceParams;
 use crate::scene::Colouring;
@@ -22,18 +26,6 @@ pub enum Strategy {
     Light = 1,
     Bsdf = 2,
 }
-
-/// The sampler's dimensions, in the order the book states: the image plane, the lens, then per
-/// scattering event the light (choice, 2D), the BSDF (lobe, 2D) and the roulette.
-pub const DIM_PIXEL: u32 = 0;
-pub const DIM_LENS: u32 = 2;
-pub const DIM_BOUNCE: u32 = 4;
-pub const DIMS_PER_BOUNCE: u32 = 7;
-pub const DIM_LIGHT_CHOICE: u32 = 0;
-pub const DIM_LIGHT: u32 = 1;
-pub const DIM_BSDF_LOBE: u32 = 3;
-pub const DIM_BSDF: u32 = 4;
-pub const DIM_ROULETTE: u32 = 6;
 
 /// Rays leave a hit from p + SURFACE_OFFSET epsilon n: the estimate is about half the true
 /// distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold.
@@ -52,12 +44,12 @@ pub struct PathParams<F> {
     pub roulette_start: u32,
     /// 0: off.
     pub clamp_contribution: F,
+    /// `SAMPLER_SOBOL` or `SAMPLER_RANDOM` (src/cpu/sobol.rs).
     pub sampler: u32,
     pub strategy: Strategy,
     pub roughness: F,
     pub metallic: F,
     pub specular: F,
-    pub seed: u32,
 }
 
 /// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
@@ -78,19 +70,11 @@ fn any_positive<F: Real>(c: Vec3<F>) -> bool {
 }
 
 impl<F: Real> TraceParams<F> {
-    /// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j).
+    /// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the
+    /// scene's sampler (src/cpu/sobol.rs: the dimensions' order is stated there).
     pub fn path_random(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32, dim: u32) -> F {
         let pixel = j.wrapping_mul(self.width).wrapping_add(i);
-        let mut h = pixel.wrapping_mul(0x9e37_79b9)
-            ^ sample.wrapping_mul(0x85eb_ca6b)
-            ^ dim.wrapping_mul(0xc2b2_ae35)
-            ^ path.seed;
-        h ^= h >> 16;
-        h = h.wrapping_mul(0x7feb_352d);
-        h ^= h >> 15;
-        h = h.wrapping_mul(0x846c_a68b);
-        h ^= h >> 16;
-        F::lit((h >> 8) as f64 * (1.0 / 16_777_216.0))
+        F::lit(to_unit(sample_bits(path.sampler, pixel, sample, dim)) as f64)
     }
 
     pub fn path_sky(&self, path: &PathParams<F>) -> Sky<F> {
@@ -161,7 +145,7 @@ impl<F: Real> TraceParams<F> {
         m: Material<F>,
     ) -> Vec3<F> {
         let mut sum = Vec3::zero();
-        let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         let u = crate::algebra::Vec2::new(
             self.path_random(path, i, j, sample, dim + DIM_LIGHT),
             self.path_random(path, i, j, sample, dim + DIM_LIGHT + 1),
@@ -319,12 +303,12 @@ impl<F: Real> TraceParams<F> {
                 let d = self.direct_light(path, (i, j, sample), bounce, p, f, wo, m);
                 radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
             }
-            let dim = DIM_BOUNCE + bounce * DIMS_PER_BOUNCE;
+            let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
             let u = crate::algebra::Vec2::new(
                 self.path_random(path, i, j, sample, dim + DIM_BSDF),
                 self.path_random(path, i, j, sample, dim + DIM_BSDF + 1),
             );
-            let lobe = self.path_random(path, i, j, sample, dim + DIM_BSDF_LOBE);
+            let lobe = self.path_random(path, i, j, sample, dim + DIM_BSDF_CHOICE);
             let bs = bsdf_sample(m, wo, lobe, u);
             if bs.pdf <= F::zero() {
                 break;

@@ -10,6 +10,7 @@ pub mod params_json;
 pub mod path;
 mod sampler;
 pub mod shaders;
+mod sobol_probe;
 mod tracer;
 pub mod variant;
 
@@ -19,6 +20,7 @@ pub use kernel::{Kernel, KernelSpec, OutputSpec, SecondUniform, WORKGROUP_SIZE};
 pub use kernels::GpuKernels;
 pub use params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
 pub use sampler::{GpuSampleGrid, GpuSampler, SAMPLE_KERNEL};
+pub use sobol_probe::{SOBOL_PROBE_KERNEL, sobol_probe};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 

@@ -38,7 +38,7 @@ pub struct GpuPathParams {
     pub roughness: f32,
     pub metallic: f32,
     pub specular: f32,
-    pub seed: u32,
+    pub pad: u32,
 }
 
 impl GpuPathParams {
@@ -62,7 +62,7 @@ impl GpuPathParams {
             roughness: p.roughness,
             metallic: p.metallic,
             specular: p.specular,
-            seed: p.seed,
+            pad: 0,
         }
     }
 }

@@ -30,12 +30,17 @@ pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
 /// shading frame).
 pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
 /// The path tracer (twin: src/cpu/path.rs); needs a prelude, [`ALGEBRA_WGSL`], [`TRACE_WGSL`],
-/// [`BSDF_WGSL`] and [`LIGHT_WGSL`] in front.
+/// [`BSDF_WGSL`], [`LIGHT_WGSL`] and [`SOBOL_WGSL`] in front.
 pub const PATH_WGSL: &str = include_str!("../../shaders/path.wgsl");
 /// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
 pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
 /// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
 pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
+/// The path tracer's sampler (twin: src/cpu/sobol.rs); integer only, needs nothing in front of
+/// it, so that a kernel can put it before its own code.
+pub const SOBOL_WGSL: &str = include_str!("../../shaders/sobol.wgsl");
+/// The sampler's test-support kernel (src/gpu/sobol_probe.rs); needs [`SOBOL_WGSL`].
+pub const SOBOL_PROBE_WGSL: &str = include_str!("../../shaders/sobol_probe.wgsl");
 /// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
 pub const F64CHECK_WGSL: &str = include_str!("../../shaders/f64check.wgsl");
 
@@ -94,7 +99,8 @@ pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[REAL64_WGSL, F64CHECK_WGSL],
 };
 
-/// The path tracer in f32: the tracer's module, the material, the light, then the path kernel.
+/// The path tracer in f32: the tracer's module, the material, the light, the sampler, then the
+/// path kernel.
 pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "path",
     parts: &[
@@ -103,6 +109,7 @@ pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
         TRACE_WGSL,
         BSDF_WGSL,
         LIGHT_WGSL,
+        SOBOL_WGSL,
         PATH_WGSL,
     ],
 };
@@ -116,6 +123,7 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
         TRACE_WGSL,
         BSDF_WGSL,
         LIGHT_WGSL,
+        SOBOL_WGSL,
         PATH_WGSL,
     ],
 };
@@ -124,6 +132,12 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
 pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "bsdf_probe",
     parts: &[BSDF_WGSL, LIGHT_WGSL, BSDF_PROBE_WGSL],
+};
+
+/// The sampler's probe (test support): the sampler alone, then the probe kernel.
+pub const SOBOL_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "sobol_probe",
+    parts: &[SOBOL_WGSL, SOBOL_PROBE_WGSL],
 };
 
 /// Every module the GPU path builds; the tests validate each with naga.
@@ -137,6 +151,7 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     BSDF_PROBE_MODULE,
     PATH_MODULE,
     PATH64_MODULE,
+    SOBOL_PROBE_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with

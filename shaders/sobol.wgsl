@@ -1,0 +1,149 @@
+// The sampler of the path tracer (issue 19): Owen-scrambled Sobol' points in Burley's hash form
+// ("Practical Hash-based Owen Scrambling", JCGT 2020), and a plain integer hash kept for
+// comparison, in u32 arithmetic only so that every backend and the CPU draw the same bits for a
+// (pixel, sample, dimension). Stands alone: it needs no prelude and nothing of trace.wgsl, so a
+// kernel can put it in front of its own code (src/gpu/shaders.rs). The exact definition is in
+// docs/book/sampler.md.
+//
+// Twin: src/cpu/sobol.rs, function by function, with the same names in the same order
+// (tests/twins.rs).
+
+// The sampler `sobol` (sample_bits's `sampler`).
+const SAMPLER_SOBOL: u32 = 0u;
+// The sampler `random`.
+const SAMPLER_RANDOM: u32 = 1u;
+
+// The dimensions of a path, in the order they are drawn: the image plane first (2: x, y),
+// then the lens (2), then each bounce b its own DIMS_PER_BOUNCE dimensions from
+// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on: the light (its choice, then a 2D point on it), the
+// BSDF (its lobe's choice, then a 2D direction), Russian roulette (1), and one left unused so
+// that every bounce starts a new padding group (SOBOL_DIMS dimensions) and the BSDF's 2D point
+// is the first two dimensions of a group, as the image plane's is.
+
+// The image plane's 2D point: dimensions 0 and 1.
+const DIM_PIXEL: u32 = 0u;
+// The lens' 2D point: dimensions 2 and 3.
+const DIM_LENS: u32 = 2u;
+// Bounce 0's first dimension.
+const DIM_BOUNCE_BASE: u32 = 4u;
+// Dimensions each bounce takes (the last one unused).
+const DIMS_PER_BOUNCE: u32 = 8u;
+// Within a bounce: which light (1D).
+const DIM_LIGHT_CHOICE: u32 = 0u;
+// Within a bounce: the point on the light (2D).
+const DIM_LIGHT: u32 = 1u;
+// Within a bounce: which BSDF lobe (1D).
+const DIM_BSDF_CHOICE: u32 = 3u;
+// Within a bounce: the BSDF's direction (2D).
+const DIM_BSDF: u32 = 4u;
+// Within a bounce: Russian roulette (1D).
+const DIM_ROULETTE: u32 = 6u;
+
+// Dimensions of the Sobol' sequence tabulated; dimension d is Sobol' dimension d % SOBOL_DIMS
+// of the padding group d / SOBOL_DIMS (Burley's padding).
+const SOBOL_DIMS: u32 = 4u;
+// What the index shuffle's seed is salted with.
+const SEED_SHUFFLE: u32 = 0x53485546u;
+// What the scramble's seed is salted with.
+const SEED_SCRAMBLE: u32 = 0x5343524du;
+
+// The direction numbers, 32 per dimension, bit k of the index XORing in entry 32 * d + k.
+// Dimension 0 is the van der Corput sequence (1 << (31 - k): the index's bits reversed);
+// dimensions 1 to 3 follow from Joe and Kuo's primitive polynomials and initial numbers
+// (new-joe-kuo-6.21201, their dimensions 2 to 4) by Bratley and Fox's recurrence. A private
+// variable, not a const: it is indexed by a runtime value.
+var<private> SOBOL_DIRECTIONS: array<u32, 128> = array<u32, 128>(
+    0x80000000u, 0x40000000u, 0x20000000u, 0x10000000u, 0x08000000u, 0x04000000u, 0x02000000u, 0x01000000u,
+    0x00800000u, 0x00400000u, 0x00200000u, 0x00100000u, 0x00080000u, 0x00040000u, 0x00020000u, 0x00010000u,
+    0x00008000u, 0x00004000u, 0x00002000u, 0x00001000u, 0x00000800u, 0x00000400u, 0x00000200u, 0x00000100u,
+    0x00000080u, 0x00000040u, 0x00000020u, 0x00000010u, 0x00000008u, 0x00000004u, 0x00000002u, 0x00000001u,
+    0x80000000u, 0xc0000000u, 0xa0000000u, 0xf0000000u, 0x88000000u, 0xcc000000u, 0xaa000000u, 0xff000000u,
+    0x80800000u, 0xc0c00000u, 0xa0a00000u, 0xf0f00000u, 0x88880000u, 0xcccc0000u, 0xaaaa0000u, 0xffff0000u,
+    0x80008000u, 0xc000c000u, 0xa000a000u, 0xf000f000u, 0x88008800u, 0xcc00cc00u, 0xaa00aa00u, 0xff00ff00u,
+    0x80808080u, 0xc0c0c0c0u, 0xa0a0a0a0u, 0xf0f0f0f0u, 0x88888888u, 0xccccccccu, 0xaaaaaaaau, 0xffffffffu,
+    0x80000000u, 0xc0000000u, 0x60000000u, 0x90000000u, 0xe8000000u, 0x5c000000u, 0x8e000000u, 0xc5000000u,
+    0x68800000u, 0x9cc00000u, 0xee600000u, 0x55900000u, 0x80680000u, 0xc09c0000u, 0x60ee0000u, 0x90550000u,
+    0xe8808000u, 0x5cc0c000u, 0x8e606000u, 0xc5909000u, 0x6868e800u, 0x9c9c5c00u, 0xeeee8e00u, 0x5555c500u,
+    0x8000e880u, 0xc0005cc0u, 0x60008e60u, 0x9000c590u, 0xe8006868u, 0x5c009c9cu, 0x8e00eeeeu, 0xc5005555u,
+    0x80000000u, 0xc0000000u, 0x20000000u, 0x50000000u, 0xf8000000u, 0x74000000u, 0xa2000000u, 0x93000000u,
+    0xd8800000u, 0x25400000u, 0x59e00000u, 0xe6d00000u, 0x78080000u, 0xb40c0000u, 0x82020000u, 0xc3050000u,
+    0x208f8000u, 0x51474000u, 0xfbea2000u, 0x75d93000u, 0xa0858800u, 0x914e5400u, 0xdbe79e00u, 0x25db6d00u,
+    0x58800080u, 0xe54000c0u, 0x79e00020u, 0xb6d00050u, 0x800800f8u, 0xc00c0074u, 0x200200a2u, 0x50050093u,
+);
+
+// A 32-bit integer hash: the PCG hash (Jarzynski and Olano, "Hash Functions for GPU
+// Rendering", JCGT 2020), one LCG step then PCG's output permutation.
+fn sampler_hash(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Three numbers hashed into one: each folded into the hash of those before it.
+fn hash3(a: u32, b: u32, c: u32) -> u32 {
+    return sampler_hash(sampler_hash(sampler_hash(a) ^ b) ^ c);
+}
+
+// A Laine-Karras style permutation of x: each output bit is the input bit flipped by a function
+// of the bits below it and the seed (multiplications by even numbers and the addition carry
+// upwards only). The steps and constants are Burley's.
+fn laine_karras(x: u32, seed: u32) -> u32 {
+    var v = x;
+    v ^= v * 0x3d20adeau;
+    v = v + seed;
+    v = v * ((seed >> 16u) | 1u);
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    return v;
+}
+
+// Nested uniform (Owen) scrambling of a 0.32 fixed-point number: laine_karras on the bits
+// reversed, so that each bit is flipped by a function of the bits above it.
+fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    return reverseBits(laine_karras(reverseBits(x), seed));
+}
+
+// Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
+// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits.
+fn sobol(index: u32, dim: u32) -> u32 {
+    var x = 0u;
+    var i = index;
+    var k = 0u;
+    while i != 0u {
+        if (i & 1u) != 0u {
+            x ^= SOBOL_DIRECTIONS[dim * 32u + k];
+        }
+        i >>= 1u;
+        k += 1u;
+    }
+    return x;
+}
+
+// The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a
+// nested uniform scramble seeded per (pixel, padding group), the point of the group's Sobol'
+// dimension there, scrambled with a seed per (pixel, dimension).
+fn sobol_sample(pixel: u32, sample: u32, dim: u32) -> u32 {
+    let group = dim / SOBOL_DIMS;
+    let index = nested_uniform_scramble(sample, hash3(pixel, group, SEED_SHUFFLE));
+    let x = sobol(index, dim % SOBOL_DIMS);
+    return nested_uniform_scramble(x, hash3(pixel, dim, SEED_SCRAMBLE));
+}
+
+// The `random` sampler's bits for (pixel, sample, dimension): the three hashed, then hashed
+// once more (so that no draw is a seed of the `sobol` sampler).
+fn random_sample(pixel: u32, sample: u32, dim: u32) -> u32 {
+    return sampler_hash(hash3(pixel, sample, dim));
+}
+
+// The bits of `sampler` (SAMPLER_SOBOL or SAMPLER_RANDOM) for (pixel, sample, dimension).
+fn sample_bits(sampler: u32, pixel: u32, sample: u32, dim: u32) -> u32 {
+    if sampler == SAMPLER_RANDOM {
+        return random_sample(pixel, sample, dim);
+    }
+    return sobol_sample(pixel, sample, dim);
+}
+
+// The bits as a number in [0, 1): the top 24 bits times 2^-24, exact in f32.
+fn to_unit(bits: u32) -> f32 {
+    return f32(bits >> 8u) * 0x1p-24f;
+}

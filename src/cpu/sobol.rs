@@ -1,0 +1,146 @@
+//! The sampler of the path tracer (issue 19), the CPU twin of shaders/sobol.wgsl: the same
+//! functions with the same names in the same order (tests/twins.rs), in u32 arithmetic only, so
+//! that the CPU and every GPU backend draw the same bits for a (pixel, sample, dimension). Two
+//! samplers: `sobol`, Owen-scrambled Sobol' points in Burley's hash form ("Practical Hash-based
+//! Owen Scrambling", JCGT 2020), and `random`, an integer hash of the three numbers kept for
+//! comparison. The exact definition is in docs/book/sampler.md. Nothing renders with it yet.
+
+/// The sampler `sobol` ([`sample_bits`]'s `sampler`).
+pub const SAMPLER_SOBOL: u32 = 0;
+/// The sampler `random`.
+pub const SAMPLER_RANDOM: u32 = 1;
+
+// The dimensions of a path, in the order they are drawn: the image plane first (2: x, y),
+// then the lens (2), then each bounce b its own DIMS_PER_BOUNCE dimensions from
+// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on: the light (its choice, then a 2D point on it), the
+// BSDF (its lobe's choice, then a 2D direction), Russian roulette (1), and one left unused so
+// that every bounce starts a new padding group (SOBOL_DIMS dimensions) and the BSDF's 2D point
+// is the first two dimensions of a group, as the image plane's is.
+
+/// The image plane's 2D point: dimensions 0 and 1.
+pub const DIM_PIXEL: u32 = 0;
+/// The lens' 2D point: dimensions 2 and 3.
+pub const DIM_LENS: u32 = 2;
+/// Bounce 0's first dimension.
+pub const DIM_BOUNCE_BASE: u32 = 4;
+/// Dimensions each bounce takes (the last one unused).
+pub const DIMS_PER_BOUNCE: u32 = 8;
+/// Within a bounce: which light (1D).
+pub const DIM_LIGHT_CHOICE: u32 = 0;
+/// Within a bounce: the point on the light (2D).
+pub const DIM_LIGHT: u32 = 1;
+/// Within a bounce: which BSDF lobe (1D).
+pub const DIM_BSDF_CHOICE: u32 = 3;
+/// Within a bounce: the BSDF's direction (2D).
+pub const DIM_BSDF: u32 = 4;
+/// Within a bounce: Russian roulette (1D).
+pub const DIM_ROULETTE: u32 = 6;
+
+/// Dimensions of the Sobol' sequence tabulated; dimension d is Sobol' dimension d % SOBOL_DIMS
+/// of the padding group d / SOBOL_DIMS (Burley's padding).
+pub const SOBOL_DIMS: u32 = 4;
+/// What the index shuffle's seed is salted with.
+pub const SEED_SHUFFLE: u32 = 0x5348_5546;
+/// What the scramble's seed is salted with.
+pub const SEED_SCRAMBLE: u32 = 0x5343_524d;
+
+/// The direction numbers, 32 per dimension, bit k of the index XORing in entry 32 * d + k.
+/// Dimension 0 is the van der Corput sequence (1 << (31 - k): the index's bits reversed);
+/// dimensions 1 to 3 follow from Joe and Kuo's primitive polynomials and initial numbers
+/// (new-joe-kuo-6.21201, their dimensions 2 to 4: s = 1, a = 0, m = 1; s = 2, a = 1, m = 1 3;
+/// s = 3, a = 1, m = 1 3 1) by Bratley and Fox's recurrence (tests/sobol.rs derives them again).
+pub const SOBOL_DIRECTIONS: [u32; 128] = [
+    0x80000000, 0x40000000, 0x20000000, 0x10000000, 0x08000000, 0x04000000, 0x02000000, 0x01000000,
+    0x00800000, 0x00400000, 0x00200000, 0x00100000, 0x00080000, 0x00040000, 0x00020000, 0x00010000,
+    0x00008000, 0x00004000, 0x00002000, 0x00001000, 0x00000800, 0x00000400, 0x00000200, 0x00000100,
+    0x00000080, 0x00000040, 0x00000020, 0x00000010, 0x00000008, 0x00000004, 0x00000002, 0x00000001,
+    0x80000000, 0xc0000000, 0xa0000000, 0xf0000000, 0x88000000, 0xcc000000, 0xaa000000, 0xff000000,
+    0x80800000, 0xc0c00000, 0xa0a00000, 0xf0f00000, 0x88880000, 0xcccc0000, 0xaaaa0000, 0xffff0000,
+    0x80008000, 0xc000c000, 0xa000a000, 0xf000f000, 0x88008800, 0xcc00cc00, 0xaa00aa00, 0xff00ff00,
+    0x80808080, 0xc0c0c0c0, 0xa0a0a0a0, 0xf0f0f0f0, 0x88888888, 0xcccccccc, 0xaaaaaaaa, 0xffffffff,
+    0x80000000, 0xc0000000, 0x60000000, 0x90000000, 0xe8000000, 0x5c000000, 0x8e000000, 0xc5000000,
+    0x68800000, 0x9cc00000, 0xee600000, 0x55900000, 0x80680000, 0xc09c0000, 0x60ee0000, 0x90550000,
+    0xe8808000, 0x5cc0c000, 0x8e606000, 0xc5909000, 0x6868e800, 0x9c9c5c00, 0xeeee8e00, 0x5555c500,
+    0x8000e880, 0xc0005cc0, 0x60008e60, 0x9000c590, 0xe8006868, 0x5c009c9c, 0x8e00eeee, 0xc5005555,
+    0x80000000, 0xc0000000, 0x20000000, 0x50000000, 0xf8000000, 0x74000000, 0xa2000000, 0x93000000,
+    0xd8800000, 0x25400000, 0x59e00000, 0xe6d00000, 0x78080000, 0xb40c0000, 0x82020000, 0xc3050000,
+    0x208f8000, 0x51474000, 0xfbea2000, 0x75d93000, 0xa0858800, 0x914e5400, 0xdbe79e00, 0x25db6d00,
+    0x58800080, 0xe54000c0, 0x79e00020, 0xb6d00050, 0x800800f8, 0xc00c0074, 0x200200a2, 0x50050093,
+];
+
+/// A 32-bit integer hash: the PCG hash (Jarzynski and Olano, "Hash Functions for GPU
+/// Rendering", JCGT 2020), one LCG step then PCG's output permutation.
+pub fn sampler_hash(x: u32) -> u32 {
+    let state = x.wrapping_mul(747796405).wrapping_add(2891336453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277803737);
+    (word >> 22) ^ word
+}
+
+/// Three numbers hashed into one: each folded into the hash of those before it.
+pub fn hash3(a: u32, b: u32, c: u32) -> u32 {
+    sampler_hash(sampler_hash(sampler_hash(a) ^ b) ^ c)
+}
+
+/// A Laine-Karras style permutation of x: each output bit is the input bit flipped by a function
+/// of the bits below it and the seed (multiplications by even numbers and the addition carry
+/// upwards only). The steps and constants are Burley's.
+pub fn laine_karras(x: u32, seed: u32) -> u32 {
+    let mut v = x;
+    v ^= v.wrapping_mul(0x3d20adea);
+    v = v.wrapping_add(seed);
+    v = v.wrapping_mul((seed >> 16) | 1);
+    v ^= v.wrapping_mul(0x05526c56);
+    v ^= v.wrapping_mul(0x53a22864);
+    v
+}
+
+/// Nested uniform (Owen) scrambling of a 0.32 fixed-point number: [`laine_karras`] on the bits
+/// reversed, so that each bit is flipped by a function of the bits above it.
+pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
+/// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits.
+pub fn sobol(index: u32, dim: u32) -> u32 {
+    let mut x = 0u32;
+    let mut i = index;
+    let mut k = 0u32;
+    while i != 0 {
+        if (i & 1) != 0 {
+            x ^= SOBOL_DIRECTIONS[(dim * 32 + k) as usize];
+        }
+        i >>= 1;
+        k += 1;
+    }
+    x
+}
+
+/// The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a
+/// nested uniform scramble seeded per (pixel, padding group), the point of the group's Sobol'
+/// dimension there, scrambled with a seed per (pixel, dimension).
+pub fn sobol_sample(pixel: u32, sample: u32, dim: u32) -> u32 {
+    let group = dim / SOBOL_DIMS;
+    let index = nested_uniform_scramble(sample, hash3(pixel, group, SEED_SHUFFLE));
+    let x = sobol(index, dim % SOBOL_DIMS);
+    nested_uniform_scramble(x, hash3(pixel, dim, SEED_SCRAMBLE))
+}
+
+/// The `random` sampler's bits for (pixel, sample, dimension): the three hashed, then hashed
+/// once more (so that no draw is a seed of the `sobol` sampler).
+pub fn random_sample(pixel: u32, sample: u32, dim: u32) -> u32 {
+    sampler_hash(hash3(pixel, sample, dim))
+}
+
+/// The bits of `sampler` (SAMPLER_SOBOL or SAMPLER_RANDOM) for (pixel, sample, dimension).
+pub fn sample_bits(sampler: u32, pixel: u32, sample: u32, dim: u32) -> u32 {
+    if sampler == SAMPLER_RANDOM {
+        return random_sample(pixel, sample, dim);
+    }
+    sobol_sample(pixel, sample, dim)
+}
+
+/// The bits as a number in [0, 1): the top 24 bits times 2^-24, exact in f32.
+pub fn to_unit(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+}
