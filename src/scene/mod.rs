@@ -233,7 +233,7 @@ scene_schema! {
                 "the plane in focus, {range} from the eye along the view (0 = |target - eye|)";
             /// The aperture's shape: 0 a disc, 3..16 a regular polygon of that many blades
             /// inscribed in the disc (1 and 2 are refused).
-            blades: u32 = 0, integer(0, 16), slider(0, 16),
+            blades: u32 = 0, integer(0, 16),
                 "0 = a round aperture, 3..16 a regular polygon of that many blades ({range}, not 1 or 2)";
             /// The polygon's turn about the view direction, in degrees (its first corner
             /// toward camera right at 0).
