@@ -6,6 +6,7 @@
 
 mod common;
 
+use qjulia::compare::CONTRACT_TOLERANCE;
 use qjulia::{Frame, Picture, Precision, Scene, TraceParams, cpu};
 
 /// The CPU's frame in `precision`, as `--backend cpu` renders it.
@@ -438,4 +439,70 @@ fn lens_points_cover_the_aperture_uniformly() {
     );
     let (u, v) = cpu::trace::lens_position(4095);
     assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
+}
+
+/// The GPU (f32 and f64) and the CPU agree on a lens picture of the seed's set, round and
+/// polygonal, with cone tracing (whose start lens rays skip), within the contract's tolerance.
+#[test]
+fn gpu_and_cpu_agree_through_the_lens() {
+    let Some(gpu) = common::gpu("thin lens gpu vs cpu") else {
+        return;
+    };
+    let gpu64 = qjulia::gpu::GpuTracer::new_f64(gpu.context().clone()).expect("f64 on the GPU");
+    for sets in [
+        &["camera.aperture=0.15", "camera.focus_distance=2.2"][..],
+        &[
+            "camera.aperture=0.1",
+            "camera.blades=5",
+            "camera.blade_rotation=12",
+            "fractal.tracing=\"cone\"",
+        ][..],
+    ] {
+        let mut all = vec!["image.width=64", "image.height=48", "image.samples=8"];
+        all.extend(sets);
+        let scene = common::scene(&all);
+        let name = format!("lens {}", sets.join(" "));
+        let pinhole = {
+            let mut s = scene.clone();
+            s.camera.aperture = 0.0;
+            cpu_frame(&s, Precision::F32)
+        };
+        let expected = cpu_frame(&scene, Precision::F32);
+        assert_ne!(pinhole.colour, expected.colour, "{name}: the lens blurs");
+        assert_eq!(
+            bits(&pinhole).0,
+            bits(&expected).0,
+            "{name}: depth is sample 0's"
+        );
+        assert_eq!(
+            pinhole.steps, expected.steps,
+            "{name}: steps are sample 0's"
+        );
+        if scene.fractal.tracing == qjulia::scene::Tracing::Cone {
+            // Lens rays trace from the ball: the colour (the samples' mean) is the seed
+            // tracing's within the contract's tolerance. (The depth is sample 0's, the pinhole's
+            // cone start, whose difference from the seed's is the pinhole's own.)
+            let mut seed = scene.clone();
+            seed.fractal.tracing = qjulia::scene::Tracing::Seed;
+            let seed = cpu_frame(&seed, Precision::F32);
+            let colour_only = qjulia::compare::Tolerance {
+                depth_agreement: 0.0,
+                ..CONTRACT_TOLERANCE
+            };
+            common::assert_agree(&format!("{name} vs seed"), &seed, &expected, &colour_only);
+        }
+        let actual = common::gpu_frame(gpu, &scene);
+        common::assert_agree(&name, &expected, &actual, &CONTRACT_TOLERANCE);
+        let expected64 = cpu_frame(&scene, Precision::F64);
+        let actual64 = gpu64
+            .render(&TraceParams::<f64>::new(&scene))
+            .expect("f64")
+            .frame;
+        common::assert_agree(
+            &format!("{name} f64"),
+            &expected64,
+            &actual64,
+            &CONTRACT_TOLERANCE,
+        );
+    }
 }
