@@ -155,6 +155,9 @@ fn measured_coc(variance: f64) -> f64 {
     4.0 * (variance - 1.0 / 12.0).max(0.0).sqrt()
 }
 
+/// A named way to render a scene.
+type Render<'a> = Box<dyn Fn(&Scene) -> Frame + 'a>;
+
 /// In focus the disc's edge is as sharp as the pinhole's; with the focus at 2 the same edge
 /// (at 3) blurs by the circle of confusion, within 10%; on the CPU in f32 and f64 and on the
 /// GPU.
@@ -166,7 +169,7 @@ fn the_focus_plane_stays_sharp_and_the_blur_off_it_is_the_circle_of_confusion() 
     let expected = circle_of_confusion(&blurred, DISC_DISTANCE);
     assert!((expected - 10.3).abs() < 0.1, "{expected}");
     assert_eq!(circle_of_confusion(&focused, DISC_DISTANCE), 0.0);
-    let mut renders: Vec<(&str, Box<dyn Fn(&Scene) -> Frame>)> = vec![
+    let mut renders: Vec<(&str, Render)> = vec![
         ("cpu f32", Box::new(|s| cpu_frame(s, Precision::F32))),
         ("cpu f64", Box::new(|s| cpu_frame(s, Precision::F64))),
     ];
