@@ -53,6 +53,11 @@ struct Params {
     ambient: Real,
     occlusion: Real,
     trap_radius: Real,
+    // The thin lens (depth of field): its radius (0: the pinhole), the focus plane's distance
+    // along cam_forward, and the polygon's turn in radians.
+    aperture: Real,
+    focus_distance: Real,
+    blade_rotation: Real,
     max_iterations: u32,
     max_steps: u32,
     width: u32,
@@ -66,6 +71,8 @@ struct Params {
     samples: u32,
     colouring: u32,
     cut: u32,
+    // The aperture's blades: 0 round, 3..16 a regular polygon.
+    blades: u32,
     // This dispatch's: the band of rows, where it lands (row_stride, out_row: see the outputs
     // below), and the samples it adds, [sample_start, sample_end).
     row_offset: u32,
@@ -97,12 +104,14 @@ override SHADE: bool = true;
 override CONE_TRACING: bool = false;
 override ALGEBRA_PARTS: u32 = 1u;
 // The picture's features (each off in the seed's look): samples > 1, light radius > 0 (with
-// shadows), occlusion > 0, orbit-trap colouring, the cut.
+// shadows), occlusion > 0, orbit-trap colouring, the cut, the lens.
 override SAMPLES: bool = true;
 override SOFT_SHADOWS: bool = true;
 override OCCLUSION: bool = true;
 override ORBIT_TRAP: bool = true;
 override CUT: bool = true;
+// The thin lens: aperture > 0 with samples > 1 (sample 0 is always the pinhole's).
+override LENS: bool = true;
 
 // params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.
 const COLOURING_FLAT: u32 = 0u;
@@ -612,8 +621,9 @@ fn shading_features() -> bool {
 // the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
-// phong's colour, shadowed as trace_pixel does.
-fn shade_features(p: vec3<Real>, n: vec3<Real>) -> vec3<Real> {
+// phong's colour, shadowed as trace_pixel does. The viewer is at eye: the ray's origin (the
+// camera's eye, or a point of the lens).
+fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     var base = params.diffuse;
     if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
         base = palette(orbit_trap(slice_point(p)));
@@ -624,7 +634,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>) -> vec3<Real> {
     }
     let ambient = params.ambient * a * base;
     let l = safe_normalize(params.light - p, n);
-    let e = safe_normalize(params.eye - p, n);
+    let e = safe_normalize(eye - p, n);
     let n_dot_l = dot(n, l);
     if n_dot_l <= 0.0 {
         return ambient;
@@ -663,6 +673,61 @@ fn camera_ray_at(x: Real, y: Real) -> vec3<Real> {
 fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
     let s = sample_position(sample);
     return camera_ray_at(Real(i) + s.x, Real(j) + s.y);
+}
+
+// Whether sample `sample` goes through the thin lens: aperture > 0, and not sample 0 (always the
+// pinhole's ray through the pixel's centre, which gives the depth and the steps).
+fn lens_sample(sample: u32) -> bool {
+    if SPECIALISED && !LENS {
+        return false;
+    }
+    return sample > 0u && params.aperture > 0.0;
+}
+
+// A ray: its origin and its unit direction.
+struct Ray {
+    origin: vec3<Real>,
+    dir: vec3<Real>,
+}
+
+// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j): the pinhole ray through the
+// sample's image-plane point (px, py), direction f + px r + py u, meets the focus plane (at
+// focus_distance along f) at eye + focus_distance (f + px r + py u); the ray leaves the lens at
+// eye + aperture (x r + y u), (x, y) = lens_point(k) on the unit aperture, toward that point.
+fn lens_ray(i: u32, j: u32, sample: u32) -> Ray {
+    let s = sample_position(sample);
+    let x = Real(i) + s.x;
+    let y = Real(j) + s.y;
+    let px = (2.0 * x / Real(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
+    let py = (1.0 - 2.0 * y / Real(params.height)) * params.tan_half_fov_y;
+    let lens = params.aperture * vec2<Real>(lens_point(sample));
+    let offset = lens.x * params.cam_right + lens.y * params.cam_up;
+    let focus = params.focus_distance * (params.cam_forward + px * params.cam_right + py * params.cam_up);
+    return Ray(params.eye + offset, real_normalize(focus - offset));
+}
+
+// Sample k's point on the unit aperture, in f32 (its trigonometry too: the f64 kernels take no
+// f64 sin or cos), from its lens position (u, v) = lens_position(k) and the turn
+// rotation = blade_rotation: for a round aperture (blades 0) the polar map
+// sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the disc); for n blades the
+// regular n-gon inscribed in the unit circle with corners c_m = (cos a_m, sin a_m),
+// a_m = 2 pi m / n + rotation, uniform over it: the triangle (0, c_m, c_m+1) with
+// m = floor(n u), then with a = n u - m and b = v the point sqrt(a) ((1 - b) c_m + b c_m+1).
+fn lens_point(k: u32) -> vec2<f32> {
+    let uv = lens_position(k);
+    let rotation = f32(params.blade_rotation);
+    if params.blades == 0u {
+        let phi = 6.2831855 * uv.y + rotation;
+        return sqrt(uv.x) * vec2<f32>(cos(phi), sin(phi));
+    }
+    let n = f32(params.blades);
+    let m = min(floor(n * uv.x), n - 1.0);
+    let a = n * uv.x - m;
+    let a0 = 6.2831855 * (m / n) + rotation;
+    let a1 = 6.2831855 * ((m + 1.0) / n) + rotation;
+    let c0 = vec2<f32>(cos(a0), sin(a0));
+    let c1 = vec2<f32>(cos(a1), sin(a1));
+    return sqrt(a) * ((1.0 - uv.y) * c0 + uv.y * c1);
 }
 
 // Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
@@ -705,28 +770,40 @@ struct Pixel {
     hit: bool,
 }
 
-// Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the cone's
-// start, or 0), normal, Phong, shadow.
+// Everything for one sample of pixel (i, j): the ray (the pinhole's from the eye, or the thin
+// lens's), bounds, sphere tracing (from t_min on: the cone's start, or 0), normal, Phong, shadow.
+// A lens ray starts from the ball: the cone covers the block's rays from the eye, not rays from
+// elsewhere on the lens.
 fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
-    let dir = camera_ray(i, j, sample);
-    let bounds = intersect_bounds(params.eye, dir);
+    var origin = params.eye;
+    var dir: vec3<Real>;
+    var t_from = t_min;
+    if lens_sample(sample) {
+        let ray = lens_ray(i, j, sample);
+        origin = ray.origin;
+        dir = ray.dir;
+        t_from = 0.0;
+    } else {
+        dir = camera_ray(i, j, sample);
+    }
+    let bounds = intersect_bounds(origin, dir);
     if !bounds.hit {
         return Pixel(params.background, -1.0, 0u, false);
     }
-    let t_start = max(bounds.t_enter, t_min);
-    let trace = sphere_trace(params.eye, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
+    let t_start = max(bounds.t_enter, t_from);
+    let trace = sphere_trace(origin, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false);
     }
     if SPECIALISED && !SHADE {
         return Pixel(params.background, trace.t, trace.steps, true);
     }
-    let p = params.eye + trace.t * dir;
+    let p = origin + trace.t * dir;
     let n = estimate_normal(p, dir);
     if shading_features() {
-        return Pixel(shade_features(p, n), trace.t, trace.steps, true);
+        return Pixel(shade_features(p, n, origin), trace.t, trace.steps, true);
     }
-    var colour = phong(params.light, params.eye, p, n);
+    var colour = phong(params.light, origin, p, n);
     var shadows = params.shadows != 0u;
     if SPECIALISED {
         shadows = SHADOWS;
@@ -754,6 +831,25 @@ fn sample_position(k: u32) -> vec2<Real> {
         rest /= 3u;
     }
     return vec2<Real>(Real(base2) * (1.0 / 4096.0), Real(base3) * (1.0 / 6561.0));
+}
+
+// Where sample k (>= 1) lies on the lens before the aperture's map, (u, v) in [0, 1)^2: the
+// Halton point of index k in bases 5 and 7 (the sub-pixel positions take 2 and 3), from k's
+// first 6 quinary and 5 septenary digits as integers over 15625 and 16807 (k < 4096 has no more).
+fn lens_position(k: u32) -> vec2<f32> {
+    var base5 = 0u;
+    var rest = k;
+    for (var digit = 0u; digit < 6u; digit++) {
+        base5 = base5 * 5u + rest % 5u;
+        rest /= 5u;
+    }
+    var base7 = 0u;
+    rest = k;
+    for (var digit = 0u; digit < 5u; digit++) {
+        base7 = base7 * 7u + rest % 7u;
+        rest /= 7u;
+    }
+    return vec2<f32>(f32(base5) * (1.0 / 15625.0), f32(base7) * (1.0 / 16807.0));
 }
 
 // Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).

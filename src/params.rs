@@ -64,6 +64,13 @@ uniform! {
         ambient: Real = F::lit(sh.ambient),
         occlusion: Real = F::lit(sh.occlusion),
         trap_radius: Real = F::lit(sh.trap_radius),
+        /// The thin lens's radius (`camera.aperture`): 0 is the pinhole.
+        aperture: Real = F::lit(scene.camera.aperture),
+        /// The focus plane's distance along cam_forward: `camera.focus_distance`, or
+        /// |target - eye| where that is 0.
+        focus_distance: Real = F::lit(scene.focus_distance()),
+        /// `camera.blade_rotation` in radians.
+        blade_rotation: Real = F::lit(scene.camera.blade_rotation.to_radians()),
         max_iterations: u32 = f.max_iterations,
         max_steps: u32 = f.max_steps,
         width: u32 = scene.image.width,
@@ -78,6 +85,8 @@ uniform! {
         colouring: Colouring = sh.colouring,
         /// Whether the set is cut by the half-space cut_normal . p <= cut_offset.
         cut: bool = scene.cut.enabled,
+        /// The aperture's blades (`camera.blades`): 0 round, 3..16 a regular polygon.
+        blades: u32 = scene.camera.blades,
     }
     per_dispatch(p, row_offset, row_count) {
         /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).

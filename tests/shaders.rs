@@ -231,8 +231,8 @@ fn every_specialised_variant_validates() {
     use qjulia::gpu::Variant;
     use qjulia::gpu::shaders::TRACE64_MODULE;
     let variants = Variant::all();
-    // 576 base variants, each with none, each one and all five of the picture's features.
-    assert_eq!(variants.len(), 576 * 7);
+    // 576 base variants, each with none, each one and all six of the picture's features.
+    assert_eq!(variants.len(), 576 * 8);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
         let module = validate_wgsl(&source.source()).unwrap();
         let info = naga::valid::Validator::new(

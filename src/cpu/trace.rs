@@ -45,6 +45,13 @@ pub struct Trace<F> {
     pub hit: bool,
 }
 
+/// A ray: its origin and its unit direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray<F> {
+    pub origin: Vec3<F>,
+    pub dir: Vec3<F>,
+}
+
 /// One pixel's outcome.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel<F> {
@@ -524,7 +531,8 @@ impl<F: Real> TraceParams<F> {
     /// in a penumbra): ambient A B + (shadow_factor + (1 - shadow_factor) V)
     /// (A (B + normal_tint |n|) max(N.L, 0) + highlight), the highlight as in phong. With
     /// ambient 0, A 1 and a point light it is phong's colour, shadowed as trace_pixel does.
-    pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>) -> Vec3<F> {
+    /// The viewer is at `eye`: the ray's origin (the camera's eye, or a point of the lens).
+    pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>, eye: Vec3<F>) -> Vec3<F> {
         let mut base = self.diffuse;
         if self.colouring == Colouring::OrbitTrap {
             base = self.palette(self.orbit_trap(self.slice_point(p)));
@@ -535,7 +543,7 @@ impl<F: Real> TraceParams<F> {
         }
         let ambient = base * (self.ambient * a);
         let l = safe_normalize(self.light - p, n);
-        let e = safe_normalize(self.eye - p, n);
+        let e = safe_normalize(eye - p, n);
         let n_dot_l = n.dot(l);
         if n_dot_l <= F::zero() {
             return ambient;
@@ -576,6 +584,66 @@ impl<F: Real> TraceParams<F> {
         self.camera_ray_at(F::lit(i as f64) + sx, F::lit(j as f64) + sy)
     }
 
+    /// Whether sample `sample` goes through the thin lens: aperture > 0, and not sample 0
+    /// (always the pinhole's ray through the pixel's centre, which gives the depth and the
+    /// steps).
+    pub fn lens_sample(&self, sample: u32) -> bool {
+        sample > 0 && self.aperture > F::zero()
+    }
+
+    /// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j): the pinhole ray through
+    /// the sample's image-plane point (px, py), direction f + px r + py u, meets the focus plane
+    /// (at focus_distance along f) at eye + focus_distance (f + px r + py u); the ray leaves the
+    /// lens at eye + aperture (x r + y u), (x, y) = lens_point(k) on the unit aperture, toward
+    /// that point.
+    pub fn lens_ray(&self, i: u32, j: u32, sample: u32) -> Ray<F> {
+        let (one, two) = (F::one(), F::lit(2.0));
+        let (sx, sy) = sample_position::<F>(sample);
+        let x = F::lit(i as f64) + sx;
+        let y = F::lit(j as f64) + sy;
+        let px = (two * x / F::lit(self.width as f64) - one) * self.tan_half_fov_y * self.aspect;
+        let py = (one - two * y / F::lit(self.height as f64)) * self.tan_half_fov_y;
+        let (lx, ly) = self.lens_point(sample);
+        let (lx, ly) = (
+            self.aperture * F::lit(lx as f64),
+            self.aperture * F::lit(ly as f64),
+        );
+        let offset = self.cam_right * lx + self.cam_up * ly;
+        let focus =
+            (self.cam_forward + self.cam_right * px + self.cam_up * py) * self.focus_distance;
+        Ray {
+            origin: self.eye + offset,
+            dir: (focus - offset).normalize(),
+        }
+    }
+
+    /// Sample k's point on the unit aperture, in f32 (its trigonometry too, as the f64 kernels
+    /// do), from its lens position (u, v) = lens_position(k) and the turn
+    /// rotation = blade_rotation: for a round aperture (blades 0) the polar map
+    /// sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the disc); for n blades
+    /// the regular n-gon inscribed in the unit circle with corners c_m = (cos a_m, sin a_m),
+    /// a_m = 2 pi m / n + rotation, uniform over it: the triangle (0, c_m, c_m+1) with
+    /// m = floor(n u), then with a = n u - m and b = v the point sqrt(a) ((1 - b) c_m + b c_m+1).
+    pub fn lens_point(&self, k: u32) -> (f32, f32) {
+        let (u, v) = lens_position(k);
+        let rotation = self.blade_rotation.to_f64() as f32;
+        if self.blades == 0 {
+            let phi = 6.283_185_5_f32 * v + rotation;
+            let r = u.sqrt();
+            return (r * phi.cos(), r * phi.sin());
+        }
+        let n = self.blades as f32;
+        let m = (n * u).floor().min(n - 1.0);
+        let a = n * u - m;
+        let a0 = 6.283_185_5_f32 * (m / n) + rotation;
+        let a1 = 6.283_185_5_f32 * ((m + 1.0) / n) + rotation;
+        let r = a.sqrt();
+        (
+            r * ((1.0 - v) * a0.cos() + v * a1.cos()),
+            r * ((1.0 - v) * a0.sin() + v * a1.sin()),
+        )
+    }
+
     /// Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the
     /// ray through the block's centre, shrinking each unbounding sphere by the cone's radius at
     /// that distance (t times the tangent of the widest angle to a corner ray), so that the whole
@@ -611,8 +679,10 @@ impl<F: Real> TraceParams<F> {
         t
     }
 
-    /// Everything for one sample of pixel (i, j): bounds, sphere tracing (from t_min on: the
-    /// cone's start, or 0), normal, Phong, shadow.
+    /// Everything for one sample of pixel (i, j): the ray (the pinhole's from the eye, or the
+    /// thin lens's), bounds, sphere tracing (from t_min on: the cone's start, or 0), normal,
+    /// Phong, shadow. A lens ray starts from the ball: the cone covers the block's rays from the
+    /// eye, not rays from elsewhere on the lens.
     pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F, shade: bool) -> Pixel<F> {
         let miss = |steps| Pixel {
             colour: self.background,
@@ -620,14 +690,19 @@ impl<F: Real> TraceParams<F> {
             steps,
             hit: false,
         };
-        let dir = self.camera_ray(i, j, sample);
-        let bounds = self.intersect_bounds(self.eye, dir);
+        let (origin, dir, t_from) = if self.lens_sample(sample) {
+            let ray = self.lens_ray(i, j, sample);
+            (ray.origin, ray.dir, F::zero())
+        } else {
+            (self.eye, self.camera_ray(i, j, sample), t_min)
+        };
+        let bounds = self.intersect_bounds(origin, dir);
         if !bounds.hit {
             return miss(0);
         }
-        let t_start = bounds.t_enter.max(t_min);
+        let t_start = bounds.t_enter.max(t_from);
         let eps_slope = self.pixel_epsilon * self.pixel_angle;
-        let trace = self.sphere_trace(self.eye, dir, t_start, bounds.t_exit, eps_slope);
+        let trace = self.sphere_trace(origin, dir, t_start, bounds.t_exit, eps_slope);
         if !trace.hit {
             return miss(trace.steps);
         }
@@ -641,17 +716,17 @@ impl<F: Real> TraceParams<F> {
                 hit: true,
             };
         }
-        let p = self.eye + dir * trace.t;
+        let p = origin + dir * trace.t;
         let n = self.estimate_normal(p, dir);
         if self.shading_features() {
             return Pixel {
-                colour: self.shade_features(p, n),
+                colour: self.shade_features(p, n, origin),
                 depth: trace.t,
                 steps: trace.steps,
                 hit: true,
             };
         }
-        let mut colour = self.phong(self.light, self.eye, p, n);
+        let mut colour = self.phong(self.light, origin, p, n);
         // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
         let lit = colour.x > F::zero() || colour.y > F::zero() || colour.z > F::zero();
         if self.shadows && lit && self.in_shadow(p, n) {
@@ -683,6 +758,29 @@ pub fn sample_position<F: Real>(k: u32) -> (F, F) {
     (
         F::lit(base2 as f64) * F::lit(1.0 / 4096.0),
         F::lit(base3 as f64) * F::lit(1.0 / 6561.0),
+    )
+}
+
+/// Where sample k (>= 1) lies on the lens before the aperture's map, (u, v) in [0, 1)^2: the
+/// Halton point of index k in bases 5 and 7 (the sub-pixel positions take 2 and 3), from k's
+/// first 6 quinary and 5 septenary digits as integers over 15625 and 16807 (k < 4096 has no
+/// more).
+pub fn lens_position(k: u32) -> (f32, f32) {
+    let mut base5 = 0u32;
+    let mut rest = k;
+    for _ in 0..6 {
+        base5 = base5 * 5 + rest % 5;
+        rest /= 5;
+    }
+    let mut base7 = 0u32;
+    rest = k;
+    for _ in 0..5 {
+        base7 = base7 * 7 + rest % 7;
+        rest /= 7;
+    }
+    (
+        base5 as f32 * (1.0 / 15625.0_f64) as f32,
+        base7 as f32 * (1.0 / 16807.0_f64) as f32,
     )
 }
 

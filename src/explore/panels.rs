@@ -225,6 +225,22 @@ fn c_loop(ui: &mut egui::Ui, c_loop: &mut CLoop, radius: &mut f64) -> Option<Com
 /// The field of view; eye and target as moved by the mouse; reset to `home`.
 fn camera(ui: &mut egui::Ui, cam: &mut Camera, home: &Camera) {
     ui.add(key_slider(&mut cam.fov_y_degrees, "camera.fov_y_degrees").text("field of view (°)"));
+    // The thin lens: blurs in the idle view's samples (sample 0, the moving view's, is the
+    // pinhole's).
+    ui.add(key_slider(&mut cam.aperture, "camera.aperture").text("aperture (lens radius)"));
+    ui.add(key_slider(&mut cam.focus_distance, "camera.focus_distance").text("focus (0 = target)"));
+    let blades = |n: u32| match n {
+        0 => "round".to_string(),
+        n => format!("{n} blades"),
+    };
+    egui::ComboBox::from_label("aperture shape")
+        .selected_text(blades(cam.blades))
+        .show_ui(ui, |ui| {
+            for n in std::iter::once(0).chain(3..=16) {
+                ui.selectable_value(&mut cam.blades, n, blades(n));
+            }
+        });
+    ui.add(key_slider(&mut cam.blade_rotation, "camera.blade_rotation").text("blade rotation (°)"));
     ui.label(format!(
         "eye    {:.3} {:.3} {:.3}",
         cam.eye[0], cam.eye[1], cam.eye[2]

@@ -34,6 +34,8 @@ pub struct Variant {
     pub orbit_trap: bool,
     /// cut.enabled.
     pub cut: bool,
+    /// The thin lens: camera.aperture > 0 with image.samples > 1 (sample 0 is the pinhole's).
+    pub lens: bool,
 }
 
 impl Variant {
@@ -61,6 +63,7 @@ impl Variant {
             occlusion: shade && p.occlusion > F::zero(),
             orbit_trap: shade && p.colouring == crate::scene::Colouring::OrbitTrap,
             cut: p.cut,
+            lens: p.samples > 1 && p.aperture > F::zero(),
         }
     }
 
@@ -82,6 +85,7 @@ impl Variant {
             ("OCCLUSION", b(self.occlusion)),
             ("ORBIT_TRAP", b(self.orbit_trap)),
             ("CUT", b(self.cut)),
+            ("LENS", b(self.lens)),
         ]
     }
 
@@ -108,6 +112,7 @@ impl Variant {
                     occlusion: false,
                     orbit_trap: false,
                     cut: false,
+                    lens: false,
                 });
             }
         }
@@ -117,12 +122,13 @@ impl Variant {
     /// The variants the tests validate: every base variant with none of the picture's
     /// features, with each one alone, and with all of them.
     pub fn all() -> Vec<Variant> {
-        let features: [fn(&mut Variant); 5] = [
+        let features: [fn(&mut Variant); 6] = [
             |v| v.samples = true,
             |v| v.soft_shadows = true,
             |v| v.occlusion = true,
             |v| v.orbit_trap = true,
             |v| v.cut = true,
+            |v| v.lens = true,
         ];
         let mut out = Vec::new();
         for base in Variant::all_base() {

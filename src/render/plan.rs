@@ -136,6 +136,12 @@ impl Planner {
             for warning in &warnings {
                 notice(&format!("warning: {warning}"));
             }
+            if scene.camera.aperture > 0.0 && scene.image.samples == 1 {
+                notice(
+                    "camera.aperture > 0 with image.samples = 1 blurs nothing (sample 0 is the \
+                     pinhole's ray): set image.samples > 1 for depth of field",
+                );
+            }
         }
         let renderer = Renderer {
             reason: decision.reason.clone(),

@@ -223,6 +223,22 @@ scene_schema! {
             up: [f64; 3] = [0.0, 1.0, 0.0], vector(), "not parallel to target - eye";
             fov_y_degrees: f64 = 45.0, float(Range::open(0.0, 180.0)), slider(1.0, 170.0),
                 "{range}";
+            /// The thin lens's radius (depth of field): 0 is the pinhole, the seed's camera.
+            /// Only samples 1.. go through the lens (image.samples > 1 blurs).
+            aperture: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.5),
+                "thin-lens radius, {range} (0 = the pinhole, the seed); blurs with image.samples > 1";
+            /// The distance from the eye of the plane in focus, along the view direction; 0
+            /// is |target - eye|.
+            focus_distance: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 10.0),
+                "the plane in focus, {range} from the eye along the view (0 = |target - eye|)";
+            /// The aperture's shape: 0 a disc, 3..16 a regular polygon of that many blades
+            /// inscribed in the disc (1 and 2 are refused).
+            blades: u32 = 0, integer(0, 16),
+                "0 = a round aperture, 3..16 a regular polygon of that many blades ({range}, not 1 or 2)";
+            /// The polygon's turn about the view direction, in degrees (its first corner
+            /// toward camera right at 0).
+            blade_rotation: f64 = 0.0, float(Range::ANY), slider(0.0, 360.0),
+                "degrees, the polygon's first corner toward the camera's right at 0";
         }
 
         light: Light "" {
@@ -378,6 +394,17 @@ impl Scene {
             up: up.to_array(),
             tan_half_fov_y: (self.camera.fov_y_degrees.to_radians() * 0.5).tan(),
         }
+    }
+
+    /// The focus plane's distance from the eye along the view direction: `camera.focus_distance`,
+    /// or |target - eye| where that is 0.
+    pub fn focus_distance(&self) -> f64 {
+        if self.camera.focus_distance > 0.0 {
+            return self.camera.focus_distance;
+        }
+        let eye = glam::DVec3::from_array(self.camera.eye);
+        let target = glam::DVec3::from_array(self.camera.target);
+        (target - eye).length()
     }
 
     /// A pixel's footprint per unit of distance along the ray: 2 tan(fov/2) / height.

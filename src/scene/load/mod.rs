@@ -373,6 +373,14 @@ fn check_scene(s: &mut Scene, blame: impl Fn(&[&str]) -> String) -> Result<(), (
         ));
     }
 
+    // A polygon aperture has at least three blades.
+    if matches!(s.camera.blades, 1 | 2) {
+        return Err(fail(
+            "camera.blades",
+            "must be 0 (round) or in [3, 16] (a polygon)",
+        ));
+    }
+
     // The cut's normal gives the plane its direction (normalised when read).
     if s.cut.normal.iter().all(|&v| v == 0.0) {
         return Err(fail("cut.normal", "must not be zero"));
