@@ -169,6 +169,19 @@ fn light_emission(origin: vec3<f32>, dir: vec3<f32>, bounce: u32, bsdf_pdf_prev:
     return w * sphere_light_radiance(path_sphere_light());
 }
 
+// The shading normal turned toward v (the direction back along the ray) where it faces away: at
+// a sharp crease the estimated normal can, and the path would end black there. Bent within the
+// plane of n and v until cos(n, v) >= MIN_FACING (the normal is unchanged everywhere else).
+const MIN_FACING: f32 = 1e-3;
+
+fn face_viewer(n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    let c = dot(n, v);
+    if c >= MIN_FACING {
+        return n;
+    }
+    return normalize(n + (MIN_FACING - c) * v);
+}
+
 // One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre, the
 // others at the sampler's image-plane dimensions. Trace, and at each of up to `bounces` hits add
 // the direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
@@ -219,7 +232,7 @@ fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
             break;
         }
         let p = origin + trace.t * dir;
-        let n = vec3<f32>(estimate_normal(p, dir));
+        let n = face_viewer(vec3<f32>(estimate_normal(p, dir)), -dir32);
         let f = basis_from_normal(n);
         let wo = to_local(f, -dir32);
         if wo.z <= 0.0 {

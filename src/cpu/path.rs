@@ -31,6 +31,10 @@ pub enum Strategy {
 /// distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold.
 pub const SURFACE_OFFSET: f64 = 4.0;
 
+/// The least cosine between the shading normal and the direction back along the ray
+/// ([`TraceParams::face_viewer`]).
+pub const MIN_FACING: f64 = 1e-3;
+
 /// The path tracer's own parameters (the shader's `PathParams`, a second uniform; keep in
 /// sync with `GpuPathParams`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -229,6 +233,19 @@ impl<F: Real> TraceParams<F> {
         sphere_light_radiance(light) * w
     }
 
+    /// The shading normal turned toward `v` (the direction back along the ray) where it faces
+    /// away: at a sharp crease the estimated normal can, and the path would end black there.
+    /// Bent within the plane of n and v until cos(n, v) >= [`MIN_FACING`] (unchanged
+    /// everywhere else).
+    pub fn face_viewer(&self, n: Vec3<F>, v: Vec3<F>) -> Vec3<F> {
+        let c = n.dot(v);
+        let min = F::lit(MIN_FACING);
+        if c >= min {
+            return n;
+        }
+        (n + v * (min - c)).normalize()
+    }
+
     /// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre,
     /// the others at the sampler's image-plane dimensions. Trace, and at each of up to
     /// `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves the
@@ -292,7 +309,7 @@ impl<F: Real> TraceParams<F> {
                 break;
             }
             let p = origin + dir * trace.t;
-            let n = self.estimate_normal(p, dir);
+            let n = self.face_viewer(self.estimate_normal(p, dir), -dir);
             let f = basis_from_normal(n);
             let wo = to_local(f, -dir);
             if wo.z <= F::zero() {
