@@ -38,20 +38,10 @@ fn probe_sphere_light() -> SphereLight {
     return SphereLight(vec3<f32>(1.0, 2.0, 3.0), 0.5, vec3<f32>(2.0, 2.0, 2.0));
 }
 
-// A u32 hash (Wellons' lowbias32), the probe's source of inputs.
-fn probe_hash(x: u32) -> u32 {
-    var h = x;
-    h ^= h >> 16u;
-    h *= 0x7feb352du;
-    h ^= h >> 15u;
-    h *= 0x846ca68bu;
-    h ^= h >> 16u;
-    return h;
-}
-
-// Input k (0..4) of item n, in [0, 1): the hash's top 24 bits, exactly.
+// Input k (0..4) of item n, in [0, 1): the random sampler's number for (n, 0, k)
+// (shaders/sobol.wgsl).
 fn probe_input(n: u32, k: u32) -> f32 {
-    return f32(probe_hash(n * 4u + k) >> 8u) * (1.0 / 16777216.0);
+    return to_unit(random_sample(n, 0u, k));
 }
 
 @compute @workgroup_size(8, 8, 1)

@@ -2,13 +2,12 @@
 // given angular radius) and the sphere light, their sampling for next-event estimation, and
 // the power heuristic that weighs light samples against BSDF samples.
 // Twin: src/cpu/light.rs, same names, same order (tests/twins.rs). The book's chapter "Light"
-// (docs/book/light.md) gives every formula. f32 throughout, as shaders/bsdf.wgsl.
+// (docs/book/light.md) gives every formula. f32 throughout, as shaders/bsdf.wgsl, which must come
+// in front of it (its PI and its shading frame).
 //
 // Units: a light's `intensity` is the irradiance it gives a surface facing it (the sun), or at
 // distance 1 (the sphere light, whose radiance is then intensity / (pi r^2)): a point light and a
 // sphere of the same intensity light the far field alike, and the radius only softens.
-
-const LIGHT_PI: f32 = 3.14159265358979;
 
 // The sky (keep in sync with `Sky` in src/cpu/light.rs): a gradient about `up`.
 struct Sky {
@@ -61,7 +60,7 @@ fn sky_radiance(sky: Sky, d: vec3<f32>) -> vec3<f32> {
 
 // The solid angle of a cone of half-angle acos(cos_max): 2 pi (1 - cos_max).
 fn cone_solid_angle(cos_max: f32) -> f32 {
-    return 2.0 * LIGHT_PI * (1.0 - cos_max);
+    return 2.0 * PI * (1.0 - cos_max);
 }
 
 // A direction uniform over the cone about `axis` (unit) with cos(theta) >= cos_max, from u in
@@ -69,7 +68,7 @@ fn cone_solid_angle(cos_max: f32) -> f32 {
 fn sample_cone(axis: vec3<f32>, cos_max: f32, u: vec2<f32>) -> vec3<f32> {
     let c = 1.0 - u.x * (1.0 - cos_max);
     let s = sqrt(max(1.0 - c * c, 0.0));
-    let phi = 2.0 * LIGHT_PI * u.y;
+    let phi = 2.0 * PI * u.y;
     let f = basis_from_normal(axis);
     return to_world(f, vec3<f32>(s * cos(phi), s * sin(phi), c));
 }
@@ -131,7 +130,7 @@ fn sphere_light_cos_max(light: SphereLight, p: vec3<f32>) -> f32 {
 
 // The sphere light's radiance: intensity / (pi r^2), so that it gives `intensity` at distance 1.
 fn sphere_light_radiance(light: SphereLight) -> vec3<f32> {
-    return light.intensity / (LIGHT_PI * light.radius * light.radius);
+    return light.intensity / (PI * light.radius * light.radius);
 }
 
 // A direction from p toward the sphere light: uniform over the cone it subtends (its density

@@ -10,23 +10,8 @@ use qjulia::cpu::bsdf::{
 
 use std::f64::consts::PI;
 
-/// A small deterministic generator for the tests' random numbers (SplitMix64), independent of
-/// the renderer's samplers.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    fn vec2(&mut self) -> Vec2<f64> {
-        Vec2::new(self.next(), self.next())
-    }
-}
+mod common;
+use common::SplitMix;
 
 fn material(albedo: f64, roughness: f64, metallic: f64, specular: f64) -> Material<f64> {
     Material {
@@ -342,8 +327,6 @@ fn the_f32_twin_agrees_with_the_f64_one() {
         }
     }
 }
-
-mod common;
 
 #[test]
 fn the_gpu_bsdf_agrees_with_the_cpu_twin() {

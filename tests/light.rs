@@ -13,22 +13,8 @@ use qjulia::cpu::light::{
     sun_pdf, sun_radiance,
 };
 
-/// SplitMix64, the tests' own random numbers.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    fn vec2(&mut self) -> Vec2<f64> {
-        Vec2::new(self.next(), self.next())
-    }
-}
+mod common;
+use common::SplitMix;
 
 fn v(x: f64, y: f64, z: f64) -> Vec3<f64> {
     Vec3::new(x, y, z)
@@ -237,8 +223,6 @@ fn a_point_light_gives_intensity_over_distance_squared() {
         0.0
     );
 }
-
-mod common;
 
 #[test]
 fn the_gpu_light_agrees_with_the_cpu_twin() {

@@ -190,18 +190,11 @@ const LIGHT: Twin = Twin {
     rust: "src/cpu/light.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[
-        OnlyIn {
-            side: Side::Rust,
-            name: "light_pi",
-            reason: "the shader's `LIGHT_PI` constant, in the precision of the generic float",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "mix3",
-            reason: "WGSL's builtin `mix` for vectors",
-        },
-    ],
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "mix3",
+        reason: "WGSL's builtin `mix` for vectors",
+    }],
 };
 
 const SOBOL: Twin = Twin {

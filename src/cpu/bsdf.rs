@@ -7,8 +7,8 @@
 
 use crate::algebra::{Real, Vec2, Vec3};
 
-/// The shader's `PI`.
-fn pi<F: Real>() -> F {
+/// The shader's `PI` (shaders/light.wgsl uses it too).
+pub(crate) fn pi<F: Real>() -> F {
     F::lit(std::f64::consts::PI)
 }
 

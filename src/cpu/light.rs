@@ -7,13 +7,8 @@
 //! distance 1 (the sphere light, whose radiance is then intensity / (pi r^2)): a point light and
 //! a sphere of the same intensity light the far field alike, and the radius only softens.
 
-use super::bsdf::{basis_from_normal, to_world};
+use super::bsdf::{basis_from_normal, pi, to_world};
 use crate::algebra::{Real, Vec2, Vec3};
-
-/// The shader's `LIGHT_PI`.
-fn light_pi<F: Real>() -> F {
-    F::lit(std::f64::consts::PI)
-}
 
 /// WGSL's `mix(a, b, t)`.
 fn mix3<F: Real>(a: Vec3<F>, b: Vec3<F>, t: F) -> Vec3<F> {
@@ -75,7 +70,7 @@ pub fn sky_radiance<F: Real>(sky: Sky<F>, d: Vec3<F>) -> Vec3<F> {
 
 /// The solid angle of a cone of half-angle acos(cos_max): 2 pi (1 - cos_max).
 pub fn cone_solid_angle<F: Real>(cos_max: F) -> F {
-    F::lit(2.0) * light_pi::<F>() * (F::one() - cos_max)
+    F::lit(2.0) * pi::<F>() * (F::one() - cos_max)
 }
 
 /// A direction uniform over the cone about `axis` (unit) with cos(theta) >= cos_max, from `u`
@@ -84,7 +79,7 @@ pub fn cone_solid_angle<F: Real>(cos_max: F) -> F {
 pub fn sample_cone<F: Real>(axis: Vec3<F>, cos_max: F, u: Vec2<F>) -> Vec3<F> {
     let c = F::one() - u.x * (F::one() - cos_max);
     let s = (F::one() - c * c).max(F::zero()).sqrt();
-    let phi = F::lit(2.0) * light_pi::<F>() * u.y;
+    let phi = F::lit(2.0) * pi::<F>() * u.y;
     let f = basis_from_normal(axis);
     to_world(f, Vec3::new(s * phi.cos(), s * phi.sin(), c))
 }
@@ -154,7 +149,7 @@ pub fn sphere_light_cos_max<F: Real>(light: SphereLight<F>, p: Vec3<F>) -> F {
 /// The sphere light's radiance: intensity / (pi r^2), so that it gives `intensity` at
 /// distance 1.
 pub fn sphere_light_radiance<F: Real>(light: SphereLight<F>) -> Vec3<F> {
-    light.intensity / (light_pi::<F>() * light.radius * light.radius)
+    light.intensity / (pi::<F>() * light.radius * light.radius)
 }
 
 /// A direction from `p` toward the sphere light: uniform over the cone it subtends (its

@@ -11,6 +11,7 @@ use super::shaders::BSDF_PROBE_MODULE;
 use crate::algebra::{Vec2, Vec3};
 use crate::cpu::bsdf::{BsdfSample, Material};
 use crate::cpu::light::{Sky, SphereLight, Sun};
+use crate::cpu::sobol::{random_sample, to_unit};
 use crate::error::Result;
 
 /// The probe's uniform, as shaders/bsdf_probe.wgsl's `Probe` (keep in sync).
@@ -91,21 +92,10 @@ const PROBE_KERNEL: KernelSpec = KernelSpec {
     second_uniform: None,
 };
 
-/// The shader's `probe_hash` (Wellons' lowbias32).
-pub fn probe_hash(x: u32) -> u32 {
-    let mut h = x;
-    h ^= h >> 16;
-    h = h.wrapping_mul(0x7feb_352d);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x846c_a68b);
-    h ^= h >> 16;
-    h
-}
-
-/// Input `k` (0..4) of item `n`, in [0, 1): the hash's top 24 bits, exactly (the shader's
-/// `probe_input`).
+/// Input `k` (0..4) of item `n`, in [0, 1): the random sampler's number for (n, 0, k), as the
+/// shader's `probe_input`.
 pub fn probe_input(n: u32, k: u32) -> f32 {
-    (probe_hash(n.wrapping_mul(4).wrapping_add(k)) >> 8) as f32 * (1.0 / 16_777_216.0)
+    to_unit(random_sample(n, 0, k))
 }
 
 /// Item `n`'s inputs as the shader forms them: wo's two numbers, the lobe choice, the

@@ -128,10 +128,11 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
     ],
 };
 
-/// The BSDF's and the light's test kernel: the BSDF, the light, then the probe.
+/// The BSDF's and the light's test kernel: the BSDF, the light, the sampler (its inputs), then
+/// the probe.
 pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "bsdf_probe",
-    parts: &[BSDF_WGSL, LIGHT_WGSL, BSDF_PROBE_WGSL],
+    parts: &[BSDF_WGSL, LIGHT_WGSL, SOBOL_WGSL, BSDF_PROBE_WGSL],
 };
 
 /// The sampler's probe (test support): the sampler alone, then the probe kernel.

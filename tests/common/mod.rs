@@ -228,3 +228,22 @@ pub fn assert_members_eq(context: &str, shader: &[WgslMember], host: &[WgslMembe
         );
     }
 }
+
+/// A small deterministic generator for the tests' own random numbers (SplitMix64), independent
+/// of the renderer's samplers.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    pub fn vec2(&mut self) -> qjulia::algebra::Vec2<f64> {
+        qjulia::algebra::Vec2::new(self.next(), self.next())
+    }
+}
