@@ -13,7 +13,8 @@ use std::str::FromStr;
 use rayon::prelude::*;
 
 /// `image.tone_map`: the curve from exposed linear radiance to [0, 1].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum ToneMap {
     /// A clamp to [0, 1].
     #[default]
@@ -103,6 +104,25 @@ pub struct Display {
 }
 
 impl Display {
+    /// A scene's display transform (`image.exposure`, `image.tone_map`).
+    pub fn of(scene: &crate::scene::Scene) -> Self {
+        Self {
+            exposure: scene.image.exposure,
+            tone_map: scene.image.tone_map,
+        }
+    }
+
+    /// A pixel's linear radiance as the frames' packed colour, 0xFFBBGGRR.
+    pub fn pack(&self, linear: [f32; 3]) -> u32 {
+        let [r, g, b] = linear.map(|c| self.encode(c) as u32);
+        0xFF00_0000 | (b << 16) | (g << 8) | r
+    }
+
+    /// The packed colours of linear RGB triples, in parallel.
+    pub fn pack_all(&self, linear: &[[f32; 3]]) -> Vec<u32> {
+        linear.par_iter().map(|&c| self.pack(c)).collect()
+    }
+
     /// One channel of linear radiance as its 8-bit sRGB value.
     pub fn encode(&self, linear: f32) -> u8 {
         let exposed = linear as f64 * self.exposure.exp2();

@@ -16,6 +16,9 @@ pub struct Frame {
     pub depth_f64: Vec<f64>,
     /// Distance estimates along the primary ray.
     pub steps: Vec<u32>,
+    /// Path mode: each pixel's mean linear radiance, of which `colour` is the display
+    /// transform ([`crate::display::Display`]); empty in phong mode.
+    pub radiance: Vec<[f32; 3]>,
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
     /// marker aside). Must be 0: the stability suite checks it.
     pub non_finite: u64,
@@ -34,6 +37,7 @@ impl Frame {
             depth: Vec::new(),
             depth_f64: Vec::new(),
             steps: Vec::new(),
+            radiance: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }
@@ -51,6 +55,7 @@ impl Frame {
         self.depth.extend_from_slice(&band.depth);
         self.depth_f64.extend_from_slice(&band.depth_f64);
         self.steps.extend_from_slice(&band.steps);
+        self.radiance.extend_from_slice(&band.radiance);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
     }

@@ -408,6 +408,7 @@ mod tests {
             depth: vec![f32::NAN; 4000],
             depth_f64: Vec::new(),
             steps: (0..4000).map(|k| k % 50).collect(),
+            radiance: Vec::new(),
             non_finite: 0,
             estimates: 0,
         };

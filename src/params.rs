@@ -105,7 +105,7 @@ uniform! {
 
 /// `v` scaled to unit length (validation has made sure it is not zero); divided by its largest
 /// component first, so that neither a tiny nor a huge v under- or overflows.
-fn unit(v: [f64; 3]) -> [f64; 3] {
+pub(crate) fn unit(v: [f64; 3]) -> [f64; 3] {
     let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let v = if m > 0.0 { v.map(|x| x / m) } else { v };
     let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();

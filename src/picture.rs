@@ -20,6 +20,14 @@ pub enum Picture {
 impl Picture {
     /// The shaded 3D slice.
     pub const SHADED: Picture = Picture::Slice { shade: true };
+
+    /// Whether this picture of `scene` is path traced: the shaded slice of a scene in
+    /// `shading.model = "path"`. Depth and steps alone (`shade` false) are the tracer's: a
+    /// path's sample 0 is the pinhole's camera ray, traced as the tracer traces it.
+    pub fn path_traced(&self, scene: &crate::scene::Scene) -> bool {
+        matches!(self, Picture::Slice { shade: true })
+            && scene.shading.model == crate::scene::ShadingModel::Path
+    }
 }
 
 /// What a plan is for: a picture, or the levels of a mesh's grid (`qjulia mesh`; None: the

@@ -246,6 +246,7 @@ mod tests {
             depth: vec![0.0; n],
             depth_f64: Vec::new(),
             steps,
+            radiance: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }

@@ -81,6 +81,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         depth: vec![0.0; n],
         depth_f64: Vec::new(),
         steps: vec![0; n],
+        radiance: Vec::new(),
         non_finite: 0,
         estimates: 0,
     }
@@ -310,6 +311,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 depth: vec![0.0; n],
                 depth_f64: Vec::new(),
                 steps: vec![0; n],
+                radiance: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
             }

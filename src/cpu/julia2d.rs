@@ -100,7 +100,7 @@ impl<F: Real> Julia2dParams<F> {
 /// Renders the rows `rows` (0 at the top) of the 2D view, in parallel over rows: colour the
 /// grey, depth 0 in the set and NaN outside it (as a miss), steps the iterations made.
 pub fn render_rows<F: Real>(params: &Julia2dParams<F>, rows: std::ops::Range<u32>) -> Frame {
-    super::fill_rows(params.width, rows, false, |j| {
+    super::fill_rows(params.width, rows, super::Keep::default(), |j| {
         move |i| {
             let (grey, inside, n) = params.julia_pixel(i, j);
             super::PixelOut {
@@ -109,6 +109,7 @@ pub fn render_rows<F: Real>(params: &Julia2dParams<F>, rows: std::ops::Range<u32
                 steps: n,
                 non_finite: 0,
                 estimates: n as u64,
+                radiance: [0.0; 3],
             }
         }
     })

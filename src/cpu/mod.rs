@@ -90,7 +90,11 @@ pub fn render_rows<F: Real>(
     shade: bool,
     rows: std::ops::Range<u32>,
 ) -> Frame {
-    fill_rows(params.width, rows, is_f64::<F>(), |j| {
+    let keep = Keep {
+        f64: is_f64::<F>(),
+        radiance: false,
+    };
+    fill_rows(params.width, rows, keep, |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
         // hand them over in. Their estimates are not the pixels' (the GPU counts them apart).
         let cones = cone_starts(params, j);
@@ -128,6 +132,7 @@ pub fn render_rows<F: Real>(
                 steps: first.steps,
                 non_finite,
                 estimates: ESTIMATES.get() - before,
+                radiance: [0.0; 3],
             }
         }
     })
@@ -152,6 +157,17 @@ pub struct PixelOut {
     pub non_finite: u64,
     /// Distance estimates made for the pixel.
     pub estimates: u64,
+    /// Path mode: the mean linear radiance (kept where [`fill_rows`] is asked to).
+    pub radiance: [f32; 3],
+}
+
+/// What [`fill_rows`] keeps beyond colour, depth and steps.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Keep {
+    /// The depth in f64 too.
+    pub f64: bool,
+    /// Each pixel's radiance (path mode).
+    pub radiance: bool,
 }
 
 /// Whether `F` is f64: its frames keep their depth in f64 too ([`Frame::depth_f64`]).
@@ -160,9 +176,9 @@ pub fn is_f64<F: Real>() -> bool {
 }
 
 /// The rows `rows` of a `width`-wide image, in parallel over rows: `row(j)` prepares row j and
-/// gives the function of its pixels, called for i = 0 to width - 1. With `keep_f64` the frame
-/// keeps the depth in f64 as well.
-pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, keep_f64: bool, row: R) -> Frame
+/// gives the function of its pixels, called for i = 0 to width - 1. With `keep.f64` the frame
+/// keeps the depth in f64 as well, with `keep.radiance` the pixels' radiance.
+pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, keep: Keep, row: R) -> Frame
 where
     R: Fn(u32) -> P + Sync,
     P: Fn(u32) -> PixelOut,
@@ -171,34 +187,48 @@ where
     let mut colour = vec![0u32; w * h];
     let mut depth = vec![0f64; w * h];
     let mut steps = vec![0u32; w * h];
+    let mut radiance = vec![[0f32; 3]; if keep.radiance { w * h } else { 0 }];
     let non_finite = AtomicU64::new(0);
     let estimates = AtomicU64::new(0);
+    // A row of radiance where it is kept; none (an empty slice) where not.
+    let mut radiance_rows: Vec<&mut [[f32; 3]]> = if keep.radiance {
+        radiance.chunks_mut(w).collect()
+    } else {
+        (0..h).map(|_| Default::default()).collect()
+    };
     colour
         .par_chunks_mut(w)
         .zip(depth.par_chunks_mut(w))
         .zip(steps.par_chunks_mut(w))
+        .zip(radiance_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(r, ((colour_row, depth_row), steps_row))| {
-            let pixel = row(rows.start + r as u32);
-            let (mut bad, mut made) = (0, 0);
-            for i in 0..w {
-                let out = pixel(i as u32);
-                colour_row[i] = out.colour;
-                depth_row[i] = out.depth;
-                steps_row[i] = out.steps;
-                bad += out.non_finite;
-                made += out.estimates;
-            }
-            non_finite.fetch_add(bad, Ordering::Relaxed);
-            estimates.fetch_add(made, Ordering::Relaxed);
-        });
+        .for_each(
+            |(r, (((colour_row, depth_row), steps_row), radiance_row))| {
+                let pixel = row(rows.start + r as u32);
+                let (mut bad, mut made) = (0, 0);
+                for i in 0..w {
+                    let out = pixel(i as u32);
+                    colour_row[i] = out.colour;
+                    depth_row[i] = out.depth;
+                    steps_row[i] = out.steps;
+                    if let Some(slot) = radiance_row.get_mut(i) {
+                        *slot = out.radiance;
+                    }
+                    bad += out.non_finite;
+                    made += out.estimates;
+                }
+                non_finite.fetch_add(bad, Ordering::Relaxed);
+                estimates.fetch_add(made, Ordering::Relaxed);
+            },
+        );
     Frame {
         width,
         height: h as u32,
         colour,
         depth: depth.par_iter().map(|&d| d as f32).collect(),
-        depth_f64: if keep_f64 { depth } else { Vec::new() },
+        depth_f64: if keep.f64 { depth } else { Vec::new() },
         steps,
+        radiance,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
     }

@@ -14,8 +14,8 @@ use super::sobol::{
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
 use crate::algebra::{Real, Vec3};
-use crate::params::TraceParams;
-use crate::scene::Colouring;
+use crate::params::{TraceParams, unit};
+use crate::scene::{Colouring, Scene};
 
 /// Which estimators light a hit (the MIS test's hook; scenes use both): the shader's
 /// `path.strategy`.
@@ -54,6 +54,42 @@ pub struct PathParams<F> {
     pub roughness: F,
     pub metallic: F,
     pub specular: F,
+}
+
+/// Russian roulette starts at this scattering event (1-based: the paths of up to two events
+/// are never cut short).
+pub const ROULETTE_START: u32 = 3;
+
+impl<F: Real> PathParams<F> {
+    /// A scene's path parameters (`[sky]`, `[sun]`, `light.intensity`, `[path]`, `[material]`),
+    /// precomputed in f64 and rounded to `F`; both lighting estimators (`Strategy::Both`).
+    pub fn new(scene: &Scene) -> Self {
+        let v = |c: [f64; 3]| Vec3::from_f64(c);
+        let (sky, sun) = (&scene.sky, &scene.sun);
+        Self {
+            sky: Sky {
+                zenith: v(sky.zenith),
+                horizon: v(sky.horizon),
+                ground: v(sky.ground),
+                up: v(unit(sky.up)),
+                intensity: F::lit(sky.intensity),
+            },
+            sun: Sun {
+                direction: v(unit(sun.direction)),
+                cos_radius: F::lit(sun.angular_radius_degrees.to_radians().cos()),
+                irradiance: v(sun.colour.map(|c| c * sun.intensity)),
+            },
+            light_intensity: Vec3::splat(F::lit(scene.light.intensity)),
+            bounces: scene.path.bounces,
+            roulette_start: ROULETTE_START,
+            clamp_contribution: F::lit(scene.path.clamp),
+            sampler: scene.path.sampler.code(),
+            strategy: Strategy::Both,
+            roughness: F::lit(scene.material.roughness),
+            metallic: F::lit(scene.material.metallic),
+            specular: F::lit(scene.material.specular),
+        }
+    }
 }
 
 /// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
@@ -348,4 +384,45 @@ impl<F: Real> TraceParams<F> {
         result.radiance = radiance;
         result
     }
+}
+
+/// Renders the rows `rows` (0 at the top) of the path-traced image, in parallel over rows, as
+/// `path_main` does: each pixel's mean linear radiance over its `samples` paths (the running
+/// mean the kernel keeps), sample 0's depth and steps. The colour is left 0: the renderer makes
+/// it from the radiance by the display transform.
+pub fn render_path_rows<F: Real>(
+    params: &TraceParams<F>,
+    path: &PathParams<F>,
+    rows: std::ops::Range<u32>,
+) -> crate::frame::Frame {
+    let keep = super::Keep {
+        f64: super::is_f64::<F>(),
+        radiance: true,
+    };
+    super::fill_rows(params.width, rows, keep, |j| {
+        move |i| {
+            let before = super::ESTIMATES.get();
+            let mut mean = Vec3::<F>::zero();
+            let mut first = None;
+            for k in 0..params.samples.max(1) {
+                let r = params.trace_path(path, i, j, k);
+                mean += (r.radiance - mean) / F::lit((k + 1) as f64);
+                first.get_or_insert(r);
+            }
+            let first = first.expect("at least one sample");
+            let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);
+            super::PixelOut {
+                colour: 0,
+                depth: if first.hit {
+                    first.depth.to_f64()
+                } else {
+                    f64::NAN
+                },
+                steps: first.steps,
+                non_finite: radiance.iter().filter(|c| !c.is_finite()).count() as u64,
+                estimates: super::ESTIMATES.get() - before,
+                radiance,
+            }
+        }
+    })
 }

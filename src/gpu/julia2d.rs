@@ -6,7 +6,9 @@ use super::Readback;
 use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
 use super::params::{GpuJulia2dParams, GpuJulia2dParams64};
 use super::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
-use super::{GpuContext, GpuReal, IMAGE_OUTPUTS, IMAGE64_OUTPUTS, render_image_bands};
+use super::{
+    GpuContext, GpuReal, IMAGE_OUTPUTS, IMAGE64_OUTPUTS, image_readback, render_image_bands,
+};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;
@@ -104,6 +106,7 @@ impl<F: GpuReal> GpuJulia2d<F> {
         let uniform = |band: Band| F::julia2d_uniform(params, band);
         let size = (params.width, params.height);
         let constants = &self.device_constants;
-        render_image_bands(&self.kernel, constants, (size, 1), readback, &uniform, sink)
+        let read = image_readback(&self.kernel, readback);
+        render_image_bands(&self.kernel, constants, (size, 1), &read, &uniform, sink)
     }
 }

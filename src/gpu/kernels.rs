@@ -1,10 +1,11 @@
-//! The kernels of one device, each built on first use and then shared: the tracer and the 2D
-//! view in f32 and (where the device passes the start-up check) f64, and the mesh's sampler.
+//! The kernels of one device, each built on first use and then shared: the tracer, the path
+//! tracer and the 2D view in f32 and (where the device passes the start-up check) f64, and the mesh's sampler.
 //! The explorer's views, its exports and the renders of a command all take their kernels from
 //! one of these, so a kernel is built once per device.
 
 use std::sync::{Arc, Mutex};
 
+use super::path::GpuPathTracer;
 use super::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
 use crate::error::Result;
 
@@ -16,6 +17,8 @@ pub struct GpuKernels {
     tracer64: Mutex<Option<Arc<GpuTracer<f64>>>>,
     julia2d64: Mutex<Option<Arc<GpuJulia2d<f64>>>>,
     sampler: Mutex<Option<Arc<GpuSampler>>>,
+    path: Mutex<Option<Arc<GpuPathTracer>>>,
+    path64: Mutex<Option<Arc<GpuPathTracer<f64>>>>,
 }
 
 impl GpuKernels {
@@ -28,6 +31,8 @@ impl GpuKernels {
             tracer64: Mutex::new(None),
             julia2d64: Mutex::new(None),
             sampler: Mutex::new(None),
+            path: Mutex::new(None),
+            path64: Mutex::new(None),
         }
     }
 
@@ -53,6 +58,16 @@ impl GpuKernels {
 
     pub fn sampler(&self) -> Result<Arc<GpuSampler>> {
         built(&self.sampler, || GpuSampler::new(self.ctx.clone()))
+    }
+
+    /// The path tracer (`shading.model = "path"`).
+    pub fn path(&self) -> Result<Arc<GpuPathTracer>> {
+        built(&self.path, || GpuPathTracer::new(self.ctx.clone()))
+    }
+
+    /// The f64 path tracer, where the device passes the start-up check of f64.
+    pub fn path64(&self) -> Result<Arc<GpuPathTracer<f64>>> {
+        built(&self.path64, || GpuPathTracer::new_f64(self.ctx.clone()))
     }
 
     /// The f64 tracer, where the device passes the start-up check of f64.

@@ -51,6 +51,8 @@ pub trait GpuReal: Real {
     const TRACE_KERNEL: KernelSpec;
     /// The 2D view's kernel in this precision.
     const JULIA2D_KERNEL: KernelSpec;
+    /// The path tracer's kernel in this precision.
+    const PATH_KERNEL: KernelSpec;
     /// The tracer's uniform for one dispatch: a band, adding the samples [start, end).
     fn trace_uniform(p: &TraceParams<Self>, band: Band, samples: (u32, u32)) -> Vec<u8>;
     /// The tracer's uniform for one dispatch into an image whose rows are `row_stride` items
@@ -74,6 +76,7 @@ pub trait GpuReal: Real {
 impl GpuReal for f32 {
     const TRACE_KERNEL: KernelSpec = TRACE_KERNEL;
     const JULIA2D_KERNEL: KernelSpec = JULIA2D_KERNEL;
+    const PATH_KERNEL: KernelSpec = path::PATH_KERNEL;
     fn trace_uniform(p: &TraceParams<f32>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
         let gpu = GpuParams::new(p, band.row, band.rows).with_samples(start, end);
         bytemuck::bytes_of(&gpu).to_vec()
@@ -104,6 +107,7 @@ impl GpuReal for f32 {
 impl GpuReal for f64 {
     const TRACE_KERNEL: KernelSpec = TRACE64_KERNEL;
     const JULIA2D_KERNEL: KernelSpec = JULIA2D64_KERNEL;
+    const PATH_KERNEL: KernelSpec = path::PATH64_KERNEL;
     fn trace_uniform(p: &TraceParams<f64>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
         let gpu = GpuParams64::new(p, band.row, band.rows).with_samples(start, end);
         bytemuck::bytes_of(&gpu).to_vec()
@@ -308,6 +312,7 @@ const STEPS_OUTPUT: usize = 2;
 /// Where the tracer's estimates are among its outputs (after the image's three); the outputs
 /// after it stay on the device.
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
+const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
 
 /// [`IMAGE_OUTPUTS`] of an f64 kernel: the depth is f64.
 pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
@@ -346,20 +351,19 @@ pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
 
 /// Runs an image kernel over a `width` x `height` image with these override constants and
 /// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`] of the
-/// outputs `readback` asks for.
+/// outputs `read` asks for (by index; [`image_readback`] gives a [`Readback`]'s).
 pub(crate) fn render_image_bands(
     kernel: &Kernel,
     constants: &[(&'static str, f64)],
     ((width, height), dispatches): ((u32, u32), u32),
-    readback: Readback,
+    read: &[bool],
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
-    let read = image_readback(kernel, readback);
     let run = kernel::Run {
         constants,
         size: (width, height),
-        read: &read,
+        read,
         dispatches_per_band: dispatches,
         params: uniform,
     };
@@ -449,6 +453,8 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
         [] => steps,
         counts => counts,
     };
+    // The accumulator where it was read back (path mode): the mean linear radiance.
+    let accumulated: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
     assert_eq!(
         colour.len(),
         band.rows as usize * width as usize,
@@ -467,7 +473,12 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .map(|&d| if d < 0.0 { f64::NAN } else { d })
             .collect(),
         steps: steps.par_iter().copied().collect(),
-        non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64,
+        radiance: accumulated.par_iter().map(|a| [a[0], a[1], a[2]]).collect(),
+        non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64
+            + accumulated
+                .par_iter()
+                .map(|a| a[..3].iter().filter(|c| !c.is_finite()).count() as u64)
+                .sum::<u64>(),
         estimates: estimates.par_iter().map(|&e| e as u64).sum(),
     }
 }

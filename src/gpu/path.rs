@@ -1,19 +1,22 @@
 //! The path tracer's kernel (shaders/path.wgsl over the tracer's module) on the [`Kernel`]
-//! runner: the tracer's `Params` and outputs, and a second uniform of its own
-//! ([`GpuPathParams`], binding 6). Each dispatch adds as many samples per pixel as keep its
+//! runner, in f32 and (where the device passes the start-up check) f64: the tracer's `Params`
+//! and outputs, a second uniform of its own ([`GpuPathParams`], binding 6), and a pipeline per
+//! scene [`Variant`] ([`Variant::of_path`]). Each dispatch adds as many samples per pixel as keep its
 //! steps within lavapipe's budget ([`path_samples_per_dispatch`]): a path of up to 16 bounces
 //! with two shadow rays each may take tens of thousands of steps, and lavapipe stops a loop
 //! after 65,535 iterations counted across the loops around it.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes, SecondUniform};
-use super::params::GpuParams;
-use super::shaders::PATH_MODULE;
-use super::{GpuContext, TRACE_OUTPUTS};
-use crate::algebra::Vec3;
+use super::kernel::{Band, Kernel, KernelSpec, RunTimes, SecondUniform};
+use super::params::{GpuParams, GpuParams64};
+use super::shaders::{PATH_MODULE, PATH64_MODULE};
+use super::variant::Variant;
+use super::{GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, render_image_bands};
+use crate::algebra::{Real, Vec3};
 use crate::cpu::path::PathParams;
 use crate::error::Result;
+use crate::frame::Frame;
 use crate::params::TraceParams;
 
 /// shaders/path.wgsl's `PathParams` (binding 6; keep in sync). Its CPU twin is
@@ -42,26 +45,28 @@ pub struct GpuPathParams {
 }
 
 impl GpuPathParams {
-    pub fn new(p: &PathParams<f32>) -> Self {
-        let v = |v: Vec3<f32>| [v.x, v.y, v.z];
+    /// The uniform of `p`, in f32 whatever the precision of the geometry.
+    pub fn new<F: Real>(p: &PathParams<F>) -> Self {
+        let x = |x: F| x.to_f64() as f32;
+        let v = |v: Vec3<F>| [x(v.x), x(v.y), x(v.z)];
         Self {
             sky_zenith: v(p.sky.zenith),
-            sky_intensity: p.sky.intensity,
+            sky_intensity: x(p.sky.intensity),
             sky_horizon: v(p.sky.horizon),
             bounces: p.bounces,
             sky_ground: v(p.sky.ground),
             roulette_start: p.roulette_start,
             sky_up: v(p.sky.up),
-            clamp_contribution: p.clamp_contribution,
+            clamp_contribution: x(p.clamp_contribution),
             sun_direction: v(p.sun.direction),
-            sun_cos_radius: p.sun.cos_radius,
+            sun_cos_radius: x(p.sun.cos_radius),
             sun_irradiance: v(p.sun.irradiance),
             sampler: p.sampler,
             light_intensity: v(p.light_intensity),
             strategy: p.strategy as u32,
-            roughness: p.roughness,
-            metallic: p.metallic,
-            specular: p.specular,
+            roughness: x(p.roughness),
+            metallic: x(p.metallic),
+            specular: x(p.specular),
             pad: 0,
         }
     }
@@ -69,7 +74,12 @@ impl GpuPathParams {
 
 /// The path kernel in f32: the tracer's uniform and outputs (colour unused, depth, steps,
 /// estimates, and the running mean of the linear radiance in `accumulated`), its own uniform at
-/// binding 6. Not trusted: wgpu's loop bounding and index checks stay in.
+/// binding 6.
+///
+/// Trusted (no runtime checks injected), as the tracer is: every loop of path.wgsl is bounded
+/// by the params (`bounces` of at most 16, the samples of a dispatch, the tracer's
+/// `max_steps` and `max_iterations`) or by constants (the sampler's bits), and `path_main`
+/// checks the pixel against the band before it writes.
 pub const PATH_KERNEL: KernelSpec = KernelSpec {
     name: "path",
     module: PATH_MODULE,
@@ -77,11 +87,21 @@ pub const PATH_KERNEL: KernelSpec = KernelSpec {
     uniform_bytes: size_of::<GpuParams>() as u64,
     outputs: &TRACE_OUTPUTS,
     band_row_multiple: 1,
-    trusted: false,
+    trusted: true,
     second_uniform: Some(SecondUniform {
         binding: 6,
         bytes: size_of::<GpuPathParams>() as u64,
     }),
+};
+
+/// [`PATH_KERNEL`] in f64: the geometry in f64 (uniform [`GpuParams64`], the depth in f64); the
+/// material, the light and the radiance stay f32, their trigonometry too.
+pub const PATH64_KERNEL: KernelSpec = KernelSpec {
+    name: "path64",
+    module: PATH64_MODULE,
+    uniform_bytes: size_of::<GpuParams64>() as u64,
+    outputs: &TRACE64_OUTPUTS,
+    ..PATH_KERNEL
 };
 
 /// Samples one invocation traces in one dispatch: as many as keep samples x rays x max_steps
@@ -92,79 +112,109 @@ pub fn path_samples_per_dispatch(bounces: u32, max_steps: u32) -> u32 {
     (60_000 / (rays * max_steps.max(1) as u64)).clamp(1, 8) as u32
 }
 
-/// A path-traced image in host memory: per pixel the mean linear radiance, sample 0's depth
-/// (NaN on a miss) and steps.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PathImage {
-    pub width: u32,
-    pub height: u32,
-    pub radiance: Vec<[f32; 3]>,
-    pub depth: Vec<f32>,
-    pub steps: Vec<u32>,
-}
-
-/// The path tracer's pipeline on one device (f32).
-pub struct GpuPathTracer {
+/// The path tracer's pipelines on one device in precision `F`: one per scene [`Variant`], built
+/// on first use and cached (a generic one where specialisation is off).
+pub struct GpuPathTracer<F: GpuReal = f32> {
     kernel: Kernel,
+    specialise: bool,
+    /// Override constants of every pipeline: the f64 check's repairs (none in f32).
+    device_constants: Vec<(&'static str, f64)>,
+    precision: std::marker::PhantomData<F>,
 }
 
-impl GpuPathTracer {
-    /// Builds the module; a shader the device rejects is an error.
+impl GpuPathTracer<f32> {
+    /// The f32 path tracer; a shader the device rejects is an error.
     pub fn new(ctx: GpuContext) -> Result<Self> {
+        Self::build(ctx)
+    }
+}
+
+impl GpuPathTracer<f64> {
+    /// The f64 path tracer, where the device passes the start-up check of f64.
+    pub fn new_f64(ctx: GpuContext) -> Result<Self> {
+        Self::build(ctx)
+    }
+}
+
+impl<F: GpuReal> GpuPathTracer<F> {
+    fn build(ctx: GpuContext) -> Result<Self> {
+        let device_constants = F::device_constants(&ctx)?;
         Ok(Self {
-            kernel: Kernel::new(ctx, PATH_KERNEL)?,
+            kernel: Kernel::new(ctx, F::PATH_KERNEL)?,
+            // QJULIA_SPECIALISE=0 runs every scene on the generic pipeline, as the tracer does.
+            specialise: std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0"),
+            device_constants,
+            precision: std::marker::PhantomData,
         })
     }
 
-    /// Traces `params.samples` paths per pixel.
-    pub fn render(
+    pub fn context(&self) -> &GpuContext {
+        self.kernel.context()
+    }
+
+    /// The override constants of a scene's pipeline: its path variant's (none where
+    /// specialisation is off) and the device's.
+    fn constants(&self, params: &TraceParams<F>) -> Vec<(&'static str, f64)> {
+        let mut constants = match self.specialise {
+            true => Variant::of_path(params).constants(),
+            false => Vec::new(),
+        };
+        constants.extend_from_slice(&self.device_constants);
+        constants
+    }
+
+    /// Traces `params.samples` paths per pixel band by band (bounded memory and bounded time
+    /// per dispatch), handing each band of whole rows, top to bottom, to `sink`: the mean
+    /// radiance in [`Frame::radiance`], sample 0's depth and steps (with `Readback::All`), and
+    /// the colour left 0 for the display transform.
+    pub fn render_bands(
         &self,
-        params: &TraceParams<f32>,
-        path: &PathParams<f32>,
-    ) -> Result<(PathImage, RunTimes)> {
+        params: &TraceParams<F>,
+        path: &PathParams<F>,
+        readback: Readback,
+        sink: &mut dyn FnMut(Frame) -> Result<()>,
+    ) -> Result<RunTimes> {
         let samples = params.samples.max(1);
         let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps);
         let second = GpuPathParams::new(path);
         let uniform = |band: Band| {
             let start = band.dispatch * per_dispatch;
             let end = (start + per_dispatch).min(samples);
-            let trace = GpuParams::new(params, band.row, band.rows).with_samples(start, end);
+            let trace = F::trace_uniform(params, band, (start, end));
             self.kernel
-                .pack_uniforms(bytemuck::bytes_of(&trace), bytemuck::bytes_of(&second))
+                .pack_uniforms(&trace, bytemuck::bytes_of(&second))
         };
-        let run = Run {
-            constants: &[],
-            size: (params.width, params.height),
-            read: &[false, true, true, false, true],
-            dispatches_per_band: samples.div_ceil(per_dispatch),
-            params: &uniform,
+        // Colour (0, but the frame's shape needs it), depth, steps, estimates and the
+        // accumulator; the accumulator alone with the colour for Readback::Colour.
+        let read = match readback {
+            Readback::All => [true, true, true, true, true],
+            Readback::Colour => [true, false, false, false, true],
         };
-        let mut image = PathImage {
-            width: params.width,
-            height: params.height,
-            radiance: Vec::new(),
-            depth: Vec::new(),
-            steps: Vec::new(),
-        };
-        let times = self.kernel.run(
-            &run,
-            |out| {
-                let depth: &[f32] = bytemuck::cast_slice(out.outputs[1].expect("depth"));
-                let steps: &[u32] = bytemuck::cast_slice(out.outputs[2].expect("steps"));
-                let acc: &[[f32; 4]] = bytemuck::cast_slice(out.outputs[4].expect("radiance"));
-                (depth.to_vec(), steps.to_vec(), acc.to_vec())
-            },
-            |(depth, steps, acc)| {
-                image
-                    .depth
-                    .extend(depth.iter().map(|&d| if d < 0.0 { f32::NAN } else { d }));
-                image.steps.extend(steps);
-                image
-                    .radiance
-                    .extend(acc.iter().map(|a| [a[0], a[1], a[2]]));
-                Ok(())
-            },
-        )?;
-        Ok((image, times))
+        let constants = self.constants(params);
+        render_image_bands(
+            &self.kernel,
+            &constants,
+            (
+                (params.width, params.height),
+                samples.div_ceil(per_dispatch),
+            ),
+            &read,
+            &uniform,
+            sink,
+        )
+    }
+
+    /// As [`Self::render_bands`], the whole image in host memory.
+    pub fn render(
+        &self,
+        params: &TraceParams<F>,
+        path: &PathParams<F>,
+    ) -> Result<(Frame, RunTimes)> {
+        let mut frame = Frame::empty(params.width);
+        let times = self.render_bands(params, path, Readback::All, &mut |band| {
+            frame.append(&band);
+            Ok(())
+        })?;
+        Ok((frame, times))
     }
 }

@@ -165,7 +165,8 @@ impl<F: GpuReal> GpuTracer<F> {
         let size = (params.width, params.height);
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
-        render_image_bands(&self.kernel, &constants, shape, readback, &uniform, sink)
+        let read = image_readback(&self.kernel, readback);
+        render_image_bands(&self.kernel, &constants, shape, &read, &uniform, sink)
     }
 
     /// Renders many frames one after another, each handed whole to `sink` with its times, in

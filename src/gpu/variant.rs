@@ -67,6 +67,22 @@ impl Variant {
         }
     }
 
+    /// The variant of the path kernel a scene needs: the geometry's features as
+    /// [`Self::of`] has them, the albedo's colouring and the lens; the Phong shading's (the
+    /// shadow rays, soft shadows, occlusion) and the cone's are off, as path mode has none of
+    /// them, so scenes that differ only there share one pipeline.
+    pub fn of_path<F: Real>(p: &TraceParams<F>) -> Self {
+        let v = Self::of(p, true);
+        Self {
+            shadows: false,
+            cone: false,
+            soft_shadows: false,
+            occlusion: false,
+            orbit_trap: p.colouring == crate::scene::Colouring::OrbitTrap,
+            ..v
+        }
+    }
+
     /// The pipeline override constants for this variant.
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let b = |v: bool| if v { 1.0 } else { 0.0 };

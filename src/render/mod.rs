@@ -25,6 +25,8 @@ use std::sync::Arc;
 
 use crate::algebra::Real;
 use crate::cpu;
+use crate::cpu::path::PathParams;
+use crate::display::Display;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::gpu::GpuKernels;
@@ -104,6 +106,17 @@ impl Renderer {
             }
             sink(band)
         };
+        if picture.path_traced(scene) {
+            return self
+                .render_path(scene, readback, &mut counted)
+                .map(|times| {
+                    self.stats(
+                        (scene.image.width, scene.image.height),
+                        times,
+                        summary.finish(),
+                    )
+                });
+        }
         let (render_seconds, gpu_seconds) = match &self.gpu {
             Some(kernels) => {
                 let mut owned = |band: Frame| counted(&band);
@@ -150,6 +163,44 @@ impl Renderer {
         ))
     }
 
+    /// A path-traced picture (`shading.model = "path"`) band by band: each band's colour is
+    /// the display transform of its mean radiance ([`Display`]). Returns (render seconds, GPU
+    /// seconds).
+    fn render_path(
+        &self,
+        scene: &Scene,
+        readback: Readback,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    ) -> Result<(f64, Option<f64>)> {
+        let display = Display::of(scene);
+        let mut displayed = |mut band: Frame| {
+            band.colour = display.pack_all(&band.radiance);
+            sink(&band)
+        };
+        match (&self.gpu, self.precision) {
+            (Some(kernels), Precision::F32) => {
+                let times = kernels.path()?.render_bands(
+                    &TraceParams::<f32>::new(scene),
+                    &PathParams::new(scene),
+                    readback,
+                    &mut displayed,
+                )?;
+                Ok((times.seconds, times.gpu_seconds))
+            }
+            (Some(kernels), Precision::F64) => {
+                let times = kernels.path64()?.render_bands(
+                    &TraceParams::<f64>::new(scene),
+                    &PathParams::new(scene),
+                    readback,
+                    &mut displayed,
+                )?;
+                Ok((times.seconds, times.gpu_seconds))
+            }
+            (None, Precision::F32) => path_cpu::<f32>(scene, &mut displayed).map(|s| (s, None)),
+            (None, Precision::F64) => path_cpu::<f64>(scene, &mut displayed).map(|s| (s, None)),
+        }
+    }
+
     /// The stats of a render of this renderer.
     fn stats(
         &self,
@@ -182,7 +233,12 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(Frame, RenderStats) -> Result<()>,
     ) -> Result<()> {
-        let (Some(kernels), Picture::Slice { shade }) = (&self.gpu, picture) else {
+        // Path-traced frames go one by one (the choice of model is not animated: the first
+        // frame's is every frame's).
+        let mut scenes = scenes.peekable();
+        let path_traced = scenes.peek().is_some_and(|s| picture.path_traced(s));
+        let (Some(kernels), Picture::Slice { shade }, false) = (&self.gpu, picture, path_traced)
+        else {
             for scene in scenes {
                 let mut frame = Frame::empty(scene.image.width);
                 let stats = self.render_with(&scene, picture, readback, &mut |band| {
@@ -271,15 +327,24 @@ fn render_cpu<F: Real>(
             cpu_bands(
                 (p.width, p.height),
                 &|rows| cpu::render_rows(&p, shade, rows),
-                sink,
+                &mut |band| sink(&band),
             )
         }
         Picture::Julia2d => {
             let p = Julia2dParams::<F>::new(scene);
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
-            cpu_bands((p.width, p.height), &rows, sink)
+            cpu_bands((p.width, p.height), &rows, &mut |band| sink(&band))
         }
     }
+}
+
+/// A path-traced picture on the CPU in `F`, band by band (each band's colour still to be
+/// made); returns the seconds spent rendering.
+fn path_cpu<F: Real>(scene: &Scene, sink: &mut dyn FnMut(Frame) -> Result<()>) -> Result<f64> {
+    let p = TraceParams::<F>::new(scene);
+    let path = PathParams::<F>::new(scene);
+    let rows = |rows| cpu::path::render_path_rows(&p, &path, rows);
+    cpu_bands((p.width, p.height), &rows, sink)
 }
 
 /// Samples the grid on the CPU in `F`, a layer at a time; the seconds spent sampling.
@@ -327,7 +392,7 @@ pub fn band_pixels() -> u64 {
 fn cpu_bands(
     (width, height): (u32, u32),
     render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
-    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     let band_rows = (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32;
     let mut seconds = 0.0;
@@ -337,7 +402,7 @@ fn cpu_bands(
         let start = std::time::Instant::now();
         let band = render_rows(row..row + rows);
         seconds += start.elapsed().as_secs_f64();
-        sink(&band)?;
+        sink(band)?;
         row += rows;
     }
     Ok(seconds)

@@ -26,13 +26,16 @@ pub enum Backend {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kernel {
     Slice,
+    /// The slice path traced (`shading.model = "path"`).
+    Path,
     Julia2d,
     Sampler,
 }
 
 impl Work {
-    fn kernel(&self) -> Kernel {
+    fn kernel(&self, scene: &Scene) -> Kernel {
         match self {
+            Work::Picture(picture) if picture.path_traced(scene) => Kernel::Path,
             Work::Picture(Picture::Slice { .. }) => Kernel::Slice,
             Work::Picture(Picture::Julia2d) => Kernel::Julia2d,
             Work::Mesh(_) => Kernel::Sampler,
@@ -107,7 +110,7 @@ impl Planner {
         notice: &mut dyn FnMut(&str),
     ) -> Result<Plan> {
         let mut decision = precision::decide(self.choice, scene, &work);
-        let kernel = work.kernel();
+        let kernel = work.kernel(scene);
         let asked = decision.precision;
         let found = self
             .made
@@ -116,7 +119,7 @@ impl Planner {
         let index = match found {
             Some(index) => index,
             None => {
-                let made = self.make(&work, &decision, notice)?;
+                let made = self.make(kernel, &decision, notice)?;
                 self.made.push(made);
                 self.made.len() - 1
             }
@@ -158,15 +161,14 @@ impl Planner {
     /// warnings of the precision that runs follow, from [`Self::plan`]).
     fn make(
         &mut self,
-        work: &Work,
+        kernel: Kernel,
         decision: &Decision,
         notice: &mut dyn FnMut(&str),
     ) -> Result<Made> {
-        let kernel = work.kernel();
         if self.choice == PrecisionChoice::Auto && decision.precision == Precision::F64 {
             let doing = match kernel {
                 Kernel::Sampler => "sampling",
-                Kernel::Slice | Kernel::Julia2d => "rendering",
+                Kernel::Slice | Kernel::Path | Kernel::Julia2d => "rendering",
             };
             notice(&format!("{doing} in f64: {}", decision.reason));
         }
@@ -241,6 +243,8 @@ impl Planner {
         let kernels = self.device()?;
         let built = match (kernel, precision) {
             (Kernel::Slice, Precision::F32) => kernels.tracer().map(drop),
+            (Kernel::Path, Precision::F32) => kernels.path().map(drop),
+            (Kernel::Path, Precision::F64) => kernels.path64().map(drop),
             (Kernel::Julia2d, Precision::F32) => kernels.julia2d().map(drop),
             (Kernel::Sampler, Precision::F32) => kernels.sampler().map(drop),
             (Kernel::Slice, Precision::F64) => kernels.tracer64().map(drop),

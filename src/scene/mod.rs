@@ -14,6 +14,7 @@ pub use error::{SceneError, SceneSource};
 pub use load::SceneLoader;
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png};
 
+use crate::display::ToneMap;
 use schema::{Range, scene_schema};
 use serde::Serialize;
 
@@ -166,6 +167,58 @@ impl View {
     }
 }
 
+/// How a hit is lit (`shading.model`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadingModel {
+    /// The seed's Phong with a point light, and every addition made to it.
+    #[default]
+    Phong,
+    /// The path tracer: a physically based material under sky, sun and sphere light.
+    Path,
+}
+
+impl ShadingModel {
+    pub const ALL: [ShadingModel; 2] = [ShadingModel::Phong, ShadingModel::Path];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadingModel::Phong => "phong",
+            ShadingModel::Path => "path",
+        }
+    }
+}
+
+/// Where the path tracer's random numbers come from (`path.sampler`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum PathSampler {
+    /// Owen-scrambled Sobol' (src/cpu/sobol.rs): the same bits on every backend.
+    #[default]
+    Sobol,
+    /// A plain hash of (pixel, sample, dimension), for comparison.
+    Random,
+}
+
+impl PathSampler {
+    pub const ALL: [PathSampler; 2] = [PathSampler::Sobol, PathSampler::Random];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PathSampler::Sobol => "sobol",
+            PathSampler::Random => "random",
+        }
+    }
+
+    /// The number the shader's `sampler` uses (`SAMPLER_SOBOL`, `SAMPLER_RANDOM`).
+    pub fn code(self) -> u32 {
+        match self {
+            PathSampler::Sobol => crate::cpu::sobol::SAMPLER_SOBOL,
+            PathSampler::Random => crate::cpu::sobol::SAMPLER_RANDOM,
+        }
+    }
+}
+
 scene_schema! {
     /// Everything one picture depends on. Defaults reproduce the seed's constants (CONTRACT.md).
     pub struct Scene {
@@ -248,9 +301,51 @@ scene_schema! {
             /// light is a sphere and shadows have a penumbra.
             radius: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0),
                 "a sphere of this radius, {range}: soft shadows (0 = a point light, the seed)";
+            /// Path mode: the sphere light's intensity, the irradiance it gives a surface facing
+            /// it at distance 1 (white); 0 is no sphere light. Radius 0 is a point light.
+            intensity: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 50.0),
+                "path mode: the irradiance at distance 1, {range} (0 = no sphere light)";
+        }
+
+        /// Path mode: the radiance of rays that leave the bounding region, a gradient about
+        /// `up` (docs/book/light.md gives the function).
+        sky: Sky "path mode: the radiance of rays that leave the bounding region" {
+            /// The colour straight up (linear).
+            zenith: [f64; 3] = [0.35, 0.45, 0.6], vector(Range::at_least(0.0)),
+                "linear colour straight up, {range}";
+            /// The colour at the horizon (linear).
+            horizon: [f64; 3] = [0.75, 0.8, 0.85], vector(Range::at_least(0.0)),
+                "linear colour at the horizon, {range}";
+            /// The colour straight down (linear).
+            ground: [f64; 3] = [0.25, 0.24, 0.22], vector(Range::at_least(0.0)),
+                "linear colour straight down, {range}";
+            /// The sky's up direction, normalised when read; must not be zero.
+            up: [f64; 3] = [0.0, 1.0, 0.0], vector(), "the gradient's up; not zero";
+            intensity: f64 = 1.0, float(Range::at_least(0.0)), slider(0.0, 4.0),
+                "the colours are multiplied by this, {range}";
+        }
+
+        /// Path mode: a distant disc light.
+        sun: Sun "path mode: a distant disc light" {
+            /// Toward the sun, normalised when read; the seed's light (2, 2, 3) seen from the
+            /// origin.
+            direction: [f64; 3] = [2.0, 2.0, 3.0], vector(), slider(-1.0, 1.0),
+                "toward the sun; not zero";
+            /// The disc's angular radius in degrees; the real sun's 0.53 / 2 is 0.27.
+            angular_radius_degrees: f64 = 0.53, float(Range::open_closed(0.0, 90.0)),
+                slider(0.05, 20.0, log),
+                "the disc's angular radius in degrees, {range}";
+            colour: [f64; 3] = [1.0, 1.0, 1.0], vector(Range::at_least(0.0)),
+                "linear colour, {range}";
+            /// The irradiance the sun gives a surface facing it (times the colour).
+            intensity: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 20.0),
+                "the irradiance on a surface facing it, {range} (0 = no sun)";
         }
 
         shading: Shading "" {
+            /// How hits are lit: the seed's Phong, or the path tracer (docs/book/path.md).
+            model: ShadingModel = ShadingModel::Phong, choice(),
+                "\"phong\" (the seed's lighting) or \"path\" (the path tracer)";
             /// Cast a shadow ray from every hit toward the light.
             shadows: bool = true, boolean(), "cast a shadow ray from every hit";
             /// How the shading normal is computed: the seed's central differences, four
@@ -300,6 +395,32 @@ scene_schema! {
                 "the palette's phase per channel, {range}";
         }
 
+        /// Path mode: the surface's BSDF, Lambert plus GGX (docs/book/materials.md); the albedo
+        /// is the colouring's colour (`shading.diffuse`, or the orbit trap's palette).
+        material: Material "path mode: Lambert plus GGX; the albedo is the colouring's colour" {
+            /// GGX roughness, alpha = roughness^2, floored at 0.02.
+            roughness: f64 = 0.3, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "GGX roughness, {range} (alpha = roughness^2, at least 0.02^2)";
+            metallic: f64 = 0.0, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "0 a dielectric, 1 a metal of the albedo's colour, {range}";
+            /// A dielectric's reflectance at normal incidence is 0.08 x this.
+            specular: f64 = 0.5, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "dielectric F0 = 0.08 x specular, {range}";
+        }
+
+        /// Path mode: the paths (docs/book/path.md).
+        path: Path "path mode: the paths" {
+            /// Scattering events at the surface: 1 is direct light only.
+            bounces: u32 = 3, integer(1, 16), slider(1, 16),
+                "scattering events at the surface ({range}; 1 = direct light only)";
+            /// Each contribution after the first event is scaled down to at most this in its
+            /// largest channel (0: off). Biased: it darkens caustics and bright indirect light.
+            clamp: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 100.0),
+                "a contribution after the first event is clamped to this, {range} (0 = off)";
+            sampler: PathSampler = PathSampler::Sobol, choice(),
+                "\"sobol\" (Owen-scrambled, the same bits on every backend) or \"random\"";
+        }
+
         image: Image "" {
             width: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
             height: u32 = 512, integer(1, 65536), slider(1, 8192, log), "{range}";
@@ -310,6 +431,12 @@ scene_schema! {
             /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
             view: View = View::Shaded, choice(),
                 "what render's PNG shows: \"shaded\", \"steps\" or \"divergence\" (--view)";
+            /// Path mode: the linear image is multiplied by 2^exposure before the tone map.
+            exposure: f64 = 0.0, float(Range::ANY), slider(-8.0, 8.0),
+                "path mode: stops (x 2^exposure) before the tone map";
+            /// Path mode: the curve from exposed linear radiance to [0, 1] (docs/book/display.md).
+            tone_map: ToneMap = ToneMap::None, choice(),
+                "path mode: \"none\" (a clamp), \"reinhard\" or \"aces\" (Narkowicz 2015)";
         }
 
         /// A cut: the set is intersected with the half-space normal . p <= offset (slice

@@ -381,9 +381,15 @@ fn check_scene(s: &mut Scene, blame: impl Fn(&[&str]) -> String) -> Result<(), (
         ));
     }
 
-    // The cut's normal gives the plane its direction (normalised when read).
-    if s.cut.normal.iter().all(|&v| v == 0.0) {
-        return Err(fail("cut.normal", "must not be zero"));
+    // Directions, normalised when read: the cut's normal, the sky's up and the sun's direction.
+    for (key, v) in [
+        ("cut.normal", s.cut.normal),
+        ("sky.up", s.sky.up),
+        ("sun.direction", s.sun.direction),
+    ] {
+        if v.iter().all(|&x| x == 0.0) {
+            return Err(fail(key, "must not be zero"));
+        }
     }
 
     // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
