@@ -179,8 +179,19 @@ const PATH: Twin = Twin {
         OnlyIn {
             side: Side::Wgsl,
             name: "path_main",
-            reason: "the entry point: the samples' running mean and the writes; on the CPU the \
-                     caller loops over `trace_path`",
+            reason: "the entry point: the samples' running mean and the writes; on the CPU \
+                     `render_path_rows` loops over `trace_path` as it does",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "new",
+            reason: "the host makes `PathParams` of a scene; the shader reads it as a uniform",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "render_path_rows",
+            reason: "the CPU's `path_main`: rows in parallel, each pixel's running mean of \
+                     `trace_path`, as the entry point keeps it",
         },
     ],
 };
