@@ -182,18 +182,28 @@ fn face_viewer(n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     return normalize(n + (MIN_FACING - c) * v);
 }
 
-// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre, the
-// others at the sampler's image-plane dimensions. Trace, and at each of up to `bounces` hits add
-// the direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
-// sun, one that meets the sphere light first its emission. The last scattered ray is traced for
-// that alone.
+// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre (the
+// pinhole's ray), the others at the sampler's image-plane dimensions and, where the aperture is
+// open, its lens dimensions. Trace, and at each of up to `bounces` hits add the direct light and
+// scatter by the BSDF; a ray that leaves the region takes the sky and the sun, one that meets the
+// sphere light first its emission. The last scattered ray is traced for that alone.
 fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
     var s = vec2<f32>(0.5, 0.5);
     if sample > 0u {
         s = vec2<f32>(path_random(i, j, sample, DIM_PIXEL), path_random(i, j, sample, DIM_PIXEL + 1u));
     }
-    var dir = camera_ray_at(Real(i) + Real(s.x), Real(j) + Real(s.y));
+    let x = Real(i) + Real(s.x);
+    let y = Real(j) + Real(s.y);
+    var dir = camera_ray_at(x, y);
     var origin = params.eye;
+    // Through the thin lens (samples 1.. where the aperture is open): the lens point from the
+    // sampler's lens dimensions.
+    if lens_sample(sample) {
+        let uv = vec2<f32>(path_random(i, j, sample, DIM_LENS), path_random(i, j, sample, DIM_LENS + 1u));
+        let ray = thin_lens_ray(x, y, aperture_point(uv));
+        origin = ray.origin;
+        dir = ray.dir;
+    }
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false);

@@ -690,31 +690,40 @@ struct Ray {
     dir: vec3<Real>,
 }
 
-// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j): the pinhole ray through the
-// sample's image-plane point (px, py), direction f + px r + py u, meets the focus plane (at
-// focus_distance along f) at eye + focus_distance (f + px r + py u); the ray leaves the lens at
-// eye + aperture (x r + y u), (x, y) = lens_point(k) on the unit aperture, toward that point.
+// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j) in phong mode: through the
+// sample's image-plane point and the aperture's point at its lens position (lens_point(k)).
 fn lens_ray(i: u32, j: u32, sample: u32) -> Ray {
     let s = sample_position(sample);
-    let x = Real(i) + s.x;
-    let y = Real(j) + s.y;
+    return thin_lens_ray(Real(i) + s.x, Real(j) + s.y, lens_point(sample));
+}
+
+// The thin lens's ray through the image-plane point (x, y) (in pixels) and the point `lens` of
+// the unit aperture: the pinhole ray through (x, y), direction f + px r + py u, meets the focus
+// plane (at focus_distance along f) at eye + focus_distance (f + px r + py u); the ray leaves the
+// lens at eye + aperture (lens.x r + lens.y u), toward that point.
+fn thin_lens_ray(x: Real, y: Real, lens_unit: vec2<f32>) -> Ray {
     let px = (2.0 * x / Real(params.width) - 1.0) * params.tan_half_fov_y * params.aspect;
     let py = (1.0 - 2.0 * y / Real(params.height)) * params.tan_half_fov_y;
-    let lens = params.aperture * vec2<Real>(lens_point(sample));
+    let lens = params.aperture * vec2<Real>(lens_unit);
     let offset = lens.x * params.cam_right + lens.y * params.cam_up;
     let focus = params.focus_distance * (params.cam_forward + px * params.cam_right + py * params.cam_up);
     return Ray(params.eye + offset, real_normalize(focus - offset));
 }
 
-// Sample k's point on the unit aperture, in f32 (its trigonometry too: the f64 kernels take no
-// f64 sin or cos), from its lens position (u, v) = lens_position(k) and the turn
-// rotation = blade_rotation: for a round aperture (blades 0) the polar map
-// sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the disc); for n blades the
-// regular n-gon inscribed in the unit circle with corners c_m = (cos a_m, sin a_m),
-// a_m = 2 pi m / n + rotation, uniform over it: the triangle (0, c_m, c_m+1) with
-// m = floor(n u), then with a = n u - m and b = v the point sqrt(a) ((1 - b) c_m + b c_m+1).
+// Sample k's point on the unit aperture in phong mode: the aperture's point at its lens position
+// (u, v) = lens_position(k).
 fn lens_point(k: u32) -> vec2<f32> {
-    let uv = lens_position(k);
+    return aperture_point(lens_position(k));
+}
+
+// The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too: the f64
+// kernels take no f64 sin or cos), turned by rotation = blade_rotation: for a round aperture
+// (blades 0) the polar map sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the
+// disc); for n blades the regular n-gon inscribed in the unit circle with corners
+// c_m = (cos a_m, sin a_m), a_m = 2 pi m / n + rotation, uniform over it: the triangle
+// (0, c_m, c_m+1) with m = floor(n u), then with a = n u - m and b = v the point
+// sqrt(a) ((1 - b) c_m + b c_m+1).
+fn aperture_point(uv: vec2<f32>) -> vec2<f32> {
     let rotation = f32(params.blade_rotation);
     if params.blades == 0u {
         let phi = 6.2831855 * uv.y + rotation;

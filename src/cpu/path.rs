@@ -10,7 +10,7 @@ use super::light::{
     sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_pdf, sun_radiance,
 };
 use super::sobol::{
-    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
+    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
 use crate::algebra::{Real, Vec3};
@@ -282,11 +282,12 @@ impl<F: Real> TraceParams<F> {
         (n + v * (min - c)).normalize()
     }
 
-    /// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre,
-    /// the others at the sampler's image-plane dimensions. Trace, and at each of up to
-    /// `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves the
-    /// region takes the sky and the sun, one that meets the sphere light first its emission.
-    /// The last scattered ray is traced for that alone.
+    /// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre
+    /// (the pinhole's ray), the others at the sampler's image-plane dimensions and, where the
+    /// aperture is open, its lens dimensions. Trace, and at each of up to `bounces` hits add the
+    /// direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
+    /// sun, one that meets the sphere light first its emission. The last scattered ray is traced
+    /// for that alone.
     pub fn trace_path(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> PathResult<F> {
         let half = F::lit(0.5);
         let mut s = (half, half);
@@ -296,8 +297,21 @@ impl<F: Real> TraceParams<F> {
                 self.path_random(path, i, j, sample, DIM_PIXEL + 1),
             );
         }
-        let mut dir = self.camera_ray_at(F::lit(i as f64) + s.0, F::lit(j as f64) + s.1);
+        let x = F::lit(i as f64) + s.0;
+        let y = F::lit(j as f64) + s.1;
+        let mut dir = self.camera_ray_at(x, y);
         let mut origin = self.eye;
+        // Through the thin lens (samples 1.. where the aperture is open): the lens point from
+        // the sampler's lens dimensions.
+        if self.lens_sample(sample) {
+            let uv = (
+                self.path_random(path, i, j, sample, DIM_LENS).to_f64() as f32,
+                self.path_random(path, i, j, sample, DIM_LENS + 1).to_f64() as f32,
+            );
+            let ray = self.thin_lens_ray(x, y, self.aperture_point(uv));
+            origin = ray.origin;
+            dir = ray.dir;
+        }
         let mut throughput = Vec3::splat(F::one());
         let mut radiance = Vec3::zero();
         let mut result = PathResult {

@@ -591,22 +591,27 @@ impl<F: Real> TraceParams<F> {
         sample > 0 && self.aperture > F::zero()
     }
 
-    /// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j): the pinhole ray through
-    /// the sample's image-plane point (px, py), direction f + px r + py u, meets the focus plane
-    /// (at focus_distance along f) at eye + focus_distance (f + px r + py u); the ray leaves the
-    /// lens at eye + aperture (x r + y u), (x, y) = lens_point(k) on the unit aperture, toward
-    /// that point.
+    /// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j) in phong mode: through
+    /// the sample's image-plane point and the aperture's point at its lens position
+    /// (lens_point(k)).
     pub fn lens_ray(&self, i: u32, j: u32, sample: u32) -> Ray<F> {
-        let (one, two) = (F::one(), F::lit(2.0));
         let (sx, sy) = sample_position::<F>(sample);
         let x = F::lit(i as f64) + sx;
         let y = F::lit(j as f64) + sy;
+        self.thin_lens_ray(x, y, self.lens_point(sample))
+    }
+
+    /// The thin lens's ray through the image-plane point (x, y) (in pixels) and the point `lens`
+    /// of the unit aperture: the pinhole ray through (x, y), direction f + px r + py u, meets
+    /// the focus plane (at focus_distance along f) at eye + focus_distance (f + px r + py u);
+    /// the ray leaves the lens at eye + aperture (lens.x r + lens.y u), toward that point.
+    pub fn thin_lens_ray(&self, x: F, y: F, lens: (f32, f32)) -> Ray<F> {
+        let (one, two) = (F::one(), F::lit(2.0));
         let px = (two * x / F::lit(self.width as f64) - one) * self.tan_half_fov_y * self.aspect;
         let py = (one - two * y / F::lit(self.height as f64)) * self.tan_half_fov_y;
-        let (lx, ly) = self.lens_point(sample);
         let (lx, ly) = (
-            self.aperture * F::lit(lx as f64),
-            self.aperture * F::lit(ly as f64),
+            self.aperture * F::lit(lens.0 as f64),
+            self.aperture * F::lit(lens.1 as f64),
         );
         let offset = self.cam_right * lx + self.cam_up * ly;
         let focus =
@@ -617,15 +622,20 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// Sample k's point on the unit aperture, in f32 (its trigonometry too, as the f64 kernels
-    /// do), from its lens position (u, v) = lens_position(k) and the turn
-    /// rotation = blade_rotation: for a round aperture (blades 0) the polar map
-    /// sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the disc); for n blades
-    /// the regular n-gon inscribed in the unit circle with corners c_m = (cos a_m, sin a_m),
-    /// a_m = 2 pi m / n + rotation, uniform over it: the triangle (0, c_m, c_m+1) with
-    /// m = floor(n u), then with a = n u - m and b = v the point sqrt(a) ((1 - b) c_m + b c_m+1).
+    /// Sample k's point on the unit aperture in phong mode: the aperture's point at its lens
+    /// position (u, v) = lens_position(k).
     pub fn lens_point(&self, k: u32) -> (f32, f32) {
-        let (u, v) = lens_position(k);
+        self.aperture_point(lens_position(k))
+    }
+
+    /// The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too, as
+    /// the f64 kernels do), turned by rotation = blade_rotation: for a round aperture (blades 0)
+    /// the polar map sqrt(u) (cos phi, sin phi), phi = 2 pi v + rotation (uniform over the
+    /// disc); for n blades the regular n-gon inscribed in the unit circle with corners
+    /// c_m = (cos a_m, sin a_m), a_m = 2 pi m / n + rotation, uniform over it: the triangle
+    /// (0, c_m, c_m+1) with m = floor(n u), then with a = n u - m and b = v the point
+    /// sqrt(a) ((1 - b) c_m + b c_m+1).
+    pub fn aperture_point(&self, (u, v): (f32, f32)) -> (f32, f32) {
         let rotation = self.blade_rotation.to_f64() as f32;
         if self.blades == 0 {
             let phi = 6.283_185_5_f32 * v + rotation;
