@@ -15,3 +15,6 @@ r soft-shadows --set light.radius=0.3
 r occlusion --set shading.ambient=0.3 --set shading.occlusion=1
 r orbit-trap --set 'shading.colouring="orbit_trap"'
 r cut --set cut.enabled=true --set 'cut.normal=[0, 0, 1]' --set cut.offset=0.0
+# Path mode's two presets, at their own 512x512.
+"$q" render --preset path-traced -o "$out/path-traced.png" --stats /tmp/gallery-path-traced.json
+"$q" render --preset path-gallery -o "$out/path-gallery.png" --stats /tmp/gallery-path-gallery.json

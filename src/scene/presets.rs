@@ -114,6 +114,30 @@ pub const PRESETS: &[Preset] = &[
                [cut]\nenabled = true\nnormal = [0.2, 1.0, 0.5]\noffset = 0.2\n",
         two_d: false,
     },
+    Preset {
+        name: "Path traced",
+        slug: "path-traced",
+        about: "the seed's set path traced under sky and sun: a glossy material, 3 bounces, a little depth of field",
+        toml: "[shading]\nmodel = \"path\"\ndiffuse = [0.9, 0.3, 0.12]\n\
+               [material]\nroughness = 0.25\nspecular = 0.6\n\
+               [sun]\ndirection = [-1.0, 2.0, 1.0]\nintensity = 3.0\nangular_radius_degrees = 1.5\n\
+               [camera]\neye = [1.8, -0.6, 2.2]\naperture = 0.02\n\
+               [image]\nsamples = 64\nexposure = -0.5\ntone_map = \"aces\"\n",
+        two_d: false,
+    },
+    Preset {
+        name: "Path gallery",
+        slug: "path-gallery",
+        about: "the gallery's cut and orbit-trap colour, path traced in the soft light of a sphere and the sky",
+        toml: "[shading]\nmodel = \"path\"\ncolouring = \"orbit_trap\"\n\
+               [image]\nsamples = 64\ntone_map = \"aces\"\n\
+               [camera]\neye = [2.0, 2.2, 1.8]\n\
+               [light]\nposition = [3.0, 2.0, 1.0]\nradius = 0.6\nintensity = 8.0\n\
+               [sky]\nintensity = 0.6\n\
+               [material]\nroughness = 0.45\n\
+               [cut]\nenabled = true\nnormal = [0.2, 1.0, 0.5]\noffset = 0.2\n",
+        two_d: false,
+    },
 ];
 
 /// The preset of this slug.
