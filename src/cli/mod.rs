@@ -235,11 +235,19 @@ pub struct ReportArgs {
     /// efficiency, time, f32 error against f64 (writes DIR/dimensions.md).
     #[arg(long)]
     pub dimensions: bool,
+    /// Path mode's convergence: RMSE of the linear image against a converged reference,
+    /// against samples and seconds, Sobol' against random, bounces 1, 3 and 5 (writes
+    /// DIR/monte_carlo.md, .csv and .png).
+    #[arg(long, conflicts_with_all = ["stability", "dimensions"])]
+    pub monte_carlo: bool,
+    /// Samples per pixel of the Monte Carlo page's references.
+    #[arg(long, default_value_t = 4096, value_parser = clap::value_parser!(u32).range(256..=65536))]
+    pub reference_samples: u32,
     /// The work-precision report in minutes: one scene, smaller images, one timing each.
     #[arg(long)]
     pub quick: bool,
-    /// Image size in pixels a side (default: 64 for --stability, 128 with --quick or
-    /// --dimensions, else 320).
+    /// Image size in pixels a side (default: 64 for --stability and --monte-carlo, 128 with
+    /// --quick or --dimensions, else 320).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub size: Option<u32>,
     /// Seconds a case may take on one tracer before it counts as a hang.

@@ -31,6 +31,9 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     if args.dimensions {
         return dimensions(args, gpu.as_ref());
     }
+    if args.monte_carlo {
+        return monte_carlo(args, gpu);
+    }
     if !args.stability {
         return work_precision(args, gpu);
     }
@@ -53,6 +56,44 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     if outcomes.iter().any(|o| !o.passed()) {
         anyhow::bail!("some cases failed: see {}", path.display());
     }
+    Ok(())
+}
+
+fn monte_carlo(
+    args: &ReportArgs,
+    gpu: Option<std::sync::Arc<qjulia::gpu::GpuKernels>>,
+) -> anyhow::Result<()> {
+    use qjulia::report::monte_carlo as mc;
+    let size = args.size.unwrap_or(64);
+    let machine = qjulia::report::machine(gpu.as_deref());
+    let mut planner = match gpu {
+        Some(kernels) => {
+            qjulia::Planner::on_device(kernels, qjulia::Backend::Gpu, qjulia::PrecisionChoice::F32)
+        }
+        None => qjulia::Planner::new(qjulia::Backend::Cpu, qjulia::PrecisionChoice::F32),
+    };
+    let bar = indicatif::ProgressBar::new(1);
+    let curves = mc::run(
+        &mut planner,
+        size,
+        args.reference_samples,
+        &mut |msg, k, n| {
+            bar.set_length(n as u64);
+            bar.set_position(k as u64);
+            bar.set_message(msg.to_string());
+        },
+    )?;
+    bar.finish_and_clear();
+    let write = |name: &str, text: &str| -> anyhow::Result<()> {
+        let path = args.out.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+    };
+    write("monte_carlo.csv", &mc::csv(&curves))?;
+    let png = args.out.join("monte_carlo.png");
+    mc::plot(&png, &curves).map_err(|e| anyhow::anyhow!("{}: {e}", png.display()))?;
+    let md = mc::markdown(&curves, size, args.reference_samples, &machine);
+    write("monte_carlo.md", &md)?;
+    println!("{md}");
     Ok(())
 }
 

@@ -1,8 +1,9 @@
 //! Reports on accuracy and stability: the stiff and extreme case suite (`stability`) and the
-//! work-precision sweep (`work_precision`), and how the estimate fares as the algebra grows
-//! (`dimensions`).
+//! work-precision sweep (`work_precision`), how the estimate fares as the algebra grows
+//! (`dimensions`), and how path mode's images converge (`monte_carlo`).
 
 pub mod dimensions;
+pub mod monte_carlo;
 pub mod stability;
 pub mod work_precision;
 
