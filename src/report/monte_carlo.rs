@@ -146,6 +146,9 @@ pub fn case_scene(scene: &Scene, sampler: PathSampler, bounces: u32, samples: u3
     s
 }
 
+/// A reference's scene and bounces.
+type ReferenceKey = (&'static str, u32);
+
 /// Measures every case at `size` x `size` against references of `reference_samples`,
 /// telling `progress` (what, done, of) as it goes.
 pub fn run(
@@ -158,7 +161,7 @@ pub fn run(
     let cases = cases();
     let total = cases.len() * (SAMPLES.len() + 1);
     let mut done = 0;
-    let mut references: Vec<((&str, u32), Vec<[f32; 3]>)> = Vec::new();
+    let mut references: Vec<(ReferenceKey, Vec<[f32; 3]>)> = Vec::new();
     let mut curves = Vec::new();
     for case in cases {
         let base = &scenes
@@ -349,7 +352,8 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
             RGBColor(227, 119, 194),
             RGBColor(90, 90, 90),
         ];
-        let x_of: [(&str, fn(&Point) -> f64); 2] = [
+        type Axis = (&'static str, fn(&Point) -> f64);
+        let x_of: [Axis; 2] = [
             ("samples per pixel (log)", |p| p.samples as f64),
             ("seconds per image (log)", |p| p.seconds.max(1e-5)),
         ];
