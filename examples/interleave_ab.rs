@@ -152,7 +152,7 @@ fn main() {
     let size: u32 = args.next().map_or(256, |a| a.parse().expect("SIZE"));
     let samples: u32 = args.next().map_or(8, |a| a.parse().expect("SAMPLES"));
     assert!(
-        samples % 2 == 0 && samples <= 8,
+        samples.is_multiple_of(2) && samples <= 8,
         "an even number of samples, at most 8"
     );
     let mut scene = qjulia::Scene::default();
