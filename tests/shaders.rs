@@ -325,3 +325,86 @@ fn julia2d_uniform_layout_and_constants_match_the_host() {
         assert_eq!(value, qjulia::cpu::julia2d::BAILOUT_SQUARED);
     }
 }
+
+/// Every path variant (the tracer's variants as path mode has them) validates in both
+/// precisions, and the path pipeline holds none of phong's shading: after specialisation and
+/// compaction for `path_main`, the functions `phong`, `in_shadow`, `soft_shadow`, `occlusion`,
+/// `trace_pixel` and `cone_start` are gone, as the path tracer's `trace_path` is from the
+/// tracer's module, which never contains it.
+#[test]
+fn path_variants_validate_and_hold_no_phong_shading() {
+    use qjulia::gpu::Variant;
+    use qjulia::gpu::shaders::{PATH_MODULE, PATH64_MODULE};
+    let mut variants: Vec<Variant> = Vec::new();
+    for v in Variant::all() {
+        let path = Variant {
+            shadows: false,
+            cone: false,
+            soft_shadows: false,
+            occlusion: false,
+            shade: true,
+            ..v
+        };
+        if !variants.contains(&path) {
+            variants.push(path);
+        }
+    }
+    assert!(variants.len() >= 100, "{} path variants", variants.len());
+    let phong_only = [
+        "phong",
+        "in_shadow",
+        "soft_shadow",
+        "occlusion",
+        "trace_pixel",
+        "cone_start",
+    ];
+    for source in [PATH_MODULE, PATH64_MODULE] {
+        let module = validate_wgsl(&source.source()).unwrap();
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap();
+        assert!(
+            module
+                .functions
+                .iter()
+                .any(|(_, f)| f.name.as_deref() == Some("phong")),
+            "the module holds the tracer's shading before specialisation"
+        );
+        for (k, variant) in variants.iter().enumerate() {
+            let mut constants = naga::back::PipelineConstants::default();
+            for (name, value) in variant.constants() {
+                constants.insert(name.to_string(), value);
+            }
+            if source.is_f64() {
+                constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
+            }
+            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+                &module,
+                &info,
+                Some((naga::ShaderStage::Compute, "path_main")),
+                &constants,
+            )
+            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&specialised)
+            .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
+            if k == 0 {
+                let names: Vec<&str> = specialised
+                    .functions
+                    .iter()
+                    .filter_map(|(_, f)| f.name.as_deref())
+                    .collect();
+                assert!(names.contains(&"trace_path"), "{names:?}");
+                for name in phong_only {
+                    assert!(!names.contains(&name), "{}: {name} is left in", source.name);
+                }
+            }
+        }
+    }
+}
