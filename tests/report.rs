@@ -105,3 +105,34 @@ fn the_zoom_sweep_shows_f32_leaving_f64_as_the_zoom_deepens() {
     eprintln!("{md}");
     assert_eq!(md.matches("| cpu f64 |").count(), wp::ZOOM_FOOTPRINTS.len());
 }
+
+/// The Monte Carlo page on a tiny image on the CPU: every case has its points and a slope, and
+/// the writers give the CSV's rows, the page's verdicts and a plot.
+#[test]
+fn the_monte_carlo_page_measures_every_case() {
+    use qjulia::report::monte_carlo as mc;
+    let mut planner = qjulia::Planner::new(qjulia::Backend::Cpu, qjulia::PrecisionChoice::F32);
+    let curves = mc::run(&mut planner, 8, 1024, &mut |_, _, _| {}).unwrap();
+    assert_eq!(curves.len(), mc::cases().len());
+    for c in &curves {
+        assert_eq!(c.points.len(), mc::SAMPLES.len());
+        assert!(
+            c.slope.is_finite() && c.slope < 0.0,
+            "{:?}: {}",
+            c.case,
+            c.slope
+        );
+        assert!(c.points.iter().all(|p| p.rmse > 0.0 && p.rmse.is_finite()));
+        assert!(c.reference_mean > 0.0);
+    }
+    let csv = mc::csv(&curves);
+    assert_eq!(csv.lines().count(), 1 + curves.len() * mc::SAMPLES.len());
+    let md = mc::markdown(&curves, 8, 1024, "a test machine");
+    for verdict in ["Sobol' against random", "**Bounces**", "rough metal"] {
+        assert!(md.contains(verdict), "{md}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("mc.png");
+    mc::plot(&png, &curves).unwrap();
+    assert!(image::open(&png).unwrap().width() >= 800);
+}

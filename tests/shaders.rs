@@ -224,6 +224,47 @@ fn shared_constants_match_the_cpu_twin() {
     }
 }
 
+/// Specialises `source` for each variant and `entry` (the f64 modules with and without the
+/// start-up check's sqrt repair, alternating) and validates it; hands each specialised module
+/// to `check` with its index.
+fn validate_variants(
+    source: &ShaderModuleSource,
+    entry: &str,
+    variants: &[qjulia::gpu::Variant],
+    check: &mut dyn FnMut(usize, &naga::Module),
+) {
+    let module = validate_wgsl(&source.source()).unwrap();
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap();
+    for (k, variant) in variants.iter().enumerate() {
+        let mut constants = naga::back::PipelineConstants::default();
+        for (name, value) in variant.constants() {
+            constants.insert(name.to_string(), value);
+        }
+        if source.is_f64() {
+            constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
+        }
+        let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+            &module,
+            &info,
+            Some((naga::ShaderStage::Compute, entry)),
+            &constants,
+        )
+        .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&specialised)
+        .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
+        check(k, &specialised);
+    }
+}
+
 /// Every specialised variant of the tracer validates in both precisions; the f64 ones with
 /// and without the start-up check's sqrt repair (alternating).
 #[test]
@@ -234,35 +275,7 @@ fn every_specialised_variant_validates() {
     // 576 base variants, each with none, each one and all six of the picture's features.
     assert_eq!(variants.len(), 576 * 8);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
-        let module = validate_wgsl(&source.source()).unwrap();
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .unwrap();
-        for (k, variant) in variants.iter().enumerate() {
-            let mut constants = naga::back::PipelineConstants::default();
-            for (name, value) in variant.constants() {
-                constants.insert(name.to_string(), value);
-            }
-            if source.is_f64() {
-                constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
-            }
-            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
-                &module,
-                &info,
-                Some((naga::ShaderStage::Compute, "main")),
-                &constants,
-            )
-            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&specialised)
-            .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
-        }
+        validate_variants(&source, "main", &variants, &mut |_, _| {});
     }
 }
 
@@ -360,12 +373,6 @@ fn path_variants_validate_and_hold_no_phong_shading() {
     ];
     for source in [PATH_MODULE, PATH64_MODULE] {
         let module = validate_wgsl(&source.source()).unwrap();
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .unwrap();
         assert!(
             module
                 .functions
@@ -373,27 +380,7 @@ fn path_variants_validate_and_hold_no_phong_shading() {
                 .any(|(_, f)| f.name.as_deref() == Some("phong")),
             "the module holds the tracer's shading before specialisation"
         );
-        for (k, variant) in variants.iter().enumerate() {
-            let mut constants = naga::back::PipelineConstants::default();
-            for (name, value) in variant.constants() {
-                constants.insert(name.to_string(), value);
-            }
-            if source.is_f64() {
-                constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
-            }
-            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
-                &module,
-                &info,
-                Some((naga::ShaderStage::Compute, "path_main")),
-                &constants,
-            )
-            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&specialised)
-            .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
+        validate_variants(&source, "path_main", &variants, &mut |k, specialised| {
             if k == 0 {
                 let names: Vec<&str> = specialised
                     .functions
@@ -405,6 +392,6 @@ fn path_variants_validate_and_hold_no_phong_shading() {
                     assert!(!names.contains(&name), "{}: {name} is left in", source.name);
                 }
             }
-        }
+        });
     }
 }

@@ -241,7 +241,7 @@ pub struct ReportArgs {
     #[arg(long, conflicts_with_all = ["stability", "dimensions"])]
     pub monte_carlo: bool,
     /// Samples per pixel of the Monte Carlo page's references.
-    #[arg(long, default_value_t = 4096, value_parser = clap::value_parser!(u32).range(256..=65536))]
+    #[arg(long, default_value_t = 4096, value_parser = clap::value_parser!(u32).range(1024..=65536))]
     pub reference_samples: u32,
     /// The work-precision report in minutes: one scene, smaller images, one timing each.
     #[arg(long)]

@@ -4,6 +4,7 @@
 
 pub mod dimensions;
 pub mod monte_carlo;
+pub mod plot;
 pub mod stability;
 pub mod work_precision;
 

@@ -149,7 +149,8 @@ pub fn case_scene(scene: &Scene, sampler: PathSampler, bounces: u32, samples: u3
 /// A reference's scene and bounces.
 type ReferenceKey = (&'static str, u32);
 
-/// Measures every case at `size` x `size` against references of `reference_samples`,
+/// Measures every case at `size` x `size` against references of `reference_samples` (at least
+/// 4 times the most samples of a point, so that no `random` point is most of its reference),
 /// telling `progress` (what, done, of) as it goes.
 pub fn run(
     planner: &mut Planner,
@@ -157,6 +158,12 @@ pub fn run(
     reference_samples: u32,
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<Vec<Curve>> {
+    let most = SAMPLES[SAMPLES.len() - 1];
+    assert!(
+        reference_samples >= 4 * most,
+        "a reference of {reference_samples} samples, at least {}",
+        4 * most
+    );
     let scenes = scenes(size);
     let cases = cases();
     let total = cases.len() * (SAMPLES.len() + 1);
@@ -342,16 +349,6 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
         let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let panels = root.split_evenly((1, 2));
-        let palette = [
-            RGBColor(31, 119, 180),
-            RGBColor(255, 127, 14),
-            RGBColor(44, 160, 44),
-            RGBColor(214, 39, 40),
-            RGBColor(148, 103, 189),
-            RGBColor(140, 86, 75),
-            RGBColor(227, 119, 194),
-            RGBColor(90, 90, 90),
-        ];
         type Axis = (&'static str, fn(&Point) -> f64);
         let x_of: [Axis; 2] = [
             ("samples per pixel (log)", |p| p.samples as f64),
@@ -395,31 +392,14 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
                 .draw()
                 .map_err(|e| e.to_string())?;
             for (k, c) in curves.iter().enumerate() {
-                let colour = palette[k % palette.len()];
                 let points: Vec<(f64, f64)> = c
                     .points
                     .iter()
                     .map(|p| (x(p).log10(), p.rmse.max(1e-6).log10()))
                     .collect();
-                chart
-                    .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(label(&c.case))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
-                    });
-                chart
-                    .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
-                    .map_err(|e| e.to_string())?;
+                super::plot::draw_series(&mut chart, &points, k, &label(&c.case), 3)?;
             }
-            chart
-                .configure_series_labels()
-                .label_font(("sans-serif", 14))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            super::plot::draw_legend(&mut chart, 14)?;
         }
         root.present().map_err(|e| e.to_string())?;
     }

@@ -17,20 +17,6 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
         let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let panels = root.split_evenly((scenes.len().max(1), 1));
-        let palette = [
-            RGBColor(31, 119, 180),
-            RGBColor(255, 127, 14),
-            RGBColor(44, 160, 44),
-            RGBColor(214, 39, 40),
-            RGBColor(148, 103, 189),
-            RGBColor(140, 86, 75),
-            RGBColor(227, 119, 194),
-            RGBColor(90, 90, 90),
-            RGBColor(188, 189, 34),
-            RGBColor(23, 190, 207),
-            RGBColor(0, 0, 128),
-            RGBColor(255, 187, 120),
-        ];
         for (panel, scene) in panels.iter().zip(&scenes) {
             let mine: Vec<&Row> = rows
                 .iter()
@@ -78,32 +64,15 @@ pub fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
             methods.sort();
             methods.dedup();
             for (k, method) in methods.iter().enumerate() {
-                let colour = palette[k % palette.len()];
                 let mut points: Vec<(f64, f64)> = mine
                     .iter()
                     .filter(|r| r.setting.method == *method)
                     .map(|r| point(r))
                     .collect();
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                chart
-                    .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(*method)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
-                    });
-                chart
-                    .draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))
-                    .map_err(|e| e.to_string())?;
+                crate::report::plot::draw_series(&mut chart, &points, k, method, 4)?;
             }
-            chart
-                .configure_series_labels()
-                .label_font(("sans-serif", 16))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            crate::report::plot::draw_legend(&mut chart, 16)?;
         }
         root.present().map_err(|e| e.to_string())?;
     }
