@@ -4,7 +4,9 @@
 //! the `random` sampler, independent of the Sobol' estimates and shared with the random ones,
 //! which favours random).
 
-use qjulia::report::monte_carlo::{FIT_FROM, Point, case_scene, curve_slope, render, rmse};
+use qjulia::report::monte_carlo::{
+    FIT_FROM, Point, TRIM, case_scene, curve_slope, render, rmse, rmse_trimmed,
+};
 use qjulia::scene::PathSampler;
 use qjulia::scene::presets::find;
 use qjulia::{Backend, Planner, PrecisionChoice, Scene};
@@ -34,6 +36,7 @@ fn curve(
             Point {
                 samples,
                 rmse: rmse(&frame.radiance, reference),
+                trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
                 seconds,
             }
         })

@@ -40,6 +40,10 @@ pub struct Point {
     /// Root mean square error of the linear RGB (every channel of every pixel) against the
     /// reference.
     pub rmse: f64,
+    /// The RMSE over all but the [`TRIM`] share of pixels with the largest errors: the
+    /// error of the bulk of the image, without the rare glints (a small bright sun seen in a
+    /// glossy lobe) that dominate the RMSE of a few pixels.
+    pub trimmed: f64,
     /// The render's GPU seconds where the device times it, else its render seconds.
     pub seconds: f64,
 }
@@ -105,6 +109,28 @@ pub fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
         .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
         .sum();
     (sum / (3 * a.len().max(1)) as f64).sqrt()
+}
+
+/// The share of pixels with the largest errors that [`rmse_trimmed`] leaves out.
+pub const TRIM: f64 = 0.005;
+
+/// The RMSE of two linear images over every channel of all but the `trim` share of pixels
+/// with the largest errors.
+pub fn rmse_trimmed(a: &[[f32; 3]], b: &[[f32; 3]], trim: f64) -> f64 {
+    assert_eq!(a.len(), b.len(), "images of one size");
+    let mut errors: Vec<f64> = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| {
+            (0..3)
+                .map(|c| (p[c] as f64 - q[c] as f64).powi(2))
+                .sum::<f64>()
+        })
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let keep = ((1.0 - trim) * errors.len() as f64).ceil() as usize;
+    let kept = &errors[..keep.min(errors.len())];
+    (kept.iter().sum::<f64>() / (3 * kept.len().max(1)) as f64).sqrt()
 }
 
 /// The least-squares slope of log y against log x.
@@ -209,6 +235,7 @@ pub fn run(
             points.push(Point {
                 samples,
                 rmse: rmse(&frame.radiance, reference),
+                trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
                 seconds,
             });
             done += 1;
@@ -230,16 +257,17 @@ pub fn run(
 
 /// The curves as CSV: one row per point.
 pub fn csv(curves: &[Curve]) -> String {
-    let mut out = String::from("scene,sampler,bounces,samples,rmse,seconds\n");
+    let mut out = String::from("scene,sampler,bounces,samples,rmse,rmse_trimmed,seconds\n");
     for c in curves {
         for p in &c.points {
             out.push_str(&format!(
-                "{},{},{},{},{:.6e},{:.6}\n",
+                "{},{},{},{},{:.6e},{:.6e},{:.6}\n",
                 c.case.scene_name,
                 c.case.sampler.name(),
                 c.case.bounces,
                 p.samples,
                 p.rmse,
+                p.trimmed,
                 p.seconds
             ));
         }
@@ -268,19 +296,25 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
          biases its RMSE low by up to n/{reference_samples}: in `random`'s favour. The slope is \
          the least-squares fit of log RMSE against log samples from {FIT_FROM} samples on \
          (-0.5 is plain Monte Carlo). Seconds are the render's GPU seconds where the device \
-         times them.\n\n![RMSE against samples and seconds](monte_carlo.png)\n\n\
-         | curve | slope | RMSE at 16 | RMSE at 64 | RMSE at 256 | seconds at 64 | reference mean |\n\
-         |---|---|---|---|---|---|---|\n"
+         times them. \"Trimmed\" leaves out the {trim}% of pixels with the largest errors: a \
+         small bright sun seen in a glossy lobe makes rare glints, a sample or two worth \
+         hundreds of times a pixel's mean, and those few pixels can rule the RMSE, one sampler \
+         meeting a glint that the other misses.\n\n\
+         ![RMSE against samples and seconds](monte_carlo.png)\n\n\
+         | curve | slope | RMSE at 16 | RMSE at 64 | RMSE at 256 | trimmed at 64 | seconds at 64 | reference mean |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        trim = 100.0 * TRIM
     );
     let cell = |c: &Curve, n: u32| at(c, n).map_or("-".into(), |p| format!("{:.4}", p.rmse));
     for c in curves {
         md.push_str(&format!(
-            "| {} | {:.3} | {} | {} | {} | {} | {:.4} |\n",
+            "| {} | {:.3} | {} | {} | {} | {} | {} | {:.4} |\n",
             label(&c.case),
             c.slope,
             cell(c, 16),
             cell(c, 64),
             cell(c, 256),
+            at(c, 64).map_or("-".into(), |p| format!("{:.4}", p.trimmed)),
             at(c, 64).map_or("-".into(), |p| format!("{:.3}", p.seconds)),
             c.reference_mean
         ));
@@ -306,8 +340,16 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
         md.push_str(&format!(
             "- **{scene}, Sobol' against random** (3 bounces): RMSE at 64 samples {:.4} against \
              {:.4}, {:.2}x less error, which plain Monte Carlo would need {:.2}x the samples to \
-             match; slopes {:.3} and {:.3}.\n",
-            s64.rmse, r64.rmse, ratio, equal_time, s.slope, r.slope
+             match; trimmed, {:.4} against {:.4} ({:.2}x); slopes {:.3} and {:.3}.\n",
+            s64.rmse,
+            r64.rmse,
+            ratio,
+            equal_time,
+            s64.trimmed,
+            r64.trimmed,
+            r64.trimmed / s64.trimmed,
+            s.slope,
+            r.slope
         ));
     }
     let bounce_curves: Vec<&Curve> = [1, 3, 5]
@@ -418,6 +460,21 @@ mod tests {
             .map(|&x: &f64| (x, 3.0 * x.powf(-0.5)))
             .collect();
         assert!((fit_slope(&points) + 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_trimmed_rmse_leaves_out_the_worst_pixels() {
+        let mut a = vec![[0.0f32; 3]; 1000];
+        let b = vec![[0.0f32; 3]; 1000];
+        for (k, p) in a.iter_mut().enumerate() {
+            *p = [0.1; 3];
+            if k < 5 {
+                *p = [100.0; 3];
+            }
+        }
+        assert!(rmse(&a, &b) > 3.0);
+        assert!((rmse_trimmed(&a, &b, 0.005) - 0.1).abs() < 1e-6);
+        assert!((rmse_trimmed(&a, &b, 0.0) - rmse(&a, &b)).abs() < 1e-9);
     }
 
     #[test]
