@@ -175,7 +175,12 @@ impl<F: GpuReal> GpuPathTracer<F> {
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
         let samples = params.samples.max(1);
-        let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps);
+        // Within lavapipe's loop budget, and within `band_pixels()` rays a dispatch as the
+        // tracer keeps it, so that a big image's dispatches stay of bounded cost.
+        let rows = self.kernel.band_rows(params.width, params.height);
+        let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps).min(
+            super::GpuTracer::<F>::samples_per_dispatch_in(rows, params.width, samples),
+        );
         let second = GpuPathParams::new(path);
         let uniform = |band: Band| {
             let start = band.dispatch * per_dispatch;
