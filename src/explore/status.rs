@@ -88,6 +88,15 @@ impl StatusLine {
                     crate::precision::Precision::F32 => "f32",
                 };
                 ui.label(precision).on_hover_text(view.precision_note());
+                if view.path_traced() {
+                    ui.label("path traced");
+                } else if state.scene.shading.model == crate::scene::ShadingModel::Path
+                    && let Some(why) = view.path_unavailable()
+                {
+                    let colour = ui.visuals().error_fg_color;
+                    ui.colored_label(colour, "Phong (path tracer unavailable)")
+                        .on_hover_text(why);
+                }
                 if s.refined {
                     ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
                 }
