@@ -21,6 +21,7 @@
 //! PNG's in the last bit of rounding.
 
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -181,9 +182,11 @@ pub struct SliceView<F: GpuReal = f32> {
     /// The scene, full size and quality of the last render started.
     last_start: Option<(Scene, [u32; 2], Quality)>,
     changed_at: Instant,
-    /// Estimated seconds per pixel, learned from finished renders.
+    /// Estimated seconds per pixel of the device, learned frame by frame ([`Self::learn_cost`]).
     seconds_per_pixel: f64,
     in_flight: Arc<AtomicU32>,
+    /// The device's time on the tiles, as a thread of its own sees them finish.
+    timer: TileTimer,
     stats: TextureStats,
     readback: Option<StepsReadback>,
     /// Path mode: the display transform asked for, the accumulator's readback in flight and
@@ -204,6 +207,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let uniform = kernel.kernel().uniform_buffer("view params");
         // About lavapipe on 2 cores; corrected after the first render.
         let seconds_per_pixel = if kernel.is_path() { 1e-5 } else { 1e-6 };
+        let timer = TileTimer::new(kernel.context().device.clone());
         Self {
             kernel,
             renderer,
@@ -216,6 +220,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             changed_at: Instant::now(),
             seconds_per_pixel,
             in_flight: Arc::new(AtomicU32::new(0)),
+            timer,
             stats: TextureStats::default(),
             readback: None,
             display: Display::default(),
@@ -292,6 +297,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
         self.kernel.context().device.poll(wgpu::PollType::Poll).ok();
+        self.learn_cost();
         self.collect_radiance();
         self.finish_job();
         self.collect_readback();
@@ -350,6 +356,17 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         } else {
             IDLE_FRAME_SECONDS
         });
+    }
+
+    /// Learns the device's cost per pixel from the tiles finished since the last frame, as
+    /// their device time (not the frames between: see [`TileTimer`]); a slow start-up tile,
+    /// e.g. shader compilation, is damped.
+    fn learn_cost(&mut self) {
+        let (seconds, pixels) = self.timer.take();
+        if pixels > 0 {
+            let measured = (seconds / pixels as f64).clamp(1e-10, 1e-3);
+            self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
+        }
     }
 
     /// The resolution scale that keeps a preview within the interactive frame budget.
@@ -454,7 +471,9 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             };
             self.in_flight.fetch_add(1, Ordering::AcqRel);
             job.pending.fetch_add(1, Ordering::AcqRel);
-            queue.submit([encoder.finish()]);
+            let submitted = Instant::now();
+            let index = queue.submit([encoder.finish()]);
+            self.timer.time(index, submitted, rows as u64 * width as u64);
             self.dispatches += 1;
             if let Some(buffer) = radiance {
                 let mapped = Arc::new(Mutex::new(None));
@@ -502,10 +521,6 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let job = self.job.take().expect("checked above");
         let done = job.last_done.lock().unwrap().unwrap_or_else(Instant::now);
         let seconds = done.duration_since(job.started).as_secs_f64();
-        let pixels = target.width as f64 * target.height as f64;
-        // Learn the cost per pixel (a slow start-up render, e.g. shader compilation, is damped).
-        let measured = (seconds / pixels).clamp(1e-10, 1e-3);
-        self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
         self.shown = Some(job.quality);
         self.stats.samples = job.sample + 1;
         // More samples for the same scene: the next pass adds one to the running mean.
@@ -687,6 +702,62 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             size,
             old.map(|t| t.texture_id),
         ));
+    }
+}
+
+/// Times the view's tiles on the device: a thread that waits for each tile's submission in
+/// turn and notes when it finished, so that a tile's device time (from its submission, or the
+/// end of the tile before, to its end) is known to the millisecond. The UI thread sees a tile
+/// finish only at its next frame's poll: timing tiles by that, as this view once did, counts
+/// the frames between, and where a frame took longer than its budget of tiles the estimate fed
+/// on itself and submitted ever less per frame (on lavapipe with the CPU shared, a
+/// path-traced pass took ten times the device's time).
+struct TileTimer {
+    send: mpsc::Sender<(wgpu::SubmissionIndex, Instant, u64)>,
+    /// Device seconds and pixels of the tiles finished since the last [`Self::take`].
+    done: Arc<Mutex<(f64, u64)>>,
+}
+
+impl TileTimer {
+    fn new(device: wgpu::Device) -> Self {
+        let (send, receive) = mpsc::channel::<(wgpu::SubmissionIndex, Instant, u64)>();
+        let done = Arc::new(Mutex::new((0.0, 0)));
+        let shared = done.clone();
+        let spawned = std::thread::Builder::new()
+            .name("qjulia view timer".into())
+            .spawn(move || {
+                let mut last_end: Option<Instant> = None;
+                // Ends when the view (the sender) is dropped.
+                while let Ok((index, submitted, pixels)) = receive.recv() {
+                    let wait = wgpu::PollType::Wait {
+                        submission_index: Some(index),
+                        timeout: Some(Duration::from_secs(10)),
+                    };
+                    if device.poll(wait).is_err() {
+                        continue;
+                    }
+                    let end = Instant::now();
+                    let start = last_end.map_or(submitted, |t| t.max(submitted));
+                    last_end = Some(end);
+                    let mut done = shared.lock().unwrap();
+                    done.0 += end.duration_since(start).as_secs_f64();
+                    done.1 += pixels;
+                }
+            });
+        if let Err(e) = spawned {
+            eprintln!("qjulia: the view's timer did not start ({e}); its cost stays a guess");
+        }
+        Self { send, done }
+    }
+
+    /// Times the tile of `pixels` submitted at `submitted` as `index`.
+    fn time(&self, index: wgpu::SubmissionIndex, submitted: Instant, pixels: u64) {
+        self.send.send((index, submitted, pixels)).ok();
+    }
+
+    /// Device seconds and pixels of the tiles finished since the last call.
+    fn take(&self) -> (f64, u64) {
+        std::mem::take(&mut *self.done.lock().unwrap())
     }
 }
 
