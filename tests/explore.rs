@@ -1039,3 +1039,29 @@ fn a_path_export_writes_the_bytes_of_qjulia_render() {
         "Export PNG and `qjulia render` wrote different bytes in path mode"
     );
 }
+
+/// Issue 19: a deep path-traced view runs the f64 path tracer by itself, and shows what
+/// `qjulia render` (deciding f64 too) writes of it.
+#[test]
+fn a_deep_path_view_runs_the_f64_path_tracer() {
+    let mut deep = qjulia::scene::presets::find("deep-zoom").unwrap().scene();
+    deep.shading.model = qjulia::scene::ShadingModel::Path;
+    let Some(mut harness) = harness_of("explorer deep path", deep, PATH_WINDOW) else {
+        return;
+    };
+    settle(&mut harness);
+    let view = harness.state().slice_texture().unwrap();
+    assert!(view.path_traced());
+    assert_eq!(view.precision(), qjulia::Precision::F64);
+    let expected = rendered(&harness);
+    // Not byte for byte: `render` traces the 3 samples in one dispatch, the view one per pass,
+    // and on lavapipe in f64 the two differ on about 9 of 34,368 pixels, where the view's equals
+    // the CPU twin's and the render's does not (measured; see the branch's report). In f32
+    // they agree exactly (the test above).
+    common::assert_agree(
+        "explorer_deep_path",
+        &expected,
+        &shown_view(&mut harness),
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+}
