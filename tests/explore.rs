@@ -821,9 +821,7 @@ const PATH_WINDOW: [f32; 2] = [560.0, 330.0];
 
 /// The path-traced preset, a little cheaper (the view's samples are the harness's 3).
 fn path_scene() -> qjulia::Scene {
-    let mut scene = qjulia::scene::presets::find("path-traced")
-        .unwrap()
-        .scene();
+    let mut scene = qjulia::scene::presets::find("path-traced").unwrap().scene();
     scene.fractal.max_iterations = 8;
     scene.camera.aperture = 0.0;
     scene
@@ -891,8 +889,15 @@ fn path_mode_shows_the_render_and_exposure_and_tone_map_need_no_new_trace() {
     harness.step();
     assert_eq!(harness.state().scene.image.exposure, 1.25);
     let view = harness.state().slice_texture().unwrap();
-    assert_eq!(view.dispatches(), dispatches, "an exposure change traced again");
-    assert!(view.encodes() > encodes, "the radiance was not encoded again");
+    assert_eq!(
+        view.dispatches(),
+        dispatches,
+        "an exposure change traced again"
+    );
+    assert!(
+        view.encodes() > encodes,
+        "the radiance was not encoded again"
+    );
     assert!(harness.state().view_refined());
     let display = qjulia::display::Display::of(&harness.state().view_scene());
     let brighter = shown_view(&mut harness);
@@ -919,7 +924,11 @@ fn path_mode_shows_the_render_and_exposure_and_tone_map_need_no_new_trace() {
         qjulia::display::ToneMap::Reinhard
     );
     let view = harness.state().slice_texture().unwrap();
-    assert_eq!(view.dispatches(), dispatches, "a tone-map change traced again");
+    assert_eq!(
+        view.dispatches(),
+        dispatches,
+        "a tone-map change traced again"
+    );
     let display = qjulia::display::Display::of(&harness.state().view_scene());
     let reinhard = shown_view(&mut harness);
     assert!(changed_fraction(&brighter, &reinhard) > 0.3);
@@ -1003,9 +1012,7 @@ fn the_lighting_switch_turns_the_phong_view_into_a_path_traced_one() {
 /// Issue 19: a path-mode export writes the bytes of `qjulia render`.
 #[test]
 fn a_path_export_writes_the_bytes_of_qjulia_render() {
-    let mut scene = qjulia::scene::presets::find("path-traced")
-        .unwrap()
-        .scene();
+    let mut scene = qjulia::scene::presets::find("path-traced").unwrap().scene();
     scene.image.width = 64;
     scene.image.height = 48;
     scene.image.samples = 2;

@@ -10,11 +10,11 @@ use super::command::Command;
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
 use super::input::slider;
 use super::state::{ExplorerState, Mode, SliceRotation};
-use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::display::ToneMap;
+use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{
-    Camera, Cut, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading,
-    ShadingModel, Sky, Slice, Sun, View, View2d,
+    Camera, Cut, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading, ShadingModel,
+    Sky, Slice, Sun, View, View2d,
 };
 
 /// The side panel: what the view shows, then the groups of controls.
@@ -363,9 +363,7 @@ fn display(ui: &mut egui::Ui, image: &mut Image) {
 fn material(ui: &mut egui::Ui, m: &mut Material) {
     ui.add(key_slider(&mut m.roughness, "material.roughness").text("roughness"));
     ui.add(key_slider(&mut m.metallic, "material.metallic").text("metallic"));
-    ui.add(
-        key_slider(&mut m.specular, "material.specular").text("material specular (F0 / 0.08)"),
-    );
+    ui.add(key_slider(&mut m.specular, "material.specular").text("material specular (F0 / 0.08)"));
 }
 
 /// `[sky]`: its three colours, its up (as two angles) and its intensity.
@@ -381,8 +379,11 @@ fn sky(ui: &mut egui::Ui, sky: &mut Sky) {
 fn sun(ui: &mut egui::Ui, sun: &mut Sun) {
     direction(ui, &mut sun.direction, "sun");
     ui.add(
-        key_slider(&mut sun.angular_radius_degrees, "sun.angular_radius_degrees")
-            .text("sun angular radius (°)"),
+        key_slider(
+            &mut sun.angular_radius_degrees,
+            "sun.angular_radius_degrees",
+        )
+        .text("sun angular radius (°)"),
     );
     linear_colour(ui, &mut sun.colour, "sun colour");
     ui.add(key_slider(&mut sun.intensity, "sun.intensity").text("sun intensity"));

@@ -303,7 +303,11 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         self.collect_readback();
         // Path mode: a new display transform encodes the radiance shown again, at once.
         self.display = Display::of(scene);
-        if self.kept.as_ref().is_some_and(|k| k.encoded != Some(self.display)) {
+        if self
+            .kept
+            .as_ref()
+            .is_some_and(|k| k.encoded != Some(self.display))
+        {
             self.show_kept();
         }
         let scene = &traced_scene(scene);
@@ -473,7 +477,8 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             job.pending.fetch_add(1, Ordering::AcqRel);
             let submitted = Instant::now();
             let index = queue.submit([encoder.finish()]);
-            self.timer.time(index, submitted, rows as u64 * width as u64);
+            self.timer
+                .time(index, submitted, rows as u64 * width as u64);
             self.dispatches += 1;
             if let Some(buffer) = radiance {
                 let mapped = Arc::new(Mutex::new(None));
@@ -910,7 +915,14 @@ impl SliceTexture {
         let mut all = vec![&self.views];
         all.extend(self.path_views.as_ref().and_then(|v| v.as_ref().ok()));
         all.iter()
-            .map(|v| on_both(v, |d, e| d + e, SliceView::dispatches, SliceView::dispatches))
+            .map(|v| {
+                on_both(
+                    v,
+                    |d, e| d + e,
+                    SliceView::dispatches,
+                    SliceView::dispatches,
+                )
+            })
             .sum()
     }
 
