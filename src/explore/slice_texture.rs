@@ -82,6 +82,8 @@ pub struct TextureStats {
     pub since_change_seconds: f64,
     /// Samples in the running mean shown.
     pub samples: u32,
+    /// Path mode: seconds the host took to encode the radiance shown (the display transform).
+    pub encode_seconds: f64,
 }
 
 /// The kernel a view runs: the tracer (Phong shading, and the step views' depth and steps) or
@@ -193,6 +195,8 @@ pub struct SliceView<F: GpuReal = f32> {
     /// the radiance shown.
     display: Display,
     radiance_readback: Option<RadianceReadback>,
+    /// The last readback's buffer, unmapped, for the next.
+    spare_readback: Option<wgpu::Buffer>,
     kept: Option<KeptRadiance>,
     /// Tiles dispatched, and images encoded on the host (path mode), since the view was made.
     dispatches: u64,
@@ -225,6 +229,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             readback: None,
             display: Display::default(),
             radiance_readback: None,
+            spare_readback: None,
             kept: None,
             dispatches: 0,
             encodes: 0,
@@ -470,7 +475,10 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                     target.copy_rows(&mut encoder, job.next_row, rows);
                     None
                 }
-                true if last_tile => Some(copy_radiance(device, &mut encoder, target)),
+                true if last_tile => {
+                    let spare = self.spare_readback.take();
+                    Some(copy_radiance(device, &mut encoder, target, spare))
+                }
                 true => None,
             };
             self.in_flight.fetch_add(1, Ordering::AcqRel);
@@ -557,6 +565,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             refined: job.quality == Quality::Full,
             since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
             samples: 1,
+            encode_seconds: self.stats.encode_seconds,
         };
         self.start_readback(job.quality);
     }
@@ -574,16 +583,18 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let accumulated: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&view);
-            let (w, h, stride) = (
-                rb.size[0] as usize,
-                rb.size[1] as usize,
-                rb.row_stride as usize,
-            );
-            let radiance = (0..h)
-                .flat_map(|j| &accumulated[j * stride..j * stride + w])
-                .map(|a| [a[0], a[1], a[2]])
+            use rayon::prelude::*;
+            // Mapped ranges are aligned to 8 bytes at least: a vec4<f32> needs 4.
+            let accumulated: &[[f32; 4]] = bytemuck::cast_slice(&view);
+            let (w, stride) = (rb.size[0] as usize, rb.row_stride as usize);
+            let radiance = accumulated
+                .par_chunks(stride)
+                .take(rb.size[1] as usize)
+                .flat_map_iter(|row| row[..w].iter().map(|a| [a[0], a[1], a[2]]))
                 .collect();
+            drop(view);
+            rb.buffer.unmap();
+            self.spare_readback = Some(rb.buffer);
             self.kept = Some(KeptRadiance {
                 radiance,
                 size: rb.size,
@@ -606,7 +617,9 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             self.kept = None;
             return;
         };
+        let start = Instant::now();
         let colour = self.display.pack_all(&kept.radiance);
+        self.stats.encode_seconds = start.elapsed().as_secs_f64();
         target.write_colour(&self.kernel.context().queue, &colour);
         kept.encoded = Some(self.display);
         self.encodes += 1;
@@ -766,20 +779,23 @@ impl TileTimer {
     }
 }
 
-/// Path mode: records the copy of a target's accumulator (its whole image) into a new buffer
-/// the host can map.
+/// Path mode: records the copy of a target's accumulator (its whole image) into a buffer the
+/// host can map: `spare` where it has the size, else a new one.
 fn copy_radiance(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     target: &KernelTarget,
+    spare: Option<wgpu::Buffer>,
 ) -> wgpu::Buffer {
     let accumulated = &target.outputs[crate::gpu::TRACE_OUTPUTS.len() - 1];
     let bytes = target.row_stride as u64 * target.height as u64 * 16;
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("radiance readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
+    let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("radiance readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
     });
     encoder.copy_buffer_to_buffer(accumulated, 0, &buffer, 0, bytes);
     buffer

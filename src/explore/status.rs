@@ -147,7 +147,7 @@ impl StatusLine {
                 .map(|v| v.stats().clone())
                 .unwrap_or_default();
             eprintln!(
-                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}) rendered in {:.0} ms, {:.0} ms after the last change",
+                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}, {} samples) rendered in {:.0} ms, {:.0} ms after the last change{}",
                 self.log_frames as f64 / elapsed,
                 viewport.pixels[0],
                 viewport.pixels[1],
@@ -155,8 +155,17 @@ impl StatusLine {
                 s.size[1],
                 s.scale,
                 if s.refined { "full" } else { "preview" },
+                s.samples,
                 s.render_seconds * 1e3,
                 s.since_change_seconds * 1e3,
+                match viewport
+                    .slice_texture
+                    .as_ref()
+                    .is_some_and(|v| v.path_traced())
+                {
+                    true => format!("; path traced, encoded in {:.1} ms", s.encode_seconds * 1e3),
+                    false => String::new(),
+                },
             );
             self.log_frames = 0;
             self.log_since = Some(now);
