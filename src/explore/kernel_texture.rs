@@ -1,6 +1,7 @@
 //! A kernel's output drawn into a texture egui shows: the kernel's output arrays with rows
 //! padded for texture copies, the texture and its egui id, and the bind group; the 3D slice's
-//! and the 2D set's textures both draw through it.
+//! and the 2D set's textures both draw through it (the path-traced view writes its texture
+//! from the host instead, [`KernelTarget::write_colour`]).
 
 use crate::gpu::Kernel;
 
@@ -65,6 +66,33 @@ impl KernelTarget {
             wgpu::Extent3d {
                 width: self.width,
                 height: rows,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+}
+
+impl KernelTarget {
+    /// Writes the whole texture from the host: `colour` is `width` x `height` packed RGBA8
+    /// (0xAABBGGRR, the frames' colour), row after row.
+    pub fn write_colour(&self, queue: &wgpu::Queue, colour: &[u32]) {
+        assert_eq!(colour.len(), self.width as usize * self.height as usize);
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(colour),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(self.width * 4),
+                rows_per_image: Some(self.height),
+            },
+            wgpu::Extent3d {
+                width: self.width,
+                height: self.height,
                 depth_or_array_layers: 1,
             },
         );

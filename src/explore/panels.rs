@@ -1,15 +1,21 @@
 //! The side panel: every scene value as a control, in collapsing groups (the 2D view, fractal,
-//! slice, animation, camera, light and shading, cut, image), one slider per call. Each group is
-//! a function of what it edits; what reaches further (a new algebra, Play) it returns as a
-//! [`Command`].
+//! slice, animation, camera, light and shading, path tracing, cut, image), one slider per call.
+//! Each group is a function of what it edits; what reaches further (a new algebra, Play) it
+//! returns as a [`Command`]. The shading model switch (Phong or path traced) sits at the top of
+//! the 3D view's controls; in path mode the "Path tracing" group shows the path tracer's keys
+//! and the Phong-only keys are greyed out.
 
 use super::c_loop::CLoop;
 use super::command::Command;
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
 use super::input::slider;
 use super::state::{ExplorerState, Mode, SliceRotation};
+use crate::display::ToneMap;
 use crate::scene::rotation::{axis_name, plane_name, planes};
-use crate::scene::{Camera, Cut, Fractal, Image, Light, Shading, Slice, View, View2d};
+use crate::scene::{
+    Camera, Cut, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading, ShadingModel,
+    Sky, Slice, Sun, View, View2d,
+};
 
 /// The side panel: what the view shows, then the groups of controls.
 pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
@@ -29,6 +35,12 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
                             ui.selectable_value(&mut s.scene.image.view, view, view.name());
                         }
                     });
+                ui.horizontal(|ui| {
+                    let model = &mut s.scene.shading.model;
+                    ui.label("Lighting");
+                    ui.selectable_value(model, ShadingModel::Phong, "Phong");
+                    ui.selectable_value(model, ShadingModel::Path, "Path traced");
+                });
             }
             Mode::Julia2d => {
                 egui::CollapsingHeader::new("2D view")
@@ -56,6 +68,11 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
         egui::CollapsingHeader::new("Light and shading").show(ui, |ui| {
             shading(ui, &mut s.scene.light, &mut s.scene.shading)
         });
+        if s.scene.shading.model == ShadingModel::Path {
+            egui::CollapsingHeader::new("Path tracing")
+                .default_open(true)
+                .show(ui, |ui| path_tracing(ui, &mut s.scene));
+        }
         egui::CollapsingHeader::new("Cut").show(ui, |ui| cut(ui, &mut s.scene.cut));
         egui::CollapsingHeader::new("Image").show(ui, |ui| {
             image(
@@ -254,22 +271,16 @@ fn camera(ui: &mut egui::Ui, cam: &mut Camera, home: &Camera) {
     }
 }
 
-/// The light and the shading values.
+/// The light and the shading values; in path mode the Phong-only ones greyed out.
 fn shading(ui: &mut egui::Ui, light: &mut Light, sh: &mut Shading) {
     for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
         ui.add(key_slider(&mut light.position[k], "light.position").text(*name));
     }
-    ui.checkbox(&mut sh.shadows, "shadows");
-    ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
+    ui.add(key_slider(&mut light.radius, "light.radius").text("light radius"));
     ui.horizontal(|ui| {
         colour_edit(ui, &mut sh.diffuse);
-        ui.label("diffuse");
-        colour_edit(ui, &mut sh.background);
-        ui.label("background");
+        ui.label("diffuse (path mode: the albedo)");
     });
-    ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
-    ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
-    ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
     egui::ComboBox::from_label("normal")
         .selected_text(sh.normal.name())
         .show_ui(ui, |ui| {
@@ -278,10 +289,6 @@ fn shading(ui: &mut egui::Ui, light: &mut Light, sh: &mut Shading) {
             }
         });
     ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
-    ui.separator();
-    ui.add(key_slider(&mut light.radius, "light.radius").text("light radius"));
-    ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
-    ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
     egui::ComboBox::from_label("colouring")
         .selected_text(sh.colouring.name())
         .show_ui(ui, |ui| {
@@ -297,6 +304,134 @@ fn shading(ui: &mut egui::Ui, light: &mut Light, sh: &mut Shading) {
     {
         ui.add(key_slider(&mut sh.palette_phase[k], "shading.palette_phase").text(*name));
     }
+    ui.separator();
+    let phong = sh.model == ShadingModel::Phong;
+    if !phong {
+        ui.label("Phong only (path mode ignores these):");
+    }
+    ui.add_enabled_ui(phong, |ui| phong_only(ui, sh));
+}
+
+/// The keys only Phong shading reads: shadows, the highlight, the background, ambient light
+/// and occlusion.
+fn phong_only(ui: &mut egui::Ui, sh: &mut Shading) {
+    ui.checkbox(&mut sh.shadows, "shadows");
+    ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
+    ui.horizontal(|ui| {
+        colour_edit(ui, &mut sh.background);
+        ui.label("background");
+    });
+    ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
+    ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
+    ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
+    ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
+    ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
+}
+
+/// Path mode's keys: the display transform (which the view applies without tracing again),
+/// the material, the sphere light's intensity, the sky, the sun and the paths.
+fn path_tracing(ui: &mut egui::Ui, scene: &mut Scene) {
+    ui.label("Display (applied at once, no new trace):");
+    display(ui, &mut scene.image);
+    ui.separator();
+    material(ui, &mut scene.material);
+    ui.add(
+        key_slider(&mut scene.light.intensity, "light.intensity")
+            .text("light intensity (sphere light)"),
+    );
+    ui.separator();
+    sky(ui, &mut scene.sky);
+    ui.separator();
+    sun(ui, &mut scene.sun);
+    ui.separator();
+    paths(ui, &mut scene.path);
+}
+
+/// `image.exposure` and `image.tone_map`.
+fn display(ui: &mut egui::Ui, image: &mut Image) {
+    ui.add(key_slider(&mut image.exposure, "image.exposure").text("exposure (stops)"));
+    egui::ComboBox::from_label("tone map")
+        .selected_text(image.tone_map.name())
+        .show_ui(ui, |ui| {
+            for tone_map in ToneMap::ALL {
+                ui.selectable_value(&mut image.tone_map, tone_map, tone_map.name());
+            }
+        });
+}
+
+/// `[material]`: Lambert plus GGX.
+fn material(ui: &mut egui::Ui, m: &mut Material) {
+    ui.add(key_slider(&mut m.roughness, "material.roughness").text("roughness"));
+    ui.add(key_slider(&mut m.metallic, "material.metallic").text("metallic"));
+    ui.add(key_slider(&mut m.specular, "material.specular").text("material specular (F0 / 0.08)"));
+}
+
+/// `[sky]`: its three colours, its up (as two angles) and its intensity.
+fn sky(ui: &mut egui::Ui, sky: &mut Sky) {
+    linear_colour(ui, &mut sky.zenith, "sky zenith");
+    linear_colour(ui, &mut sky.horizon, "sky horizon");
+    linear_colour(ui, &mut sky.ground, "sky ground");
+    direction(ui, &mut sky.up, "sky up");
+    ui.add(key_slider(&mut sky.intensity, "sky.intensity").text("sky intensity"));
+}
+
+/// `[sun]`: its direction (as two angles), size, colour and intensity.
+fn sun(ui: &mut egui::Ui, sun: &mut Sun) {
+    direction(ui, &mut sun.direction, "sun");
+    ui.add(
+        key_slider(
+            &mut sun.angular_radius_degrees,
+            "sun.angular_radius_degrees",
+        )
+        .text("sun angular radius (°)"),
+    );
+    linear_colour(ui, &mut sun.colour, "sun colour");
+    ui.add(key_slider(&mut sun.intensity, "sun.intensity").text("sun intensity"));
+}
+
+/// `[path]`: bounces, the clamp and the sampler.
+fn paths(ui: &mut egui::Ui, path: &mut Path) {
+    ui.add(key_slider_u32(&mut path.bounces, "path.bounces").text("bounces"));
+    ui.add(key_slider(&mut path.clamp, "path.clamp").text("clamp (0 = off)"));
+    egui::ComboBox::from_label("sampler")
+        .selected_text(path.sampler.name())
+        .show_ui(ui, |ui| {
+            for sampler in PathSampler::ALL {
+                ui.selectable_value(&mut path.sampler, sampler, sampler.name());
+            }
+        });
+}
+
+/// A direction (not zero; its length is ignored) as its elevation above the y = 0 plane and
+/// its azimuth about +y from +z toward +x, in degrees; written back only when moved.
+fn direction(ui: &mut egui::Ui, v: &mut [f64; 3], name: &str) {
+    let (mut elevation, mut azimuth) = elevation_azimuth(*v);
+    let mut turned = ui
+        .add(egui::Slider::new(&mut elevation, -90.0..=90.0).text(format!("{name} elevation (°)")))
+        .changed();
+    turned |= ui
+        .add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text(format!("{name} azimuth (°)")))
+        .changed();
+    if turned {
+        *v = from_elevation_azimuth(elevation, azimuth);
+    }
+}
+
+/// A linear colour of channels >= 0 (above 1 too): a picker for colours within [0, 1], and
+/// each channel by value.
+fn linear_colour(ui: &mut egui::Ui, colour: &mut [f64; 3], name: &str) {
+    ui.horizontal(|ui| {
+        colour_edit(ui, colour);
+        for c in colour.iter_mut() {
+            ui.add(
+                egui::DragValue::new(c)
+                    .speed(0.005)
+                    .range(0.0..=f64::INFINITY)
+                    .max_decimals(3),
+            );
+        }
+        ui.label(name);
+    });
 }
 
 /// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.
@@ -353,6 +488,22 @@ fn normal_from_angles(polar: f64, azimuth: f64) -> [f64; 3] {
     [p.sin() * a.cos(), p.sin() * a.sin(), p.cos()]
 }
 
+/// A direction's elevation above the y = 0 plane and azimuth about +y (from +z toward +x), in
+/// degrees.
+fn elevation_azimuth(v: [f64; 3]) -> (f64, f64) {
+    let horizontal = v[0].hypot(v[2]);
+    (
+        v[1].atan2(horizontal).to_degrees(),
+        v[0].atan2(v[2]).to_degrees(),
+    )
+}
+
+/// The unit direction at these angles (see [`elevation_azimuth`]).
+fn from_elevation_azimuth(elevation: f64, azimuth: f64) -> [f64; 3] {
+    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
+    [e.cos() * a.sin(), e.sin(), e.cos() * a.cos()]
+}
+
 /// A colour picker for an `[f64; 3]` in [0, 1].
 fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
     let mut rgb = colour.map(|c| c as f32);
@@ -389,6 +540,21 @@ mod tests {
         for v in [[1.0, 2.0, 2.0], [-0.3, 0.1, -0.9], [0.0, -1.0, 0.0]] {
             let (p, a) = normal_angles(v);
             let n = normal_from_angles(p, a);
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            for k in 0..3 {
+                assert!((n[k] - v[k] / len).abs() < 1e-12, "{v:?} -> {n:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn direction_angles_round_trip() {
+        assert_eq!(elevation_azimuth([0.0, 1.0, 0.0]).0, 90.0);
+        assert_eq!(elevation_azimuth([0.0, 0.0, 3.0]), (0.0, 0.0));
+        assert_eq!(elevation_azimuth([1.0, 0.0, 0.0]), (0.0, 90.0));
+        for v in [[2.0, 2.0, 3.0], [-1.0, 2.0, 1.0], [0.3, -0.8, -0.1]] {
+            let (e, a) = elevation_azimuth(v);
+            let n = from_elevation_azimuth(e, a);
             let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             for k in 0..3 {
                 assert!((n[k] - v[k] / len).abs() < 1e-12, "{v:?} -> {n:?}");

@@ -41,6 +41,11 @@ impl<A, B> PrecisionSwitch<A, B> {
         &self.f32_view
     }
 
+    /// The f64 view, once built.
+    pub fn f64_view(&self) -> Option<&B> {
+        self.f64_view.as_ref()?.as_ref().ok()
+    }
+
     /// The view `picture` of `scene` needs, by the auto rule; the f64 one built with `build`
     /// (from the f32 one) the first time it is needed.
     pub fn pick(

@@ -3,20 +3,39 @@
 //! memory). A render is cut into tiles of rows, each its own submission of bounded cost, so the
 //! UI never waits behind a long dispatch; tiles of a stale render are dropped before
 //! submission. While the scene changes it renders at a reduced resolution chosen to keep the
-//! frame rate up, then refines to full resolution.
+//! frame rate up, then refines to full resolution, and the idle view adds samples to a running
+//! mean pass by pass.
+//!
+//! Path mode (`shading.model = "path"`, the shaded view) runs the path tracer
+//! ([`GpuPathTracer`]) on the same schedule, tiles and passes: each pass adds one sample to its
+//! `accumulated` output, the running mean of the linear radiance, as `qjulia render` does. Its
+//! colour is not made on the GPU: the shown bytes must be [`Display`]'s, the f64 host function
+//! that makes the PNG's, so that the view and `qjulia render` give the same bytes of the same
+//! scene and samples. So the last tile of each pass also copies the accumulator into a buffer
+//! the host maps; the view keeps that radiance, encodes it with `Display` (in parallel) and
+//! writes the texture. An exposure or tone-map change only encodes the kept radiance again: no
+//! trace (the scenes the view compares leave the display transform out). The readback is one
+//! pass's (16 bytes a pixel), at most one in flight; the next pass starts once it is collected,
+//! which costs a frame per sample and keeps every pass's image, and no more, in memory. The
+//! simpler alternative, a GPU display pass, would make f32 bytes that could differ from the
+//! PNG's in the last bit of rounding.
 
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use super::kernel_texture::KernelTarget;
 use super::precision_switch::{Either, PrecisionSwitch};
+use crate::cpu::path::PathParams;
+use crate::display::{Display, ToneMap};
 use crate::gpu::kernel::Band;
-use crate::gpu::{GpuKernels, GpuReal, GpuTracer, WORKGROUP_SIZE};
+use crate::gpu::path::{GpuPathParams, GpuPathTracer};
+use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, WORKGROUP_SIZE};
 use crate::params::TraceParams;
 use crate::precision::Precision;
 use crate::render::Picture;
-use crate::scene::Scene;
+use crate::scene::{Scene, View};
 use crate::stats::{Summary, SummaryBuilder};
 
 /// Frames per second to hold while the view changes.
@@ -63,6 +82,32 @@ pub struct TextureStats {
     pub since_change_seconds: f64,
     /// Samples in the running mean shown.
     pub samples: u32,
+    /// Path mode: seconds the host took to encode the radiance shown (the display transform).
+    pub encode_seconds: f64,
+}
+
+/// The kernel a view runs: the tracer (Phong shading, and the step views' depth and steps) or
+/// the path tracer (path mode's shaded view).
+pub enum ViewKernel<F: GpuReal> {
+    Phong(Arc<GpuTracer<F>>),
+    Path(Arc<GpuPathTracer<F>>),
+}
+
+impl<F: GpuReal> ViewKernel<F> {
+    fn kernel(&self) -> &Kernel {
+        match self {
+            ViewKernel::Phong(tracer) => tracer.kernel(),
+            ViewKernel::Path(tracer) => tracer.kernel(),
+        }
+    }
+
+    fn context(&self) -> &GpuContext {
+        self.kernel().context()
+    }
+
+    fn is_path(&self) -> bool {
+        matches!(self, ViewKernel::Path(_))
+    }
 }
 
 /// A render in progress: which target, what, and how far.
@@ -70,6 +115,8 @@ struct Job<F: GpuReal> {
     quality: Quality,
     pipeline: wgpu::ComputePipeline,
     params: TraceParams<F>,
+    /// The path tracer's own uniform (binding 6), empty for the tracer.
+    path_uniform: Vec<u8>,
     /// The sample this pass adds to the running mean (0: the first image).
     sample: u32,
     next_row: u32,
@@ -88,35 +135,85 @@ struct StepsReadback {
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
+/// Path mode: an asynchronous readback of the accumulator after a pass.
+struct RadianceReadback {
+    /// `accumulated` (vec4<f32> a pixel), rows `row_stride` pixels apart.
+    buffer: wgpu::Buffer,
+    quality: Quality,
+    size: [u32; 2],
+    row_stride: u32,
+    /// Samples in its running mean.
+    samples: u32,
+    mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
+}
+
+/// Path mode: the radiance of the image shown, kept to encode again when the display
+/// transform changes.
+pub struct KeptRadiance {
+    /// The mean linear radiance, row after row.
+    pub radiance: Vec<[f32; 3]>,
+    pub size: [u32; 2],
+    /// Samples in the mean.
+    pub samples: u32,
+    quality: Quality,
+    /// The display transform the texture holds it in (None: not written yet).
+    encoded: Option<Display>,
+}
+
+/// The scene as the tracers see it: the display transform (`image.exposure`, `image.tone_map`)
+/// left out, since only the host's encoding of path mode's radiance uses it.
+fn traced_scene(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    scene.image.exposure = 0.0;
+    scene.image.tone_map = ToneMap::None;
+    scene
+}
+
 /// The view in one precision: its tracer, targets and render in progress.
 pub struct SliceView<F: GpuReal = f32> {
-    tracer: Arc<GpuTracer<F>>,
+    kernel: ViewKernel<F>,
     renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     uniform: wgpu::Buffer,
     targets: [Option<KernelTarget>; 2],
     job: Option<Job<F>>,
     /// The target shown now.
     shown: Option<Quality>,
-    /// The scene and full size last asked for, and when it last changed.
+    /// The scene (display transform left out: [`traced_scene`]) and full size last asked for,
+    /// and when it last changed.
     wanted: Option<(Scene, [u32; 2])>,
     /// The scene, full size and quality of the last render started.
     last_start: Option<(Scene, [u32; 2], Quality)>,
     changed_at: Instant,
-    /// Estimated seconds per pixel, learned from finished renders.
+    /// Estimated seconds per pixel of the device, learned frame by frame ([`Self::learn_cost`]).
     seconds_per_pixel: f64,
     in_flight: Arc<AtomicU32>,
+    /// The device's time on the tiles, as a thread of its own sees them finish.
+    timer: TileTimer,
     stats: TextureStats,
     readback: Option<StepsReadback>,
+    /// Path mode: the display transform asked for, the accumulator's readback in flight and
+    /// the radiance shown.
+    display: Display,
+    radiance_readback: Option<RadianceReadback>,
+    /// The last readback's buffer, unmapped, for the next.
+    spare_readback: Option<wgpu::Buffer>,
+    kept: Option<KeptRadiance>,
+    /// Tiles dispatched, and images encoded on the host (path mode), since the view was made.
+    dispatches: u64,
+    encodes: u64,
 }
 
 impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     pub fn new(
-        tracer: Arc<GpuTracer<F>>,
+        kernel: ViewKernel<F>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> Self {
-        let uniform = tracer.kernel().uniform_buffer("view params");
+        let uniform = kernel.kernel().uniform_buffer("view params");
+        // About lavapipe on 2 cores; corrected after the first render.
+        let seconds_per_pixel = if kernel.is_path() { 1e-5 } else { 1e-6 };
+        let timer = TileTimer::new(kernel.context().device.clone());
         Self {
-            tracer,
+            kernel,
             renderer,
             uniform,
             targets: [None, None],
@@ -125,20 +222,41 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             wanted: None,
             last_start: None,
             changed_at: Instant::now(),
-            // About lavapipe on 2 cores; corrected after the first render.
-            seconds_per_pixel: 1e-6,
+            seconds_per_pixel,
             in_flight: Arc::new(AtomicU32::new(0)),
+            timer,
             stats: TextureStats::default(),
             readback: None,
+            display: Display::default(),
+            radiance_readback: None,
+            spare_readback: None,
+            kept: None,
+            dispatches: 0,
+            encodes: 0,
         }
     }
 
-    pub fn tracer(&self) -> &Arc<GpuTracer<F>> {
-        &self.tracer
+    pub fn kernel(&self) -> &ViewKernel<F> {
+        &self.kernel
     }
 
     pub fn stats(&self) -> &TextureStats {
         &self.stats
+    }
+
+    /// Tiles dispatched since the view was made: a trace, however small, adds to it.
+    pub fn dispatches(&self) -> u64 {
+        self.dispatches
+    }
+
+    /// Path mode: images encoded from radiance on the host since the view was made.
+    pub fn encodes(&self) -> u64 {
+        self.encodes
+    }
+
+    /// Path mode: the radiance of the image shown.
+    pub fn kept_radiance(&self) -> Option<&KeptRadiance> {
+        self.kept.as_ref()
     }
 
     /// The texture to draw and its size in pixels, once there is one.
@@ -156,26 +274,48 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         self.job.is_some()
             || self.in_flight.load(Ordering::Acquire) > 0
             || self.readback.is_some()
+            || self.radiance_readback.is_some()
             || preview_last
     }
 
-    /// Whether the shown image is the full-resolution render of exactly this scene and size.
+    /// Whether the shown image is the full-resolution render of exactly this scene and size
+    /// (in path mode: in its display transform).
     pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
-        self.job.is_none()
+        let displayed = !self.kernel.is_path()
+            || self
+                .kept
+                .as_ref()
+                .is_some_and(|k| k.encoded == Some(Display::of(scene)));
+        let scene = traced_scene(scene);
+        displayed
+            && self.job.is_none()
+            && self.radiance_readback.is_none()
             && self.shown == Some(Quality::Full)
             && self
                 .last_start
                 .as_ref()
-                .is_some_and(|(s, z, q)| s == scene && *z == size && *q == Quality::Full)
+                .is_some_and(|(s, z, q)| *s == scene && *z == size && *q == Quality::Full)
     }
 
     /// Asks for `scene` at `size` pixels (the view's full resolution) and moves rendering on:
     /// call once per UI frame. `interacting` says the user is dragging or animating.
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
-        self.tracer.context().device.poll(wgpu::PollType::Poll).ok();
+        self.kernel.context().device.poll(wgpu::PollType::Poll).ok();
+        self.learn_cost();
+        self.collect_radiance();
         self.finish_job();
         self.collect_readback();
+        // Path mode: a new display transform encodes the radiance shown again, at once.
+        self.display = Display::of(scene);
+        if self
+            .kept
+            .as_ref()
+            .is_some_and(|k| k.encoded != Some(self.display))
+        {
+            self.show_kept();
+        }
+        let scene = &traced_scene(scene);
 
         let wanted = (scene.clone(), size);
         if self.wanted.as_ref() != Some(&wanted) {
@@ -227,6 +367,17 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         });
     }
 
+    /// Learns the device's cost per pixel from the tiles finished since the last frame, as
+    /// their device time (not the frames between: see [`TileTimer`]); a slow start-up tile,
+    /// e.g. shader compilation, is damped.
+    fn learn_cost(&mut self) {
+        let (seconds, pixels) = self.timer.take();
+        if pixels > 0 {
+            let measured = (seconds / pixels as f64).clamp(1e-10, 1e-3);
+            self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
+        }
+    }
+
     /// The resolution scale that keeps a preview within the interactive frame budget.
     fn preview_scale(&self, full_pixels: f64) -> f64 {
         let budget = INTERACTIVE_SHARE / INTERACTIVE_FPS;
@@ -246,16 +397,27 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         }
         self.ensure_target(quality, size);
         let params = TraceParams::<F>::new(&scene);
-        // The step views show the steps alone: no shading needed.
-        let shade = scene.image.view == crate::scene::View::Shaded;
-        let variant = self.tracer.variant_for(&params, shade);
-        let Ok(pipeline) = self.tracer.pipeline(variant) else {
+        let (pipeline, path_uniform) = match &self.kernel {
+            ViewKernel::Phong(tracer) => {
+                // The step views show the steps alone: no shading needed.
+                let shade = scene.image.view == View::Shaded;
+                let variant = tracer.variant_for(&params, shade);
+                (tracer.pipeline(variant), Vec::new())
+            }
+            ViewKernel::Path(tracer) => {
+                let path = GpuPathParams::new(&PathParams::<F>::new(&scene));
+                let bytes = bytemuck::bytes_of(&path).to_vec();
+                (tracer.pipeline(&params), bytes)
+            }
+        };
+        let Ok(pipeline) = pipeline else {
             return;
         };
         self.job = Some(Job {
             quality,
             pipeline,
             params,
+            path_uniform,
             sample: 0,
             next_row: 0,
             started: Instant::now(),
@@ -270,7 +432,8 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let Some(target) = self.targets[job.quality as usize].as_ref() else {
             return;
         };
-        let (device, queue) = (&self.tracer.context().device, &self.tracer.context().queue);
+        let kernel = self.kernel.kernel();
+        let (device, queue) = (&kernel.context().device, &kernel.context().queue);
         let width = target.width;
         let tile_rows = ((TILE_SECONDS / (self.seconds_per_pixel * width as f64)) as u32)
             .next_multiple_of(WORKGROUP_SIZE.1)
@@ -286,25 +449,60 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 rows,
                 dispatch: 0,
             };
-            let uniform = F::view_uniform(
+            let mut uniform = F::view_uniform(
                 &job.params,
                 band,
                 target.row_stride,
                 (job.sample, job.sample + 1),
             );
+            if !job.path_uniform.is_empty() {
+                uniform = kernel.pack_uniforms(&uniform, &job.path_uniform);
+            }
             queue.write_buffer(&self.uniform, 0, &uniform);
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.tracer.kernel().encode(
+            kernel.encode(
                 &mut encoder,
                 &job.pipeline,
                 &target.bind_group,
                 (width, rows),
                 None,
             );
-            target.copy_rows(&mut encoder, job.next_row, rows);
+            let last_tile = job.next_row + rows == target.height;
+            // The tracer's colour goes straight into the texture; the path tracer's radiance
+            // comes back to the host after the pass's last tile.
+            let radiance = match self.kernel.is_path() {
+                false => {
+                    target.copy_rows(&mut encoder, job.next_row, rows);
+                    None
+                }
+                true if last_tile => {
+                    let spare = self.spare_readback.take();
+                    Some(copy_radiance(device, &mut encoder, target, spare))
+                }
+                true => None,
+            };
             self.in_flight.fetch_add(1, Ordering::AcqRel);
             job.pending.fetch_add(1, Ordering::AcqRel);
-            queue.submit([encoder.finish()]);
+            let submitted = Instant::now();
+            let index = queue.submit([encoder.finish()]);
+            self.timer
+                .time(index, submitted, rows as u64 * width as u64);
+            self.dispatches += 1;
+            if let Some(buffer) = radiance {
+                let mapped = Arc::new(Mutex::new(None));
+                let slot = mapped.clone();
+                buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+                    *slot.lock().unwrap() = Some(r)
+                });
+                self.radiance_readback = Some(RadianceReadback {
+                    buffer,
+                    quality: job.quality,
+                    size: [target.width, target.height],
+                    row_stride: target.row_stride,
+                    samples: job.sample + 1,
+                    mapped,
+                });
+            }
             let (in_flight, pending, last_done) = (
                 self.in_flight.clone(),
                 job.pending.clone(),
@@ -320,22 +518,22 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         }
     }
 
-    /// Once every tile of the job has run: show its image, learn its cost, read its steps.
+    /// Once every tile of the job has run (in path mode: and its radiance is shown): show its
+    /// image, learn its cost, read its steps.
     fn finish_job(&mut self) {
         let Some(job) = &self.job else { return };
         let Some(target) = self.targets[job.quality as usize].as_ref() else {
             return;
         };
-        if job.next_row < target.height || job.pending.load(Ordering::Acquire) > 0 {
+        if job.next_row < target.height
+            || job.pending.load(Ordering::Acquire) > 0
+            || self.radiance_readback.is_some()
+        {
             return;
         }
         let job = self.job.take().expect("checked above");
         let done = job.last_done.lock().unwrap().unwrap_or_else(Instant::now);
         let seconds = done.duration_since(job.started).as_secs_f64();
-        let pixels = target.width as f64 * target.height as f64;
-        // Learn the cost per pixel (a slow start-up render, e.g. shader compilation, is damped).
-        let measured = (seconds / pixels).clamp(1e-10, 1e-3);
-        self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
         self.shown = Some(job.quality);
         self.stats.samples = job.sample + 1;
         // More samples for the same scene: the next pass adds one to the running mean.
@@ -367,15 +565,73 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             refined: job.quality == Quality::Full,
             since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
             samples: 1,
+            encode_seconds: self.stats.encode_seconds,
         };
         self.start_readback(job.quality);
+    }
+
+    /// Path mode: once the accumulator of a pass is in host memory, keeps its radiance and
+    /// shows it.
+    fn collect_radiance(&mut self) {
+        let Some(rb) = &self.radiance_readback else {
+            return;
+        };
+        let Some(result) = rb.mapped.lock().unwrap().take() else {
+            return;
+        };
+        let rb = self.radiance_readback.take().expect("checked above");
+        if result.is_ok()
+            && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
+        {
+            use rayon::prelude::*;
+            // Mapped ranges are aligned to 8 bytes at least: a vec4<f32> needs 4.
+            let accumulated: &[[f32; 4]] = bytemuck::cast_slice(&view);
+            let (w, stride) = (rb.size[0] as usize, rb.row_stride as usize);
+            let radiance = accumulated
+                .par_chunks(stride)
+                .take(rb.size[1] as usize)
+                .flat_map_iter(|row| row[..w].iter().map(|a| [a[0], a[1], a[2]]))
+                .collect();
+            drop(view);
+            rb.buffer.unmap();
+            self.spare_readback = Some(rb.buffer);
+            self.kept = Some(KeptRadiance {
+                radiance,
+                size: rb.size,
+                samples: rb.samples,
+                quality: rb.quality,
+                encoded: None,
+            });
+            self.show_kept();
+        }
+    }
+
+    /// Path mode: the kept radiance through the display transform into its target's texture
+    /// (dropped if that target has since changed size), and shown.
+    fn show_kept(&mut self) {
+        let Some(kept) = &mut self.kept else { return };
+        let target = self.targets[kept.quality as usize]
+            .as_ref()
+            .filter(|t| [t.width, t.height] == kept.size);
+        let Some(target) = target else {
+            self.kept = None;
+            return;
+        };
+        let start = Instant::now();
+        let colour = self.display.pack_all(&kept.radiance);
+        self.stats.encode_seconds = start.elapsed().as_secs_f64();
+        target.write_colour(&self.kernel.context().queue, &colour);
+        kept.encoded = Some(self.display);
+        self.encodes += 1;
+        self.shown = Some(kept.quality);
+        self.stats.samples = kept.samples;
     }
 
     fn start_readback(&mut self, quality: Quality) {
         let Some(target) = self.targets[quality as usize].as_ref() else {
             return;
         };
-        let device = &self.tracer.context().device;
+        let device = &self.kernel.context().device;
         let items = target.row_stride as u64 * target.height as u64;
         // Depth in the tracer's precision, then the steps (u32).
         let depth_bytes = items * size_of::<F>() as u64;
@@ -388,7 +644,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&target.outputs[1], 0, &buffer, 0, depth_bytes);
         encoder.copy_buffer_to_buffer(&target.outputs[2], 0, &buffer, depth_bytes, items * 4);
-        self.tracer.context().queue.submit([encoder.finish()]);
+        self.kernel.context().queue.submit([encoder.finish()]);
         let mapped = Arc::new(Mutex::new(None));
         let slot = mapped.clone();
         buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
@@ -453,9 +709,12 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         if self.shown == Some(quality) {
             self.shown = None;
         }
+        if self.kept.as_ref().is_some_and(|k| k.quality == quality) {
+            self.kept = None;
+        }
         let old = self.targets[slot].take();
         self.targets[slot] = Some(KernelTarget::new(
-            self.tracer.kernel(),
+            self.kernel.kernel(),
             &self.renderer,
             ("view", &self.uniform),
             size,
@@ -464,73 +723,243 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     }
 }
 
-/// The explorer's 3D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]).
+/// Times the view's tiles on the device: a thread that waits for each tile's submission in
+/// turn and notes when it finished, so that a tile's device time (from its submission, or the
+/// end of the tile before, to its end) is known to the millisecond. The UI thread sees a tile
+/// finish only at its next frame's poll: timing tiles by that, as this view once did, counts
+/// the frames between, and where a frame took longer than its budget of tiles the estimate fed
+/// on itself and submitted ever less per frame (on lavapipe with the CPU shared, a
+/// path-traced pass took ten times the device's time).
+struct TileTimer {
+    send: mpsc::Sender<(wgpu::SubmissionIndex, Instant, u64)>,
+    /// Device seconds and pixels of the tiles finished since the last [`Self::take`].
+    done: Arc<Mutex<(f64, u64)>>,
+}
+
+impl TileTimer {
+    fn new(device: wgpu::Device) -> Self {
+        let (send, receive) = mpsc::channel::<(wgpu::SubmissionIndex, Instant, u64)>();
+        let done = Arc::new(Mutex::new((0.0, 0)));
+        let shared = done.clone();
+        let spawned = std::thread::Builder::new()
+            .name("qjulia view timer".into())
+            .spawn(move || {
+                let mut last_end: Option<Instant> = None;
+                // Ends when the view (the sender) is dropped.
+                while let Ok((index, submitted, pixels)) = receive.recv() {
+                    let wait = wgpu::PollType::Wait {
+                        submission_index: Some(index),
+                        timeout: Some(Duration::from_secs(10)),
+                    };
+                    if device.poll(wait).is_err() {
+                        continue;
+                    }
+                    let end = Instant::now();
+                    let start = last_end.map_or(submitted, |t| t.max(submitted));
+                    last_end = Some(end);
+                    let mut done = shared.lock().unwrap();
+                    done.0 += end.duration_since(start).as_secs_f64();
+                    done.1 += pixels;
+                }
+            });
+        if let Err(e) = spawned {
+            eprintln!("qjulia: the view's timer did not start ({e}); its cost stays a guess");
+        }
+        Self { send, done }
+    }
+
+    /// Times the tile of `pixels` submitted at `submitted` as `index`.
+    fn time(&self, index: wgpu::SubmissionIndex, submitted: Instant, pixels: u64) {
+        self.send.send((index, submitted, pixels)).ok();
+    }
+
+    /// Device seconds and pixels of the tiles finished since the last call.
+    fn take(&self) -> (f64, u64) {
+        std::mem::take(&mut *self.done.lock().unwrap())
+    }
+}
+
+/// Path mode: records the copy of a target's accumulator (its whole image) into a buffer the
+/// host can map: `spare` where it has the size, else a new one.
+fn copy_radiance(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    target: &KernelTarget,
+    spare: Option<wgpu::Buffer>,
+) -> wgpu::Buffer {
+    let accumulated = &target.outputs[crate::gpu::TRACE_OUTPUTS.len() - 1];
+    let bytes = target.row_stride as u64 * target.height as u64 * 16;
+    let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("radiance readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    });
+    encoder.copy_buffer_to_buffer(accumulated, 0, &buffer, 0, bytes);
+    buffer
+}
+
+/// A view in f32 and, by itself, f64.
+type Views = PrecisionSwitch<SliceView<f32>, SliceView<f64>>;
+
+/// Calls `$body` with `$view` bound to the shown view of `$views`, in its precision.
+macro_rules! on_shown {
+    ($views:expr, $view:ident => $body:expr) => {
+        match $views.shown() {
+            Either::F32($view) => $body,
+            Either::F64($view) => $body,
+        }
+    };
+}
+
+/// The explorer's 3D view, in f32 or (deep) f64 by itself ([`PrecisionSwitch`]): the tracer's
+/// (Phong, and the step views), or in path mode the path tracer's.
 pub struct SliceTexture {
     /// The device's kernels, shared with the explorer's exports.
     kernels: Arc<GpuKernels>,
-    views: PrecisionSwitch<SliceView<f32>, SliceView<f64>>,
+    views: Views,
+    /// The path tracer's views, built at the first path-traced view; Err: it cannot run here,
+    /// and why (the tracer's view stands in).
+    path_views: Option<Result<Views, String>>,
+    /// Whether the path tracer's view is the one shown.
+    path_shown: bool,
 }
 
 impl SliceTexture {
     /// The view on the f32 tracer of `kernels` (built now: a shader the device rejects is an
-    /// error); the f64 one is taken from them at the first deep view.
+    /// error); the f64 one is taken from them at the first deep view, the path tracer's at the
+    /// first path-traced view.
     pub fn new(
         kernels: Arc<GpuKernels>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> crate::Result<Self> {
-        let view = SliceView::new(kernels.tracer()?, renderer);
+        let view = SliceView::new(ViewKernel::Phong(kernels.tracer()?), renderer);
         Ok(Self {
             kernels,
             views: PrecisionSwitch::new(view),
+            path_views: None,
+            path_shown: false,
         })
     }
 
-    /// Renders `scene` at `size` in the precision it needs, as [`SliceView::update`].
+    /// Renders `scene` at `size` in the precision it needs, with the path tracer where it is
+    /// path traced (`shading.model = "path"`, the shaded view), as [`SliceView::update`].
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
         let kernels = &self.kernels;
-        let build =
-            |view: &SliceView<f32>| Ok(SliceView::new(kernels.tracer64()?, view.renderer.clone()));
+        let picture = Picture::Slice {
+            shade: scene.image.view == View::Shaded,
+        };
+        self.path_shown = false;
+        if picture.path_traced(scene) {
+            let renderer = self.views.f32_view().renderer.clone();
+            let slot = self.path_views.get_or_insert_with(|| {
+                let tracer = kernels.path().map_err(|e| e.to_string())?;
+                let view = SliceView::new(ViewKernel::Path(tracer), renderer);
+                Ok(PrecisionSwitch::new(view))
+            });
+            if let Ok(views) = slot {
+                self.path_shown = true;
+                let build = |view: &SliceView<f32>| {
+                    let path64 = ViewKernel::Path(kernels.path64()?);
+                    Ok(SliceView::new(path64, view.renderer.clone()))
+                };
+                match views.pick(scene, Picture::SHADED, build) {
+                    Either::F32(view) => view.update(scene, size, interacting),
+                    Either::F64(view) => view.update(scene, size, interacting),
+                }
+                return;
+            }
+        }
+        let build = |view: &SliceView<f32>| {
+            let tracer64 = ViewKernel::Phong(kernels.tracer64()?);
+            Ok(SliceView::new(tracer64, view.renderer.clone()))
+        };
         match self.views.pick(scene, Picture::SHADED, build) {
             Either::F32(view) => view.update(scene, size, interacting),
             Either::F64(view) => view.update(scene, size, interacting),
         }
     }
 
+    /// The views shown: the path tracer's or the tracer's.
+    fn shown(&self) -> &Views {
+        match (&self.path_views, self.path_shown) {
+            (Some(Ok(views)), true) => views,
+            _ => &self.views,
+        }
+    }
+
+    /// Whether the view shown is path traced.
+    pub fn path_traced(&self) -> bool {
+        self.path_shown
+    }
+
+    /// Why path mode cannot run here, if it was asked for and cannot.
+    pub fn path_unavailable(&self) -> Option<&str> {
+        self.path_views.as_ref()?.as_ref().err().map(String::as_str)
+    }
+
     /// The precision of the view shown.
     pub fn precision(&self) -> Precision {
-        self.views.precision()
+        self.shown().precision()
     }
 
     /// Why the view runs in its precision (the status line's hover text).
     pub fn precision_note(&self) -> &str {
-        self.views.reason()
+        self.shown().reason()
     }
 
     pub fn stats(&self) -> &TextureStats {
-        match self.views.shown() {
-            Either::F32(view) => view.stats(),
-            Either::F64(view) => view.stats(),
-        }
+        on_shown!(self.shown(), view => view.stats())
     }
 
     pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
-        match self.views.shown() {
-            Either::F32(view) => view.texture(),
-            Either::F64(view) => view.texture(),
-        }
+        on_shown!(self.shown(), view => view.texture())
     }
 
     pub fn busy(&self) -> bool {
-        match self.views.shown() {
-            Either::F32(view) => view.busy(),
-            Either::F64(view) => view.busy(),
-        }
+        on_shown!(self.shown(), view => view.busy())
     }
 
     pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
-        match self.views.shown() {
-            Either::F32(view) => view.is_refined(scene, size),
-            Either::F64(view) => view.is_refined(scene, size),
-        }
+        on_shown!(self.shown(), view => view.is_refined(scene, size))
     }
+
+    /// Tiles dispatched by every view since they were made (a trace of any of them adds to it).
+    pub fn dispatches(&self) -> u64 {
+        let mut all = vec![&self.views];
+        all.extend(self.path_views.as_ref().and_then(|v| v.as_ref().ok()));
+        all.iter()
+            .map(|v| {
+                on_both(
+                    v,
+                    |d, e| d + e,
+                    SliceView::dispatches,
+                    SliceView::dispatches,
+                )
+            })
+            .sum()
+    }
+
+    /// Path mode: images the shown view encoded on the host from radiance.
+    pub fn encodes(&self) -> u64 {
+        on_shown!(self.shown(), view => view.encodes())
+    }
+
+    /// Path mode: the radiance of the image shown, its size and its samples.
+    pub fn kept_radiance(&self) -> Option<&KeptRadiance> {
+        on_shown!(self.shown(), view => view.kept_radiance())
+    }
+}
+
+/// `f32(view)` and, where the f64 view was built, `f64(view)`, joined by `join`.
+fn on_both<R: Default>(
+    views: &Views,
+    join: impl Fn(R, R) -> R,
+    f32: impl Fn(&SliceView<f32>) -> R,
+    f64: impl Fn(&SliceView<f64>) -> R,
+) -> R {
+    let deep = views.f64_view().map_or_else(R::default, f64);
+    join(f32(views.f32_view()), deep)
 }

@@ -88,6 +88,15 @@ impl StatusLine {
                     crate::precision::Precision::F32 => "f32",
                 };
                 ui.label(precision).on_hover_text(view.precision_note());
+                if view.path_traced() {
+                    ui.label("path traced");
+                } else if state.scene.shading.model == crate::scene::ShadingModel::Path
+                    && let Some(why) = view.path_unavailable()
+                {
+                    let colour = ui.visuals().error_fg_color;
+                    ui.colored_label(colour, "Phong (path tracer unavailable)")
+                        .on_hover_text(why);
+                }
                 if s.refined {
                     ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
                 }
@@ -138,7 +147,7 @@ impl StatusLine {
                 .map(|v| v.stats().clone())
                 .unwrap_or_default();
             eprintln!(
-                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}) rendered in {:.0} ms, {:.0} ms after the last change",
+                "explore: {:.1} fps; view {}x{}; shown {}x{} (scale {:.2}, {}, {} samples) rendered in {:.0} ms, {:.0} ms after the last change{}",
                 self.log_frames as f64 / elapsed,
                 viewport.pixels[0],
                 viewport.pixels[1],
@@ -146,8 +155,17 @@ impl StatusLine {
                 s.size[1],
                 s.scale,
                 if s.refined { "full" } else { "preview" },
+                s.samples,
                 s.render_seconds * 1e3,
                 s.since_change_seconds * 1e3,
+                match viewport
+                    .slice_texture
+                    .as_ref()
+                    .is_some_and(|v| v.path_traced())
+                {
+                    true => format!("; path traced, encoded in {:.1} ms", s.encode_seconds * 1e3),
+                    false => String::new(),
+                },
             );
             self.log_frames = 0;
             self.log_since = Some(now);

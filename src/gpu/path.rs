@@ -152,6 +152,18 @@ impl<F: GpuReal> GpuPathTracer<F> {
         self.kernel.context()
     }
 
+    /// The kernel itself (its buffers, bind groups and passes), for a caller that dispatches
+    /// it pass by pass (the explorer's view).
+    pub fn kernel(&self) -> &Kernel {
+        &self.kernel
+    }
+
+    /// The pipeline [`Self::render_bands`] runs `params` on: its path variant's (generic where
+    /// specialisation is off), with the device's constants.
+    pub fn pipeline(&self, params: &TraceParams<F>) -> Result<wgpu::ComputePipeline> {
+        self.kernel.pipeline(&self.constants(params))
+    }
+
     /// The override constants of a scene's pipeline: its path variant's (none where
     /// specialisation is off) and the device's.
     fn constants(&self, params: &TraceParams<F>) -> Vec<(&'static str, f64)> {
