@@ -118,7 +118,7 @@ fn uniform_layout_matches_the_shader() {
     }
 }
 
-/// The sampler's grid uniform (binding 6 of the sample module) is the host's GpuSampleGrid, and
+/// The sampler's grid uniform (binding 7 of the sample module) is the host's GpuSampleGrid, and
 /// the sampler's Params the tracer's.
 #[test]
 fn sample_grid_uniform_layout_matches_the_shader() {
