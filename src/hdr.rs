@@ -78,8 +78,10 @@ impl HdrImage {
             .zip(self.channels)
             .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
             .collect();
-        let mut layer = LayerAttributes::default();
-        layer.software_name = Some(Text::from(concat!("qjulia ", env!("CARGO_PKG_VERSION"))));
+        let layer = LayerAttributes {
+            software_name: Some(Text::from(concat!("qjulia ", env!("CARGO_PKG_VERSION")))),
+            ..Default::default()
+        };
         let mut attributes = ImageAttributes::with_size(size);
         // The scene as its UTF-8 bytes: OpenEXR's strings are bytes, and a scene is ASCII but
         // for what its TOML strings may hold.

@@ -167,9 +167,16 @@ fn oiiotool_reads_the_channels_and_the_scene() {
 /// the misses), all channels float32 of the image's size.
 #[test]
 fn path_mode_writes_the_radiance_and_the_depth() {
-    let sets = ["shading.model=\"path\"", "image.samples=3", "sun.intensity=2"];
+    let sets = [
+        "shading.model=\"path\"",
+        "image.samples=3",
+        "sun.intensity=2",
+    ];
     let dir = tempfile::tempdir().unwrap();
-    render(dir.path(), &[&set_args(&sets)[..], &["--hdr", "p.exr"]].concat());
+    render(
+        dir.path(),
+        &[&set_args(&sets)[..], &["--hdr", "p.exr"]].concat(),
+    );
     let exr = Exr::read(&dir.path().join("p.exr"));
     assert_eq!(exr.size, (32, 24));
     assert!(exr.all_f32, "float32 channels");
@@ -190,7 +197,10 @@ fn path_mode_writes_the_radiance_and_the_depth() {
     }
     assert_eq!(first_difference(exr.channel("Z"), &frame.depth), None, "Z");
     let misses = frame.depth.iter().filter(|d| d.is_nan()).count();
-    assert!(misses > 0 && misses < 32 * 24, "{misses} misses: both kinds");
+    assert!(
+        misses > 0 && misses < 32 * 24,
+        "{misses} misses: both kinds"
+    );
     // Not the display image: path mode's radiance goes past 1 under this sun.
     assert!(exr.channel("R").iter().any(|&r| r > 1.0));
 }
@@ -204,14 +214,21 @@ fn phong_mode_writes_the_unclamped_colour_and_the_normal() {
     let dir = tempfile::tempdir().unwrap();
     render(
         dir.path(),
-        &[&set_args(&sets)[..], &["--hdr", "a.exr", "--depth", "d.npy"]].concat(),
+        &[
+            &set_args(&sets)[..],
+            &["--hdr", "a.exr", "--depth", "d.npy"],
+        ]
+        .concat(),
     );
     let exr = Exr::read(&dir.path().join("a.exr"));
     assert_eq!(exr.size, (32, 24));
     let scene = small_scene(&sets);
     let p = TraceParams::<f32>::new(&scene);
     let (mut over_one, mut hits) = (0, 0);
-    let (rgb, normal) = (exr.triple(["R", "G", "B"]), exr.triple(["N.X", "N.Y", "N.Z"]));
+    let (rgb, normal) = (
+        exr.triple(["R", "G", "B"]),
+        exr.triple(["N.X", "N.Y", "N.Z"]),
+    );
     for j in 0..24 {
         for i in 0..32 {
             let k = (j * 32 + i) as usize;
@@ -234,7 +251,11 @@ fn phong_mode_writes_the_unclamped_colour_and_the_normal() {
     // Z is the depth map, NaN where it is.
     let npy = std::fs::read(dir.path().join("d.npy")).unwrap();
     let depth: Vec<f32> = bytemuck::pod_collect_to_vec(&npy[npy.len() - 4 * 32 * 24..]);
-    assert_eq!(first_difference(exr.channel("Z"), &depth), None, "Z against --depth");
+    assert_eq!(
+        first_difference(exr.channel("Z"), &depth),
+        None,
+        "Z against --depth"
+    );
 }
 
 /// A flat-coloured scene: the albedo is shading.diffuse wherever sample 0 hit, diffuse or 0
@@ -244,7 +265,10 @@ fn phong_mode_writes_the_unclamped_colour_and_the_normal() {
 fn the_albedo_of_a_flat_scene_is_its_diffuse_colour() {
     let sets = ["shading.diffuse=[0.3, 0.5, 0.7]", "image.samples=4"];
     let dir = tempfile::tempdir().unwrap();
-    render(dir.path(), &[&set_args(&sets)[..], &["--hdr", "a.exr"]].concat());
+    render(
+        dir.path(),
+        &[&set_args(&sets)[..], &["--hdr", "a.exr"]].concat(),
+    );
     let exr = Exr::read(&dir.path().join("a.exr"));
     let diffuse = [0.3f32, 0.5, 0.7];
     let albedo = exr.triple(["albedo.R", "albedo.G", "albedo.B"]);
@@ -259,7 +283,11 @@ fn the_albedo_of_a_flat_scene_is_its_diffuse_colour() {
             assert!(albedo[k] == diffuse || albedo[k] == [0.0; 3], "pixel {k}");
             none += (albedo[k] == [0.0; 3]) as u32;
         }
-        assert!(length(normal[k]) <= 1.0 + 1e-5, "pixel {k}: |N| {}", length(normal[k]));
+        assert!(
+            length(normal[k]) <= 1.0 + 1e-5,
+            "pixel {k}: |N| {}",
+            length(normal[k])
+        );
     }
     assert!(none > 0, "some pixels no sample hit");
     // Inside the silhouette (a hit with every neighbour a hit) the samples' normals agree.
@@ -357,11 +385,17 @@ fn animate_writes_an_exr_per_frame_and_resume_wants_both() {
     );
     assert_eq!(files_in(&frames), names);
     assert!(bytes(&frames.join("frame-00001.exr")) == bytes(&dir.path().join("one.exr")));
-    assert!(bytes(&frames.join("frame-00001.png")) != b"stale", "the PNG again too");
+    assert!(
+        bytes(&frames.join("frame-00001.png")) != b"stale",
+        "the PNG again too"
+    );
     // Without --hdr a frame is its PNG, as before.
     std::fs::remove_file(frames.join("frame-00002.exr")).unwrap();
     let args = ["animate", "--scene", "anim.toml", "--backend", "cpu"];
-    let out = qjulia(dir.path(), &[&args[..], &["--out", "f", "--resume"]].concat());
+    let out = qjulia(
+        dir.path(),
+        &[&args[..], &["--out", "f", "--resume"]].concat(),
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(
         stderr(&out).contains("3 frames already complete, 0 to render"),
@@ -370,7 +404,10 @@ fn animate_writes_an_exr_per_frame_and_resume_wants_both() {
     );
     // With --hdr it is missing, and rendered.
     let told = animate(&["--resume"]);
-    assert!(told.contains("2 frames already complete, 1 to render"), "{told}");
+    assert!(
+        told.contains("2 frames already complete, 1 to render"),
+        "{told}"
+    );
 }
 
 /// The AOVs of the GPU (f32) agree with the CPU twin's: phong with orbit-trap colours and 4
@@ -394,19 +431,19 @@ fn gpu_and_cpu_aovs_agree() {
     assert_aovs_agree("phong", &gpu, &cpu, true);
     // The AOVs changed nothing else.
     let plain = tracer.render(&p).unwrap().frame;
-    assert_eq!(plain.colour, gpu.colour, "the colour with and without the AOVs");
+    assert_eq!(
+        plain.colour, gpu.colour,
+        "the colour with and without the AOVs"
+    );
     assert_eq!(plain.steps, gpu.steps);
     // Path mode, on a GPU renderer of the same device.
     let scene = small_scene(&["shading.model=\"path\"", "image.samples=2"]);
     let kernels = std::sync::Arc::new(qjulia::gpu::GpuKernels::new(tracer.context().clone()));
-    let renderer = qjulia::Planner::on_device(
-        kernels,
-        qjulia::Backend::Gpu,
-        qjulia::PrecisionChoice::F32,
-    )
-    .plan(&scene, Picture::SHADED.into(), &mut |_| {})
-    .unwrap()
-    .renderer;
+    let renderer =
+        qjulia::Planner::on_device(kernels, qjulia::Backend::Gpu, qjulia::PrecisionChoice::F32)
+            .plan(&scene, Picture::SHADED.into(), &mut |_| {})
+            .unwrap()
+            .renderer;
     let render = |renderer: &qjulia::Renderer| {
         let mut frame = Frame::empty(32);
         renderer
@@ -419,8 +456,31 @@ fn gpu_and_cpu_aovs_agree() {
     };
     let gpu = render(&renderer);
     let cpu = render(&common::cpu_renderer(&scene, Precision::F32));
-    assert!(gpu.unclamped.is_empty() && cpu.unclamped.is_empty(), "path mode: the radiance");
+    assert!(
+        gpu.unclamped.is_empty() && cpu.unclamped.is_empty(),
+        "path mode: the radiance"
+    );
     assert_aovs_agree("path", &gpu, &cpu, false);
+}
+
+/// The tracer's AOV output is allocated whole only for a run that reads it back: a plain
+/// render's is a placeholder of one pixel (48 bytes), the other outputs whole either way.
+#[test]
+fn the_aov_buffer_is_allocated_only_when_read() {
+    let Some(tracer) = common::gpu("the_aov_buffer_is_allocated_only_when_read") else {
+        return;
+    };
+    let kernel = tracer.kernel();
+    let names: Vec<&str> = kernel.spec().outputs.iter().map(|o| o.name).collect();
+    assert_eq!(names.last(), Some(&"aovs"));
+    let sizes = |read: &[bool]| -> Vec<u64> {
+        let buffers = kernel.output_buffers(1000, "test", read);
+        buffers.iter().map(|b| b.size()).collect()
+    };
+    assert_eq!(sizes(&[]), [4000, 4000, 4000, 4000, 16000, 48]);
+    let mut read = vec![false; names.len()];
+    *read.last_mut().unwrap() = true;
+    assert_eq!(sizes(&read), [4000, 4000, 4000, 4000, 16000, 48000]);
 }
 
 /// Where both tracers hit with sample 0, the albedo within 1e-3 and the normal within 1e-2 on
@@ -452,7 +512,10 @@ fn assert_aovs_agree(name: &str, gpu: &Frame, cpu: &Frame, phong: bool) {
     assert!(share(albedo, both.len()) >= 0.98, "{name}: albedo");
     assert!(share(normal, both.len()) >= 0.98, "{name}: normal");
     // Not all zero: a hit has a base colour and a normal.
-    assert!(both.iter().all(|&k| cpu.albedo[k] != [0.0; 3] && cpu.normal[k] != [0.0; 3]));
+    assert!(
+        both.iter()
+            .all(|&k| cpu.albedo[k] != [0.0; 3] && cpu.normal[k] != [0.0; 3])
+    );
     if phong {
         assert_eq!(gpu.unclamped.len(), n, "{name}: the GPU's colour");
         let colour = (0..n)
@@ -480,5 +543,9 @@ fn an_exr_into_a_missing_folder_writes_nothing() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 1, "{text}");
     assert!(lines[0].starts_with("error: missing/a.exr"), "{text}");
-    assert_eq!(files_in(dir.path()), Vec::<String>::new(), "nothing written");
+    assert_eq!(
+        files_in(dir.path()),
+        Vec::<String>::new(),
+        "nothing written"
+    );
 }
