@@ -31,7 +31,7 @@ struct PathParams {
     pad: u32,
 }
 
-@group(0) @binding(6) var<uniform> path: PathParams;
+@group(0) @binding(7) var<uniform> path: PathParams;
 
 // path.strategy: which estimators light a hit (the MIS test's hook; scenes use both).
 const STRATEGY_BOTH: u32 = 0u;
@@ -43,12 +43,15 @@ const STRATEGY_BSDF: u32 = 2u;
 // ray that starts within it would hit the surface it leaves).
 const SURFACE_OFFSET: Real = 4.0;
 
-// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
+// One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
+// hit, and there the material's albedo and the shading normal (0 on a miss).
 struct PathResult {
     radiance: vec3<f32>,
     depth: Real,
     steps: u32,
     hit: bool,
+    albedo: vec3<f32>,
+    normal: vec3<f32>,
 }
 
 // The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the scene's
@@ -69,13 +72,10 @@ fn path_sphere_light() -> SphereLight {
     return SphereLight(vec3<f32>(params.light), f32(params.light_radius), path.light_intensity);
 }
 
-// The hit's material: the albedo is the diffuse colour, or the orbit trap's palette colour.
+// The hit's material: the albedo is the hit's base colour (hit_albedo: the diffuse colour, or
+// the orbit trap's palette colour).
 fn path_material(p: vec3<Real>) -> Material {
-    var albedo = vec3<f32>(params.diffuse);
-    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
-        albedo = vec3<f32>(palette(orbit_trap(slice_point(p))));
-    }
-    return Material(albedo, path.roughness, path.metallic, path.specular);
+    return Material(vec3<f32>(hit_albedo(p)), path.roughness, path.metallic, path.specular);
 }
 
 // Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray, the
@@ -206,7 +206,7 @@ fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
     }
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
-    var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false);
+    var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false, vec3<f32>(0.0), vec3<f32>(0.0));
     var pdf_prev: f32 = 0.0;
     let light_on = params.light_radius > 0.0 && any(path.light_intensity > vec3<f32>(0.0));
     for (var bounce = 0u; bounce <= path.bounces; bounce++) {
@@ -245,10 +245,14 @@ fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
         let n = face_viewer(vec3<f32>(estimate_normal(p, dir)), -dir32);
         let f = basis_from_normal(n);
         let wo = to_local(f, -dir32);
+        let m = path_material(p);
+        if bounce == 0u {
+            result.albedo = m.albedo;
+            result.normal = n;
+        }
         if wo.z <= 0.0 {
             break;
         }
-        let m = path_material(p);
         if path.strategy != STRATEGY_BSDF {
             radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, p, f, wo, m), bounce);
         }
@@ -278,7 +282,8 @@ fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
 
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
-// m_(k-1)) / (k + 1)); sample 0 gives the depth and the steps.
+// m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
+// sample 0 gives the depth and the steps.
 @compute @workgroup_size(8, 8, 1)
 fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -291,9 +296,13 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     estimates = 0u;
     var mean = vec3<f32>(0.0);
     var made = 0u;
+    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
     if params.sample_start > 0u {
         mean = accumulated[index].xyz;
         made = out_estimates[index];
+        if AOVS {
+            aovs = load_aovs(index);
+        }
     }
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let r = trace_path(i, j, k);
@@ -302,8 +311,14 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             out_depth[index] = select(-1.0, r.depth, r.hit);
             out_steps[index] = r.steps;
         }
+        if AOVS {
+            aovs = add_aovs(aovs, k, r.radiance, r.hit, r.albedo, r.normal);
+        }
     }
     accumulated[index] = vec4<f32>(mean, 0.0);
+    if AOVS {
+        store_aovs(index, aovs);
+    }
     out_estimates[index] = made + estimates;
     out_colour[index] = 0u;
 }

@@ -2,7 +2,7 @@
 // surface there, through the tracer's own estimate (estimate_distance, with the cut). Needs
 // shaders/algebra.wgsl and shaders/trace.wgsl in front of it (src/gpu/shaders.rs), whose
 // `Params` uniform (binding 0: the scene's, as a render's) and first output (binding 1) it
-// shares; the grid is a uniform of its own (binding 6).
+// shares; the grid is a uniform of its own (binding 7: binding 6 is the tracer's AOV output).
 //
 // Twin: src/cpu/sample.rs, function by function, with the same names in the same order
 // (tests/twins.rs).
@@ -21,7 +21,7 @@ struct SampleGrid {
     row_count: u32,
 }
 
-@group(0) @binding(6) var<uniform> grid: SampleGrid;
+@group(0) @binding(7) var<uniform> grid: SampleGrid;
 
 // The grid point at column i of the grid's row j (rows of rows), in slice coordinates.
 fn grid_point(i: u32, j: u32) -> vec3<f32> {

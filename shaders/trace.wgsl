@@ -112,6 +112,10 @@ override ORBIT_TRAP: bool = true;
 override CUT: bool = true;
 // The thin lens: aperture > 0 with samples > 1 (sample 0 is always the pinhole's).
 override LENS: bool = true;
+// The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
+// Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
+// their code, and out_aovs may then be a placeholder of one pixel.
+override AOVS: bool = false;
 
 // params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.
 const COLOURING_FLAT: u32 = 0u;
@@ -142,6 +146,8 @@ var<workgroup> cone_t: Real;
 @group(0) @binding(4) var<storage, read_write> out_estimates: array<u32>;
 // With several samples: the mean of the samples' clamped colours so far (rgb).
 @group(0) @binding(5) var<storage, read_write> accumulated: array<vec4<f32>>;
+// With AOVS: three vec4s a pixel, from index 3 * index on, the Aovs so far (store_aovs).
+@group(0) @binding(6) var<storage, read_write> out_aovs: array<vec4<f32>>;
 
 // Distance estimates this invocation has made for its pixel (the cone's are not counted).
 var<private> estimates: u32;
@@ -603,6 +609,15 @@ fn palette(t: Real) -> vec3<Real> {
     return 0.5 + 0.5 * real_cos(6.2831855 * x);
 }
 
+// The base colour of a hit at p: the diffuse colour, or the palette's colour of the orbit trap.
+// (shade_features's B, path mode's albedo, and the albedo AOV.)
+fn hit_albedo(p: vec3<Real>) -> vec3<Real> {
+    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
+        return palette(orbit_trap(slice_point(p)));
+    }
+    return params.diffuse;
+}
+
 // Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
 // or orbit-trap colour) instead of the seed's phong and in_shadow.
 fn shading_features() -> bool {
@@ -624,10 +639,7 @@ fn shading_features() -> bool {
 // phong's colour, shadowed as trace_pixel does. The viewer is at eye: the ray's origin (the
 // camera's eye, or a point of the lens).
 fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
-    var base = params.diffuse;
-    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
-        base = palette(orbit_trap(slice_point(p)));
-    }
+    let base = hit_albedo(p);
     var a: Real = 1.0;
     if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
         a = occlusion(p, n);
@@ -771,12 +783,16 @@ fn cone_start(bi: u32, bj: u32) -> Real {
     return t;
 }
 
-// One pixel's outcome.
+// One sample's outcome: its colour (unclamped), depth and steps, whether it hit, and where
+// it was shaded, the hit point and its shading normal (0 where it was not: a miss, or no
+// shading).
 struct Pixel {
     colour: vec3<Real>,
     depth: Real,
     steps: u32,
     hit: bool,
+    point: vec3<Real>,
+    normal: vec3<Real>,
 }
 
 // Everything for one sample of pixel (i, j): the ray (the pinhole's from the eye, or the thin
@@ -795,22 +811,23 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
     } else {
         dir = camera_ray(i, j, sample);
     }
+    let none = vec3<Real>(0.0);
     let bounds = intersect_bounds(origin, dir);
     if !bounds.hit {
-        return Pixel(params.background, -1.0, 0u, false);
+        return Pixel(params.background, -1.0, 0u, false, none, none);
     }
     let t_start = max(bounds.t_enter, t_from);
     let trace = sphere_trace(origin, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
     if !trace.hit {
-        return Pixel(params.background, -1.0, trace.steps, false);
+        return Pixel(params.background, -1.0, trace.steps, false, none, none);
     }
     if SPECIALISED && !SHADE {
-        return Pixel(params.background, trace.t, trace.steps, true);
+        return Pixel(params.background, trace.t, trace.steps, true, none, none);
     }
     let p = origin + trace.t * dir;
     let n = estimate_normal(p, dir);
     if shading_features() {
-        return Pixel(shade_features(p, n, origin), trace.t, trace.steps, true);
+        return Pixel(shade_features(p, n, origin), trace.t, trace.steps, true, p, n);
     }
     var colour = phong(params.light, origin, p, n);
     var shadows = params.shadows != 0u;
@@ -822,7 +839,7 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
     if shadows && lit && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
-    return Pixel(colour, trace.t, trace.steps, true);
+    return Pixel(colour, trace.t, trace.steps, true, p, n);
 }
 
 // Where sample k lies in its pixel, (x, y) in [0, 1)^2 from the pixel's top left corner:
@@ -869,6 +886,52 @@ fn pack_colour(colour: vec3<Real>) -> u32 {
     return v.x | (v.y << 8u) | (v.z << 16u) | 0xff000000u;
 }
 
+// The AOVs of a pixel's samples so far (`--hdr`): the mean of their unclamped colours, and over
+// the samples whose primary ray hit, how many did and the means of their hits' base colours and
+// shading normals (0 while none has). In f32 in both precisions, as the accumulator is.
+struct Aovs {
+    colour: vec3<f32>,
+    hits: f32,
+    albedo: vec3<f32>,
+    normal: vec3<f32>,
+}
+
+// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
+// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1); where it hit, its albedo and normal to the running
+// means over the hits, by the same rule with the hits counted so far.
+fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>) -> Aovs {
+    var out = a;
+    out.colour = a.colour + (colour - a.colour) / f32(k + 1u);
+    if hit {
+        out.hits = a.hits + 1.0;
+        out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
+        out.normal = a.normal + (normal - a.normal) / out.hits;
+    }
+    return out;
+}
+
+// Adds sample k's pixel to the AOVs: its colour, and where it hit, the base colour of its hit
+// (hit_albedo) and its shading normal. (The host sets AOVS only with SHADE: every hit is shaded.)
+fn add_pixel_aovs(a: Aovs, k: u32, pixel: Pixel) -> Aovs {
+    var albedo = vec3<f32>(0.0);
+    if pixel.hit {
+        albedo = vec3<f32>(hit_albedo(pixel.point));
+    }
+    return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal));
+}
+
+// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo, normal.
+fn load_aovs(index: u32) -> Aovs {
+    let a = out_aovs[3u * index];
+    return Aovs(a.xyz, a.w, out_aovs[3u * index + 1u].xyz, out_aovs[3u * index + 2u].xyz);
+}
+
+fn store_aovs(index: u32, a: Aovs) {
+    out_aovs[3u * index] = vec4<f32>(a.colour, a.hits);
+    out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, 0.0);
+    out_aovs[3u * index + 2u] = vec4<f32>(a.normal, 0.0);
+}
+
 // Whether this pipeline traces a cone per block first.
 fn cone_tracing() -> bool {
     if SPECIALISED {
@@ -904,12 +967,16 @@ fn main(
     if SPECIALISED && !SAMPLES {
         samples = 1u;
     }
+    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
     if samples <= 1u {
         let pixel = trace_pixel(i, j, 0u, t_min);
         out_colour[index] = pack_colour(pixel.colour);
         out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
         out_steps[index] = pixel.steps;
         out_estimates[index] = estimates;
+        if AOVS {
+            store_aovs(index, add_pixel_aovs(no_aovs, 0u, pixel));
+        }
         return;
     }
     // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
@@ -917,9 +984,13 @@ fn main(
     // has the same colour; sample 0 gives the depth and the steps.
     var mean = vec3<Real>(0.0);
     var made = 0u;
+    var aovs = no_aovs;
     if params.sample_start > 0u {
         mean = vec3<Real>(accumulated[index].xyz);
         made = out_estimates[index];
+        if AOVS {
+            aovs = load_aovs(index);
+        }
     }
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let pixel = trace_pixel(i, j, k, t_min);
@@ -929,8 +1000,14 @@ fn main(
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }
+        if AOVS {
+            aovs = add_pixel_aovs(aovs, k, pixel);
+        }
     }
     accumulated[index] = vec4<f32>(vec3<f32>(mean), 0.0);
+    if AOVS {
+        store_aovs(index, aovs);
+    }
     out_estimates[index] = made + estimates;
     out_colour[index] = pack_colour(mean);
 }

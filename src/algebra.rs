@@ -113,6 +113,11 @@ impl<F: Real> Vec3<F> {
     pub fn to_f64(self) -> [f64; 3] {
         [self.x.to_f64(), self.y.to_f64(), self.z.to_f64()]
     }
+    /// WGSL's `vec3<f32>(v)`: each component rounded to f32.
+    pub fn to_f32(self) -> Vec3<f32> {
+        let [x, y, z] = self.to_f64();
+        Vec3::new(x as f32, y as f32, z as f32)
+    }
     pub fn dot(self, o: Self) -> F {
         self.x * o.x + self.y * o.y + self.z * o.z
     }

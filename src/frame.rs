@@ -19,6 +19,18 @@ pub struct Frame {
     /// Path mode: each pixel's mean linear radiance, of which `colour` is the display
     /// transform ([`crate::display::Display`]); empty in phong mode.
     pub radiance: Vec<[f32; 3]>,
+    /// The AOVs `--hdr` writes, where they were asked for ([`crate::Readback::Hdr`]); each
+    /// empty otherwise. Phong mode: each pixel's mean of its samples' unclamped colours (the
+    /// PNG's colour is the mean of the clamped ones); empty in path mode, whose linear mean is
+    /// `radiance` ([`Self::linear`] gives either).
+    pub unclamped: Vec<[f32; 3]>,
+    /// The AOVs: the base colour of the hit (shading.diffuse, or the orbit trap's palette
+    /// colour), averaged over the samples whose primary ray hit; 0 where none did.
+    pub albedo: Vec<[f32; 3]>,
+    /// The AOVs: the shading normal at the hit (slice coordinates), averaged over the samples
+    /// whose primary ray hit; 0 where none did. A mean of unit vectors: of length 1 where every
+    /// sample hit the same face, shorter where they disagree.
+    pub normal: Vec<[f32; 3]>,
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
     /// marker aside). Must be 0: the stability suite checks it.
     pub non_finite: u64,
@@ -38,6 +50,9 @@ impl Frame {
             depth_f64: Vec::new(),
             steps: Vec::new(),
             radiance: Vec::new(),
+            unclamped: Vec::new(),
+            albedo: Vec::new(),
+            normal: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }
@@ -56,6 +71,9 @@ impl Frame {
         self.depth_f64.extend_from_slice(&band.depth_f64);
         self.steps.extend_from_slice(&band.steps);
         self.radiance.extend_from_slice(&band.radiance);
+        self.unclamped.extend_from_slice(&band.unclamped);
+        self.albedo.extend_from_slice(&band.albedo);
+        self.normal.extend_from_slice(&band.normal);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
     }
@@ -72,6 +90,15 @@ impl Frame {
                 }
             });
         rgb
+    }
+
+    /// The linear mean colour `--hdr` writes as R, G, B: path mode's radiance, or phong mode's
+    /// unclamped colour mean (empty where the AOVs were not asked for in phong mode).
+    pub fn linear(&self) -> &[[f32; 3]] {
+        match self.radiance.is_empty() {
+            true => &self.unclamped,
+            false => &self.radiance,
+        }
     }
 
     /// Whether each pixel's primary ray hit the set.

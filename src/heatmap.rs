@@ -409,6 +409,9 @@ mod tests {
             depth_f64: Vec::new(),
             steps: (0..4000).map(|k| k % 50).collect(),
             radiance: Vec::new(),
+            unclamped: Vec::new(),
+            albedo: Vec::new(),
+            normal: Vec::new(),
             non_finite: 0,
             estimates: 0,
         };

@@ -15,6 +15,7 @@ pub mod explore;
 pub mod frame;
 pub mod gpu;
 pub mod grid;
+pub mod hdr;
 pub mod heatmap;
 pub mod mesh;
 pub mod output;
@@ -33,7 +34,7 @@ pub use frame::Frame;
 pub use params::{Julia2dParams, TraceParams};
 pub use precision::{Precision, PrecisionChoice};
 pub use render::{
-    Backend, GPU_F64_UNSUPPORTED, Picture, Plan, Planner, Renderer, Work, band_pixels,
+    Backend, GPU_F64_UNSUPPORTED, Picture, Plan, Planner, Readback, Renderer, Work, band_pixels,
 };
 pub use scene::Scene;
 /// The `[animation]` table, a part of the scene model ([`scene::animation`]).

@@ -1,6 +1,6 @@
-//! Writing a frame: PNG (carrying its scene), NumPy depth and steps maps, JSON stats. All or
-//! nothing: every file goes to a temporary file beside its target first, and all are renamed
-//! into place only once every one is written.
+//! Writing a frame: PNG (carrying its scene), NumPy depth and steps maps, JSON stats, OpenEXR
+//! (`--hdr`, [`crate::hdr`]). All or nothing: every file goes to a temporary file beside its
+//! target first, and all are renamed into place only once every one is written.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -10,6 +10,7 @@ use tempfile::NamedTempFile;
 
 use crate::error::{Error, Result};
 use crate::frame::Frame;
+use crate::hdr::HdrImage;
 use crate::scene::{SCENE_PNG_KEYWORD, Scene};
 use crate::stats::RenderStats;
 
@@ -20,6 +21,9 @@ pub struct OutputPaths {
     pub depth: Option<PathBuf>,
     pub steps: Option<PathBuf>,
     pub stats: Option<PathBuf>,
+    /// The OpenEXR of the linear mean, the AOVs and the depth (`--hdr`): the frames written
+    /// must carry their AOVs ([`crate::Readback::Hdr`]).
+    pub hdr: Option<PathBuf>,
     /// Write the depth as float64 (`<f8`): the render runs in f64, whose depth float32 cannot
     /// hold at a deep zoom.
     pub depth_f64: bool,
@@ -68,6 +72,24 @@ pub fn write_png(path: &Path, scene: &Scene, size: [u32; 2], rgb: &[u8]) -> Resu
     let mut outputs = StreamingOutputs::create_sized(&paths, scene, size)?;
     outputs.write_png_rows(rgb)?;
     outputs.finish_files()
+}
+
+/// Writes the OpenEXR of a whole frame rendered with its AOVs, carrying `scene`, as `render
+/// --hdr` writes it, whole or not at all.
+pub fn write_hdr(path: &Path, scene: &Scene, image: HdrImage) -> Result<()> {
+    let temp = stage(path, |_| Ok(()))?;
+    write_exr(&temp, path, scene, image)?;
+    temp.persist(path).map_err(|e| io_error(path, e.error))?;
+    Ok(())
+}
+
+/// Writes `image` into the staged temporary file of `path`.
+fn write_exr(temp: &NamedTempFile, path: &Path, scene: &Scene, image: HdrImage) -> Result<()> {
+    let mut file = BufWriter::new(temp.as_file());
+    image
+        .write(scene, &mut file)
+        .and_then(|()| file.flush())
+        .map_err(|e| io_error(path, e))
 }
 
 /// The RGB8 pixels and size of a PNG (8-bit RGB, as qjulia writes them).
@@ -144,7 +166,8 @@ pub const PNG_COMPRESSION: png::Compression = png::Compression::Fast;
 /// Outputs written band by band while the render goes (any image size in bounded memory):
 /// headers first, rows as they come, the stats last; then every file renamed into place, or none.
 /// The PNG is 8-bit RGB with no gamma curve and the scene in an iTXt chunk; depth and steps are
-/// little-endian `.npy` of shape (height, width).
+/// little-endian `.npy` of shape (height, width). The EXR's channels are gathered in host memory
+/// (40 bytes a pixel) and encoded at the end.
 pub struct StreamingOutputs {
     png: Option<(
         NamedTempFile,
@@ -155,6 +178,8 @@ pub struct StreamingOutputs {
     depth_f64: bool,
     steps: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
     stats: Option<PathBuf>,
+    /// The EXR's temporary file, its path, its channels so far and the scene it carries.
+    hdr: Option<(NamedTempFile, PathBuf, HdrImage, Box<Scene>)>,
 }
 
 /// A temporary file beside `path` and a buffered writer into it.
@@ -219,12 +244,22 @@ impl StreamingOutputs {
             }
         };
         let depth_descr = if paths.depth_f64 { "<f8" } else { "<f4" };
+        let hdr = match &paths.hdr {
+            Some(path) => Some((
+                stage(path, |_| Ok(()))?,
+                path.clone(),
+                HdrImage::new(width, height),
+                Box::new(scene.clone()),
+            )),
+            None => None,
+        };
         Ok(Self {
             png,
             depth: npy(&paths.depth, depth_descr)?,
             depth_f64: paths.depth_f64,
             steps: npy(&paths.steps, "<u4")?,
             stats: paths.stats.clone(),
+            hdr,
         })
     }
 
@@ -244,8 +279,11 @@ impl StreamingOutputs {
         Ok(())
     }
 
-    /// Appends a band of whole rows to the depth and steps maps.
+    /// Appends a band of whole rows to the depth and steps maps and the EXR.
     pub fn write_maps(&mut self, band: &Frame) -> Result<()> {
+        if let Some((_, _, image, _)) = &mut self.hdr {
+            image.add_band(band);
+        }
         if let Some((_, path, file)) = &mut self.depth {
             let written = match (self.depth_f64, band.depth_f64.is_empty()) {
                 (false, _) => file.write_all(bytemuck::cast_slice(&band.depth)),
@@ -290,6 +328,10 @@ impl StreamingOutputs {
         }
         if let (Some(path), Some(stats)) = (self.stats, stats) {
             staged.push((stage(&path, |w| write_stats(w, stats))?, path));
+        }
+        if let Some((temp, path, image, scene)) = self.hdr {
+            write_exr(&temp, &path, &scene, image)?;
+            staged.push((temp, path));
         }
         for (temp, path) in staged {
             temp.persist(&path).map_err(|e| io_error(&path, e.error))?;

@@ -247,6 +247,9 @@ mod tests {
             depth_f64: Vec::new(),
             steps,
             radiance: Vec::new(),
+            unclamped: Vec::new(),
+            albedo: Vec::new(),
+            normal: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }

@@ -394,6 +394,7 @@ fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
         range: qjulia::animate::FrameRange::all(animation.frames),
         out: Some(&out),
         resume: false,
+        hdr: false,
         // Without ffmpeg the video never starts; the frames are what is checked then.
         video: qjulia::video::find_ffmpeg()
             .is_ok()

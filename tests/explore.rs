@@ -91,6 +91,9 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         depth_f64: Vec::new(),
         steps: vec![0; n],
         radiance: Vec::new(),
+        unclamped: Vec::new(),
+        albedo: Vec::new(),
+        normal: Vec::new(),
         non_finite: 0,
         estimates: 0,
     }
@@ -321,6 +324,9 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 depth_f64: Vec::new(),
                 steps: vec![0; n],
                 radiance: Vec::new(),
+                unclamped: Vec::new(),
+                albedo: Vec::new(),
+                normal: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
             }

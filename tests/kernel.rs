@@ -43,10 +43,12 @@ const ACCUMULATE: KernelSpec = KernelSpec {
         OutputSpec {
             name: "sum",
             bytes_per_item: 4,
+            on_demand: false,
         },
         OutputSpec {
             name: "scratch",
             bytes_per_item: 4,
+            on_demand: false,
         },
     ],
     band_row_multiple: 1,

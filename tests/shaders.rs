@@ -118,7 +118,7 @@ fn uniform_layout_matches_the_shader() {
     }
 }
 
-/// The sampler's grid uniform (binding 6 of the sample module) is the host's GpuSampleGrid, and
+/// The sampler's grid uniform (binding 7 of the sample module) is the host's GpuSampleGrid, and
 /// the sampler's Params the tracer's.
 #[test]
 fn sample_grid_uniform_layout_matches_the_shader() {
@@ -276,6 +276,53 @@ fn every_specialised_variant_validates() {
     assert_eq!(variants.len(), 576 * 8);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
         validate_variants(&source, "main", &variants, &mut |_, _| {});
+    }
+}
+
+/// The AOV pipelines (the AOVS override on) validate: the tracer's and the path tracer's, in
+/// both precisions, generic and specialised with none and all of the picture's features.
+#[test]
+fn the_aov_pipelines_validate() {
+    use qjulia::gpu::Variant;
+    use qjulia::gpu::shaders::{PATH_MODULE, PATH64_MODULE, TRACE64_MODULE};
+    let base = Variant::all_base()[0];
+    let all = *Variant::all()
+        .iter()
+        .find(|v| v.samples && v.lens && v.cut)
+        .unwrap();
+    for (source, entry) in [
+        (TRACE_MODULE, "main"),
+        (TRACE64_MODULE, "main"),
+        (PATH_MODULE, "path_main"),
+        (PATH64_MODULE, "path_main"),
+    ] {
+        let module = validate_wgsl(&source.source()).unwrap();
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap();
+        for variant in [None, Some(base), Some(all)] {
+            let mut constants = naga::back::PipelineConstants::default();
+            for (name, value) in variant.map(|v| v.constants()).unwrap_or_default() {
+                constants.insert(name.to_string(), value);
+            }
+            constants.insert("AOVS".to_string(), 1.0);
+            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+                &module,
+                &info,
+                Some((naga::ShaderStage::Compute, entry)),
+                &constants,
+            )
+            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&specialised)
+            .unwrap_or_else(|e| panic!("{} {variant:?} with AOVS: {e:?}", source.name));
+        }
     }
 }
 

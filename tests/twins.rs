@@ -69,6 +69,18 @@ const TRACE: Twin = Twin {
         },
         OnlyIn {
             side: Side::Wgsl,
+            name: "load_aovs",
+            reason: "reads a pixel's AOVs back from the out_aovs buffer between dispatches; the \
+                     CPU keeps them in a local `Aovs` across all samples (`cpu::render_rows`)",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_aovs",
+            reason: "writes a pixel's AOVs to the out_aovs buffer; on the CPU `cpu::fill_rows` \
+                     puts them in the frame",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
             name: "cone_tracing",
             reason: "returns the CONE_TRACING override when specialised; on the CPU \
                      `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",

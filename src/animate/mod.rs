@@ -1,6 +1,7 @@
 //! `qjulia animate`: the frames of a scene's animation, each a full qjulia PNG
 //! (`DIR/frame-NNNNN.png`) carrying its own frame's resolved scene, written whole or not at all,
-//! and optionally a video of them through ffmpeg ([`crate::video`]).
+//! with `--hdr` an OpenEXR beside each (`DIR/frame-NNNNN.exr`, [`crate::hdr`]), and optionally
+//! a video of them through ffmpeg ([`crate::video`]).
 //!
 //! Frame k's bytes depend only on the scene options and k (on one backend and adapter): each
 //! frame's renderer is decided by its own scene ([`Planner::plan`], as `qjulia render` decides
@@ -103,11 +104,22 @@ pub fn frame_path(dir: &Path, k: u32) -> PathBuf {
     dir.join(format!("frame-{k:05}.png"))
 }
 
+/// The OpenEXR of frame `k` in `dir` (`animate --hdr`): `frame-NNNNN.exr`, beside its PNG.
+pub fn frame_exr_path(dir: &Path, k: u32) -> PathBuf {
+    dir.join(format!("frame-{k:05}.exr"))
+}
+
 /// Whether frame `k`'s PNG is already there and complete: it exists under its final name (the
 /// writer renames only complete files into place) and carries exactly `scene`. A frame left by
 /// another scene, or a file that is not a qjulia PNG, is not complete.
 pub fn frame_complete(path: &Path, scene: &Scene) -> bool {
     path.is_file() && crate::scene::scene_from_png(path).is_ok_and(|text| text == scene.to_toml())
+}
+
+/// As [`frame_complete`], for a frame's OpenEXR: there under its final name, carrying exactly
+/// `scene`.
+pub fn frame_exr_complete(path: &Path, scene: &Scene) -> bool {
+    path.is_file() && crate::scene::scene_from_exr(path).is_ok_and(|text| text == scene.to_toml())
 }
 
 /// What one animate run did, for `--stats` (JSON).
@@ -161,8 +173,11 @@ pub struct Job<'a> {
     pub range: FrameRange,
     /// The folder of the PNG frames (created if missing); None writes none (a video alone).
     pub out: Option<&'a Path>,
-    /// Skip frames whose PNG in `out` is complete (a video then reads them from there).
+    /// Skip frames whose PNG in `out` is complete (a video then reads them from there), and
+    /// with `hdr` their EXR too.
     pub resume: bool,
+    /// Write each frame's OpenEXR beside its PNG in `out` (which must be given).
+    pub hdr: bool,
     /// The video to write (`.mp4` or `.webm`), of every frame of the range.
     pub video: Option<&'a Path>,
     /// Set (by another thread) to stop after the frames in hand: frames written stay, and the
@@ -171,29 +186,38 @@ pub struct Job<'a> {
 }
 
 /// One frame of a run: its number, its scene, where its PNG goes (None: no PNGs are
-/// written, a video alone), and whether that PNG is complete already (`--resume`: then it is
-/// not rendered again, and a video reads it back).
+/// written, a video alone), where its EXR goes (`hdr` only), and whether the frame is complete
+/// already (`--resume`: its PNG, and its EXR where one is written; then it is not rendered
+/// again, and a video reads its PNG back).
 #[derive(Clone, Debug)]
 pub struct FramePlan {
     pub frame: u32,
     pub scene: Scene,
     pub png: Option<PathBuf>,
+    pub exr: Option<PathBuf>,
     pub complete: bool,
 }
 
-/// The first step of a run: every frame of the range with its scene, its PNG and whether that
-/// is complete.
+/// The first step of a run: every frame of the range with its scene, its PNG (and EXR) and
+/// whether the frame is complete.
 pub fn plan_frames(job: &Job) -> Vec<FramePlan> {
     job.range
         .iter()
         .map(|frame| {
             let scene = job.animation.scene_at(job.base, frame);
             let png = job.out.map(|dir| frame_path(dir, frame));
-            let complete = job.resume && png.as_deref().is_some_and(|p| frame_complete(p, &scene));
+            let exr = job
+                .out
+                .filter(|_| job.hdr)
+                .map(|dir| frame_exr_path(dir, frame));
+            let complete = job.resume
+                && png.as_deref().is_some_and(|p| frame_complete(p, &scene))
+                && exr.as_deref().is_none_or(|p| frame_exr_complete(p, &scene));
             FramePlan {
                 frame,
                 scene,
                 png,
+                exr,
                 complete,
             }
         })
@@ -227,8 +251,11 @@ pub fn run(
         to_render: to_render.len() as u32,
         skipped,
     });
-    let (picture, readback) = match job.base.image.view {
-        View::Shaded => (Picture::SHADED, Readback::Colour),
+    // The EXR needs the shaded picture and its AOVs whatever the PNG shows (a heat map's
+    // depth and steps are the same either way).
+    let (picture, readback) = match (job.base.image.view, job.hdr) {
+        (_, true) => (Picture::SHADED, Readback::Hdr),
+        (View::Shaded, false) => (Picture::SHADED, Readback::Colour),
         _ => (Picture::Slice { shade: false }, Readback::All),
     };
     let renderers: Vec<Renderer> = to_render

@@ -1,7 +1,7 @@
-//! The writers of an `animate` run: a pool of threads that encode and write the PNG frames,
-//! and one that feeds ffmpeg every frame of the range in order (the complete ones read back
-//! from disk between the rendered ones). At most [`frames_in_flight`] rendered frames wait for
-//! them, so memory stays bounded.
+//! The writers of an `animate` run: a pool of threads that encode and write the PNG frames (and
+//! with `--hdr` their EXRs, each after its PNG), and one that feeds ffmpeg every frame of the
+//! range in order (the complete ones read back from disk between the rendered ones). At most
+//! [`frames_in_flight`] rendered frames wait for them, so memory stays bounded.
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
@@ -11,7 +11,8 @@ use std::thread::{Scope, ScopedJoinHandle};
 use super::{FramePlan, Job, Progress};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::output::{read_png_rgb, write_png};
+use crate::hdr::HdrImage;
+use crate::output::{read_png_rgb, write_hdr, write_png};
 use crate::scene::{Scene, View};
 use crate::video::VideoWriter;
 
@@ -32,12 +33,13 @@ struct Picture8 {
     rgb: Vec<u8>,
 }
 
-/// A frame for the PNG encoders.
+/// A frame for the PNG encoders: its PNG, and with `--hdr` its EXR.
 struct PngJob {
     frame: u32,
     scene: Scene,
     path: PathBuf,
     picture: Arc<Picture8>,
+    exr: Option<(PathBuf, HdrImage)>,
     render_seconds: f64,
 }
 
@@ -111,6 +113,7 @@ impl<'a, 'scope> Writers<'a, 'scope> {
                     scene: plan.scene.clone(),
                     path: path.clone(),
                     picture: picture.clone(),
+                    exr: plan.exr.clone().map(|exr| (exr, HdrImage::of(frame))),
                     render_seconds,
                 };
                 self.to_encoders
@@ -210,13 +213,20 @@ fn report_written(
     first_error.map_or(Ok(()), Err)
 }
 
-/// An encoder thread: writes the PNG of each frame it takes from the queue until the queue
-/// closes, or until a frame fails (then it stops, and with it, once all have, the queue).
+/// An encoder thread: writes the PNG of each frame it takes from the queue (then its EXR, where
+/// it has one: a frame whose EXR is missing is not complete) until the queue closes, or until a
+/// frame fails (then it stops, and with it, once all have, the queue).
 fn encode_pngs(jobs: &Mutex<Receiver<PngJob>>, report: &Sender<Written>) {
     loop {
         let next = jobs.lock().expect("the frame queue").recv();
         let Ok(job) = next else { return };
-        let result = write_png(&job.path, &job.scene, job.picture.size, &job.picture.rgb);
+        let result =
+            write_png(&job.path, &job.scene, job.picture.size, &job.picture.rgb).and_then(|()| {
+                match job.exr {
+                    Some((path, image)) => write_hdr(&path, &job.scene, image),
+                    None => Ok(()),
+                }
+            });
         let failed = result.is_err();
         let _ = report.send((job.frame, job.path, job.render_seconds, result));
         if failed {

@@ -8,7 +8,7 @@ use anyhow::Context;
 use qjulia::animate::{self, FrameRange, Progress};
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
 use qjulia::scene::View;
-use qjulia::{Picture, Precision};
+use qjulia::{Frame, Picture, Precision, Readback};
 
 use super::{AnimateArgs, ExploreArgs, GpuParamsArgs, MeshArgs, Render2dArgs, RenderArgs};
 
@@ -16,24 +16,37 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = args.scene.load_with_view(args.view)?;
     let mut paths = OutputPaths {
         png: args.output.clone().or_else(|| {
-            (args.depth.is_none() && args.steps.is_none()).then(|| PathBuf::from("qjulia.png"))
+            (args.depth.is_none() && args.steps.is_none() && args.hdr.is_none())
+                .then(|| PathBuf::from("qjulia.png"))
         }),
         depth: args.depth.clone(),
         steps: args.steps.clone(),
         stats: args.stats.clone(),
+        hdr: args.hdr.clone(),
         depth_f64: false,
     };
     let heat_map = scene.image.view != View::Shaded && paths.png.is_some();
-    // A heat map needs depth and steps only; without a PNG, so do the .npy outputs.
+    // A heat map needs depth and steps only; without a PNG, so do the .npy outputs. The EXR
+    // needs the shaded picture and its AOVs (depth and steps are the same either way).
     let picture = Picture::Slice {
-        shade: paths.png.is_some() && !heat_map,
+        shade: (paths.png.is_some() && !heat_map) || paths.hdr.is_some(),
+    };
+    let readback = match paths.hdr {
+        Some(_) => Readback::Hdr,
+        None => Readback::All,
     };
     if heat_map {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
         let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
         paths.depth_f64 = plan.decision.precision == Precision::F64;
-        let (frame, stats) = plan.renderer.render_frame(&scene, picture)?;
+        let mut frame = Frame::empty(scene.image.width);
+        let stats = plan
+            .renderer
+            .render_with(&scene, picture, readback, &mut |band| {
+                frame.append(band);
+                Ok(())
+            })?;
         write_view_outputs(&paths, &frame, &stats, &scene)?;
         report_render(&stats);
         return Ok(());
@@ -58,10 +71,12 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
     paths.depth_f64 = plan.decision.precision == Precision::F64;
     let mut outputs = StreamingOutputs::create(&paths, &scene)?;
-    let stats = plan.renderer.render(&scene, picture, &mut |band| {
-        bar.inc(band.height as u64);
-        outputs.write_band(band)
-    })?;
+    let stats = plan
+        .renderer
+        .render_with(&scene, picture, readback, &mut |band| {
+            bar.inc(band.height as u64);
+            outputs.write_band(band)
+        })?;
     bar.finish_and_clear();
     outputs.finish(&stats)?;
     report_render(&stats);
@@ -105,8 +120,12 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         (None, Some(_)) => None,
         (None, None) => Some(PathBuf::from(animate::DEFAULT_DIR)),
     };
+    if args.hdr && out.is_none() {
+        let message = "the EXR frames go beside the PNG frames: with --video, give --out DIR";
+        return Err(qjulia::Error::from(qjulia::error::FlagError::new("--hdr", message)).into());
+    }
     let picture = Picture::Slice {
-        shade: base.image.view == View::Shaded,
+        shade: base.image.view == View::Shaded || args.hdr,
     };
     let bar = indicatif::ProgressBar::new(range.len() as u64);
     bar.set_style(
@@ -132,6 +151,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         range,
         out: out.as_deref(),
         resume: args.resume,
+        hdr: args.hdr,
         video: args.video.as_deref(),
         stop: None,
     };

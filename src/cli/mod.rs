@@ -80,7 +80,8 @@ pub struct SceneArgs {
 pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// The PNG to write (default qjulia.png, unless only --depth or --steps is asked for).
+    /// The PNG to write (default qjulia.png, unless only --depth, --steps or --hdr is asked
+    /// for).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     pub output: Option<PathBuf>,
     /// Write the depth map (float32 .npy, NaN where nothing is hit).
@@ -96,6 +97,11 @@ pub struct RenderArgs {
     /// the wasted steps in 8x8 blocks (with a legend strip below).
     #[arg(long, value_enum, value_name = "VIEW")]
     pub view: Option<ViewArg>,
+    /// Write OpenEXR (float32): R, G, B the linear mean (phong mode: the unclamped colour
+    /// mean), albedo.R/G/B and N.X/Y/Z of the first hits, Z the depth (NaN on a miss), and the
+    /// scene in the header (`--scene FILE.exr` reads it back).
+    #[arg(long, value_name = "FILE.exr")]
+    pub hdr: Option<PathBuf>,
     #[command(flatten)]
     pub tracer: TracerArgs,
 }
@@ -126,9 +132,14 @@ pub struct AnimateArgs {
     /// (VP9); odd sizes are padded to even. With --resume, complete frames are read from --out.
     #[arg(long, value_name = "FILE.mp4|FILE.webm")]
     pub video: Option<PathBuf>,
-    /// Skip frames whose PNG is already complete (written whole, with this frame's scene).
+    /// Skip frames whose PNG is already complete (written whole, with this frame's scene; with
+    /// --hdr, its EXR too).
     #[arg(long)]
     pub resume: bool,
+    /// Also write each frame as OpenEXR, DIR/frame-NNNNN.exr beside its PNG (the channels of
+    /// `render --hdr`); needs PNG frames (--out with --video).
+    #[arg(long)]
+    pub hdr: bool,
     /// Write the run's statistics as JSON: frames, seconds, frames per second, backend.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,

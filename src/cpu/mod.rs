@@ -77,22 +77,26 @@ use crate::scene::Tracing;
 /// it took.
 pub fn render<F: Real>(params: &TraceParams<F>) -> (Frame, f64) {
     let start = Instant::now();
-    let frame = render_rows(params, true, 0..params.height);
+    let frame = render_rows(params, true, false, 0..params.height);
     (frame, start.elapsed().as_secs_f64())
 }
 
 /// Renders the rows `rows` (0 at the top) of the image, in parallel over rows: a frame of
 /// `rows.len()` rows. With several samples a pixel's colour is the mean of its samples' clamped
 /// colours; depth and steps are sample 0's. `shade` false traces depth and steps only, as the
-/// GPU's pipelines without the shading code: the colour is the background.
+/// GPU's pipelines without the shading code: the colour is the background. `aovs` (with
+/// `shade`) adds the AOVs (`add_pixel_aovs`, as the kernel's AOVS override does).
 pub fn render_rows<F: Real>(
     params: &TraceParams<F>,
     shade: bool,
+    aovs: bool,
     rows: std::ops::Range<u32>,
 ) -> Frame {
+    assert!(shade || !aovs, "the AOVs are made of a shaded picture");
     let keep = Keep {
         f64: is_f64::<F>(),
         radiance: false,
+        aovs,
     };
     fill_rows(params.width, rows, keep, |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
@@ -106,6 +110,10 @@ pub fn render_rows<F: Real>(
             let before = ESTIMATES.get();
             let first = params.trace_pixel(i, j, 0, t_min, shade);
             let mut non_finite = non_finite_values(&first);
+            let mut made = trace::Aovs::default();
+            if aovs {
+                made = params.add_pixel_aovs(made, 0, &first);
+            }
             let colour = if params.samples <= 1 {
                 trace::pack_colour(first.colour)
             } else {
@@ -119,6 +127,9 @@ pub fn render_rows<F: Real>(
                     let pixel = params.trace_pixel(i, j, k, t_min, shade);
                     non_finite += non_finite_values(&pixel);
                     mean = mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64);
+                    if aovs {
+                        made = params.add_pixel_aovs(made, k, &pixel);
+                    }
                 }
                 trace::pack_colour(mean)
             };
@@ -133,6 +144,7 @@ pub fn render_rows<F: Real>(
                 non_finite,
                 estimates: ESTIMATES.get() - before,
                 radiance: [0.0; 3],
+                aovs: made,
             }
         }
     })
@@ -159,6 +171,8 @@ pub struct PixelOut {
     pub estimates: u64,
     /// Path mode: the mean linear radiance (kept where [`fill_rows`] is asked to).
     pub radiance: [f32; 3],
+    /// The AOVs (kept where [`fill_rows`] is asked to).
+    pub aovs: trace::Aovs,
 }
 
 /// What [`fill_rows`] keeps beyond colour, depth and steps.
@@ -168,6 +182,9 @@ pub struct Keep {
     pub f64: bool,
     /// Each pixel's radiance (path mode).
     pub radiance: bool,
+    /// Each pixel's AOVs: [`Frame::unclamped`] (phong mode: where the radiance is not kept),
+    /// [`Frame::albedo`] and [`Frame::normal`].
+    pub aovs: bool,
 }
 
 /// Whether `F` is f64: its frames keep their depth in f64 too ([`Frame::depth_f64`]).
@@ -177,7 +194,8 @@ pub fn is_f64<F: Real>() -> bool {
 
 /// The rows `rows` of a `width`-wide image, in parallel over rows: `row(j)` prepares row j and
 /// gives the function of its pixels, called for i = 0 to width - 1. With `keep.f64` the frame
-/// keeps the depth in f64 as well, with `keep.radiance` the pixels' radiance.
+/// keeps the depth in f64 as well, with `keep.radiance` the pixels' radiance, with `keep.aovs`
+/// their AOVs.
 pub fn fill_rows<R, P>(width: u32, rows: std::ops::Range<u32>, keep: Keep, row: R) -> Frame
 where
     R: Fn(u32) -> P + Sync,
@@ -188,22 +206,26 @@ where
     let mut depth = vec![0f64; w * h];
     let mut steps = vec![0u32; w * h];
     let mut radiance = vec![[0f32; 3]; if keep.radiance { w * h } else { 0 }];
+    let mut aovs = vec![trace::Aovs::default(); if keep.aovs { w * h } else { 0 }];
     let non_finite = AtomicU64::new(0);
     let estimates = AtomicU64::new(0);
-    // A row of radiance where it is kept; none (an empty slice) where not.
-    let mut radiance_rows: Vec<&mut [[f32; 3]]> = if keep.radiance {
-        radiance.chunks_mut(w).collect()
-    } else {
-        (0..h).map(|_| Default::default()).collect()
-    };
+    // A row of radiance (of AOVs) where it is kept; none (an empty slice) where not.
+    fn rows_of<T>(values: &mut [T], kept: bool, (w, h): (usize, usize)) -> Vec<&mut [T]> {
+        match kept {
+            true => values.chunks_mut(w).collect(),
+            false => (0..h).map(|_| Default::default()).collect(),
+        }
+    }
+    let mut radiance_rows = rows_of(&mut radiance, keep.radiance, (w, h));
+    let mut aov_rows = rows_of(&mut aovs, keep.aovs, (w, h));
     colour
         .par_chunks_mut(w)
         .zip(depth.par_chunks_mut(w))
         .zip(steps.par_chunks_mut(w))
-        .zip(radiance_rows.par_iter_mut())
+        .zip(radiance_rows.par_iter_mut().zip(aov_rows.par_iter_mut()))
         .enumerate()
         .for_each(
-            |(r, (((colour_row, depth_row), steps_row), radiance_row))| {
+            |(r, (((colour_row, depth_row), steps_row), (radiance_row, aov_row)))| {
                 let pixel = row(rows.start + r as u32);
                 let (mut bad, mut made) = (0, 0);
                 for i in 0..w {
@@ -214,6 +236,9 @@ where
                     if let Some(slot) = radiance_row.get_mut(i) {
                         *slot = out.radiance;
                     }
+                    if let Some(slot) = aov_row.get_mut(i) {
+                        *slot = out.aovs;
+                    }
                     bad += out.non_finite;
                     made += out.estimates;
                 }
@@ -221,6 +246,19 @@ where
                 estimates.fetch_add(made, Ordering::Relaxed);
             },
         );
+    let aov = |take: fn(&trace::Aovs) -> Vec3<f32>| -> Vec<[f32; 3]> {
+        aovs.par_iter()
+            .map(|a| {
+                let v = take(a);
+                [v.x, v.y, v.z]
+            })
+            .collect()
+    };
+    // Path mode's linear mean is its radiance: the unclamped colour is phong mode's.
+    let unclamped = match keep.radiance {
+        true => Vec::new(),
+        false => aov(|a| a.colour),
+    };
     Frame {
         width,
         height: h as u32,
@@ -229,6 +267,9 @@ where
         depth_f64: if keep.f64 { depth } else { Vec::new() },
         steps,
         radiance,
+        unclamped,
+        albedo: aov(|a| a.albedo),
+        normal: aov(|a| a.normal),
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
     }

@@ -13,9 +13,10 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
+use super::trace::{Aovs, add_aovs};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
-use crate::scene::{Colouring, Scene};
+use crate::scene::Scene;
 
 /// Which estimators light a hit (the MIS test's hook; scenes use both): the shader's
 /// `path.strategy`.
@@ -92,13 +93,16 @@ impl<F: Real> PathParams<F> {
     }
 }
 
-/// One sample of a pixel: its linear radiance, and sample 0's depth and steps.
+/// One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
+/// hit, and there the material's albedo and the shading normal (0 on a miss).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathResult<F> {
     pub radiance: Vec3<F>,
     pub depth: F,
     pub steps: u32,
     pub hit: bool,
+    pub albedo: Vec3<F>,
+    pub normal: Vec3<F>,
 }
 
 fn max3<F: Real>(c: Vec3<F>) -> F {
@@ -133,15 +137,11 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// The hit's material: the albedo is the diffuse colour, or the orbit trap's palette
-    /// colour.
+    /// The hit's material: the albedo is the hit's base colour (hit_albedo: the diffuse colour,
+    /// or the orbit trap's palette colour).
     pub fn path_material(&self, path: &PathParams<F>, p: Vec3<F>) -> Material<F> {
-        let mut albedo = self.diffuse;
-        if self.colouring == Colouring::OrbitTrap {
-            albedo = self.palette(self.orbit_trap(self.slice_point(p)));
-        }
         Material {
-            albedo,
+            albedo: self.hit_albedo(p),
             roughness: path.roughness,
             metallic: path.metallic,
             specular: path.specular,
@@ -319,6 +319,8 @@ impl<F: Real> TraceParams<F> {
             depth: -F::one(),
             steps: 0,
             hit: false,
+            albedo: Vec3::zero(),
+            normal: Vec3::zero(),
         };
         let mut pdf_prev = F::zero();
         let light_on = self.light_radius > F::zero() && any_positive(path.light_intensity);
@@ -362,10 +364,14 @@ impl<F: Real> TraceParams<F> {
             let n = self.face_viewer(self.estimate_normal(p, dir), -dir);
             let f = basis_from_normal(n);
             let wo = to_local(f, -dir);
+            let m = self.path_material(path, p);
+            if bounce == 0 {
+                result.albedo = m.albedo;
+                result.normal = n;
+            }
             if wo.z <= F::zero() {
                 break;
             }
-            let m = self.path_material(path, p);
             if path.strategy != Strategy::Bsdf {
                 let d = self.direct_light(path, (i, j, sample), bounce, p, f, wo, m);
                 radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
@@ -402,25 +408,33 @@ impl<F: Real> TraceParams<F> {
 
 /// Renders the rows `rows` (0 at the top) of the path-traced image, in parallel over rows, as
 /// `path_main` does: each pixel's mean linear radiance over its `samples` paths (the running
-/// mean the kernel keeps), sample 0's depth and steps. The colour is left 0: the renderer makes
-/// it from the radiance by the display transform.
+/// mean the kernel keeps), sample 0's depth and steps, and with `aovs` the AOVs (`add_aovs`,
+/// as the kernel's AOVS override adds them). The colour is left 0: the renderer makes it from
+/// the radiance by the display transform.
 pub fn render_path_rows<F: Real>(
     params: &TraceParams<F>,
     path: &PathParams<F>,
+    aovs: bool,
     rows: std::ops::Range<u32>,
 ) -> crate::frame::Frame {
     let keep = super::Keep {
         f64: super::is_f64::<F>(),
         radiance: true,
+        aovs,
     };
     super::fill_rows(params.width, rows, keep, |j| {
         move |i| {
             let before = super::ESTIMATES.get();
             let mut mean = Vec3::<F>::zero();
             let mut first = None;
+            let mut made = Aovs::default();
             for k in 0..params.samples.max(1) {
                 let r = params.trace_path(path, i, j, k);
                 mean += (r.radiance - mean) / F::lit((k + 1) as f64);
+                if aovs {
+                    let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
+                    made = add_aovs(made, k, radiance, r.hit, albedo, r.normal.to_f32());
+                }
                 first.get_or_insert(r);
             }
             let first = first.expect("at least one sample");
@@ -436,6 +450,7 @@ pub fn render_path_rows<F: Real>(
                 non_finite: radiance.iter().filter(|c| !c.is_finite()).count() as u64,
                 estimates: super::ESTIMATES.get() - before,
                 radiance,
+                aovs: made,
             }
         }
     })

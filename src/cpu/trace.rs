@@ -52,13 +52,28 @@ pub struct Ray<F> {
     pub dir: Vec3<F>,
 }
 
-/// One pixel's outcome.
+/// One sample's outcome: its colour (unclamped), depth and steps, whether it hit, and where it
+/// was shaded, the hit point and its shading normal (0 where it was not: a miss, or no
+/// shading).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel<F> {
     pub colour: Vec3<F>,
     pub depth: F,
     pub steps: u32,
     pub hit: bool,
+    pub point: Vec3<F>,
+    pub normal: Vec3<F>,
+}
+
+/// The AOVs of a pixel's samples so far (`--hdr`): the mean of their unclamped colours, and over
+/// the samples whose primary ray hit, how many did and the means of their hits' base colours and
+/// shading normals (0 while none has). In f32 in both precisions, as the shader keeps them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Aovs {
+    pub colour: Vec3<f32>,
+    pub hits: f32,
+    pub albedo: Vec3<f32>,
+    pub normal: Vec3<f32>,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -518,6 +533,15 @@ impl<F: Real> TraceParams<F> {
         )
     }
 
+    /// The base colour of a hit at p: the diffuse colour, or the palette's colour of the orbit
+    /// trap. (shade_features's B, path mode's albedo, and the albedo AOV.)
+    pub fn hit_albedo(&self, p: Vec3<F>) -> Vec3<F> {
+        if self.colouring == Colouring::OrbitTrap {
+            return self.palette(self.orbit_trap(self.slice_point(p)));
+        }
+        self.diffuse
+    }
+
     /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
     /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
     pub fn shading_features(&self) -> bool {
@@ -533,10 +557,7 @@ impl<F: Real> TraceParams<F> {
     /// ambient 0, A 1 and a point light it is phong's colour, shadowed as trace_pixel does.
     /// The viewer is at `eye`: the ray's origin (the camera's eye, or a point of the lens).
     pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>, eye: Vec3<F>) -> Vec3<F> {
-        let mut base = self.diffuse;
-        if self.colouring == Colouring::OrbitTrap {
-            base = self.palette(self.orbit_trap(self.slice_point(p)));
-        }
+        let base = self.hit_albedo(p);
         let mut a = F::one();
         if self.occlusion > F::zero() {
             a = self.occlusion(p, n);
@@ -694,11 +715,14 @@ impl<F: Real> TraceParams<F> {
     /// Phong, shadow. A lens ray starts from the ball: the cone covers the block's rays from the
     /// eye, not rays from elsewhere on the lens.
     pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F, shade: bool) -> Pixel<F> {
+        let none = Vec3::zero();
         let miss = |steps| Pixel {
             colour: self.background,
             depth: -F::one(),
             steps,
             hit: false,
+            point: none,
+            normal: none,
         };
         let (origin, dir, t_from) = if self.lens_sample(sample) {
             let ray = self.lens_ray(i, j, sample);
@@ -724,6 +748,8 @@ impl<F: Real> TraceParams<F> {
                 depth: trace.t,
                 steps: trace.steps,
                 hit: true,
+                point: none,
+                normal: none,
             };
         }
         let p = origin + dir * trace.t;
@@ -734,6 +760,8 @@ impl<F: Real> TraceParams<F> {
                 depth: trace.t,
                 steps: trace.steps,
                 hit: true,
+                point: p,
+                normal: n,
             };
         }
         let mut colour = self.phong(self.light, origin, p, n);
@@ -747,6 +775,8 @@ impl<F: Real> TraceParams<F> {
             depth: trace.t,
             steps: trace.steps,
             hit: true,
+            point: p,
+            normal: n,
         }
     }
 }
@@ -801,6 +831,41 @@ pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
         (c * F::lit(255.0) + F::lit(0.5)).floor().to_f64() as u32
     };
     channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16) | 0xff00_0000
+}
+
+/// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
+/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1); where it hit, its albedo and normal to the running
+/// means over the hits, by the same rule with the hits counted so far.
+pub fn add_aovs(
+    a: Aovs,
+    k: u32,
+    colour: Vec3<f32>,
+    hit: bool,
+    albedo: Vec3<f32>,
+    normal: Vec3<f32>,
+) -> Aovs {
+    let mut out = a;
+    out.colour = a.colour + (colour - a.colour) / (k + 1) as f32;
+    if hit {
+        out.hits = a.hits + 1.0;
+        out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
+        out.normal = a.normal + (normal - a.normal) / out.hits;
+    }
+    out
+}
+
+impl<F: Real> TraceParams<F> {
+    /// Adds sample k's pixel to the AOVs: its colour, and where it hit, the base colour of its
+    /// hit (hit_albedo) and its shading normal. (AOVs are made only of shaded pictures: every
+    /// hit is shaded.)
+    pub fn add_pixel_aovs(&self, a: Aovs, k: u32, pixel: &Pixel<F>) -> Aovs {
+        let mut albedo = Vec3::zero();
+        if pixel.hit {
+            albedo = self.hit_albedo(pixel.point).to_f32();
+        }
+        let (colour, normal) = (pixel.colour.to_f32(), pixel.normal.to_f32());
+        add_aovs(a, k, colour, pixel.hit, albedo, normal)
+    }
 }
 
 /// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.

@@ -31,7 +31,8 @@ impl KernelTarget {
         old: Option<egui::TextureId>,
     ) -> Self {
         let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        let outputs = kernel.output_buffers(row_stride as u64 * size[1] as u64, label);
+        // Nothing is read back from these: an on-demand output (the AOVs) is a placeholder.
+        let outputs = kernel.output_buffers(row_stride as u64 * size[1] as u64, label, &[]);
         let device = &kernel.context().device;
         let (texture, texture_id) = native_texture(device, renderer, label, size, old);
         let bind_group = kernel.bind_group(uniform, &outputs);

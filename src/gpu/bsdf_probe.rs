@@ -33,22 +33,27 @@ const OUTPUTS: [OutputSpec; 5] = [
     OutputSpec {
         name: "sample",
         bytes_per_item: 16,
+        on_demand: false,
     },
     OutputSpec {
         name: "value",
         bytes_per_item: 16,
+        on_demand: false,
     },
     OutputSpec {
         name: "sun",
         bytes_per_item: 16,
+        on_demand: false,
     },
     OutputSpec {
         name: "light",
         bytes_per_item: 16,
+        on_demand: false,
     },
     OutputSpec {
         name: "light_value",
         bytes_per_item: 16,
+        on_demand: false,
     },
 ];
 

@@ -90,6 +90,7 @@ pub const F32_TOLERANCE: f64 = 1e-5;
 const OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "results",
     bytes_per_item: 8 * OPS.len() as u64,
+    on_demand: false,
 }];
 
 /// The check's kernel: uniform [`CheckParams`], one output of every result of every case.

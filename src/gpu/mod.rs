@@ -41,6 +41,30 @@ pub enum Readback {
     /// the bands' depth and steps are empty and the stats' summary is left at zero. The GPU
     /// reads back a quarter of the bytes.
     Colour,
+    /// What `All` reads, and the AOVs `--hdr` writes ([`Frame::unclamped`],
+    /// [`Frame::albedo`], [`Frame::normal`]). The kernels compute the AOVs only for this (the
+    /// tracers' AOVS override): a shaded picture only.
+    Hdr,
+}
+
+impl Readback {
+    /// Whether depth and steps come back (and the stats' summary is made of them).
+    pub fn maps(self) -> bool {
+        matches!(self, Readback::All | Readback::Hdr)
+    }
+
+    /// Whether the AOVs come back.
+    pub fn aovs(self) -> bool {
+        self == Readback::Hdr
+    }
+
+    /// The override constants that go with this readback: AOVS where the AOVs come back.
+    pub fn constants(self) -> &'static [(&'static str, f64)] {
+        match self.aovs() {
+            true => &[("AOVS", 1.0)],
+            false => &[],
+        }
+    }
 }
 
 /// The float types the GPU kernels run in: f32 on every adapter, f64 where the adapter passes
@@ -293,14 +317,17 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
     OutputSpec {
         name: "colour",
         bytes_per_item: 4,
+        on_demand: false,
     },
     OutputSpec {
         name: "depth",
         bytes_per_item: 4,
+        on_demand: false,
     },
     OutputSpec {
         name: "steps",
         bytes_per_item: 4,
+        on_demand: false,
     },
 ];
 
@@ -309,10 +336,12 @@ const COLOUR_OUTPUT: usize = 0;
 const DEPTH_OUTPUT: usize = 1;
 const STEPS_OUTPUT: usize = 2;
 
-/// Where the tracer's estimates are among its outputs (after the image's three); the outputs
-/// after it stay on the device.
+/// Where the tracer's estimates are among its outputs (after the image's three); the
+/// accumulator after it stays on the device in phong mode, the AOVs after that come back only
+/// for [`Readback::Hdr`].
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
 const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
+const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
 
 /// [`IMAGE_OUTPUTS`] of an f64 kernel: the depth is f64.
 pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
@@ -320,32 +349,43 @@ pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
     OutputSpec {
         name: "depth",
         bytes_per_item: 8,
+        on_demand: false,
     },
     IMAGE_OUTPUTS[2],
 ];
 
 /// [`TRACE_OUTPUTS`] of the f64 tracer: the depth is f64.
-pub const TRACE64_OUTPUTS: [OutputSpec; 5] = [
+pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
     IMAGE64_OUTPUTS[0],
     IMAGE64_OUTPUTS[1],
     IMAGE64_OUTPUTS[2],
     TRACE_OUTPUTS[3],
     TRACE_OUTPUTS[4],
+    TRACE_OUTPUTS[5],
 ];
 
-/// The tracer's outputs: the image's three, the estimates made per pixel (u32), and the running
-/// mean of the samples' colours (`vec4<f32>`).
-pub const TRACE_OUTPUTS: [OutputSpec; 5] = [
+/// The tracer's outputs: the image's three, the estimates made per pixel (u32), the running
+/// mean of the samples' colours (`vec4<f32>`), and on demand the AOVs (three `vec4<f32>` a
+/// pixel: trace.wgsl's `store_aovs`). Six storage buffers, within WebGPU's default of eight a
+/// stage.
+pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[0],
     IMAGE_OUTPUTS[1],
     IMAGE_OUTPUTS[2],
     OutputSpec {
         name: "estimates",
         bytes_per_item: 4,
+        on_demand: false,
     },
     OutputSpec {
         name: "accumulated",
         bytes_per_item: 16,
+        on_demand: false,
+    },
+    OutputSpec {
+        name: "aovs",
+        bytes_per_item: 48,
+        on_demand: true,
     },
 ];
 
@@ -372,13 +412,14 @@ pub(crate) fn render_image_bands(
 
 /// Which outputs of an image kernel come back for `readback`. All: colour, depth, steps and
 /// (where the kernel has it) the estimates, not the accumulator. Colour: the colour alone.
+/// Hdr: All's and (where the kernel has them) the AOVs.
 pub(crate) fn image_readback(kernel: &Kernel, readback: Readback) -> Vec<bool> {
     let last = match readback {
-        Readback::All => ESTIMATES_OUTPUT,
+        Readback::All | Readback::Hdr => ESTIMATES_OUTPUT,
         Readback::Colour => COLOUR_OUTPUT,
     };
     (0..kernel.spec().outputs.len())
-        .map(|k| k <= last)
+        .map(|k| k <= last || (k == AOVS_OUTPUT && readback.aovs()))
         .collect()
 }
 
@@ -455,6 +496,14 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
     };
     // The accumulator where it was read back (path mode): the mean linear radiance.
     let accumulated: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
+    // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo,
+    // normal). The colour is phong mode's linear mean; path mode's is the accumulator's.
+    let aovs: &[[[f32; 4]; 3]] = output(band, AOVS_OUTPUT);
+    let aov = |k: usize| -> Vec<[f32; 3]> {
+        aovs.par_iter()
+            .map(|a| [a[k][0], a[k][1], a[k][2]])
+            .collect()
+    };
     assert_eq!(
         colour.len(),
         band.rows as usize * width as usize,
@@ -474,6 +523,13 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .collect(),
         steps: steps.par_iter().copied().collect(),
         radiance: accumulated.par_iter().map(|a| [a[0], a[1], a[2]]).collect(),
+        unclamped: if accumulated.is_empty() {
+            aov(0)
+        } else {
+            Vec::new()
+        },
+        albedo: aov(1),
+        normal: aov(2),
         non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64
             + accumulated
                 .par_iter()

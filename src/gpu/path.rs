@@ -1,6 +1,6 @@
 //! The path tracer's kernel (shaders/path.wgsl over the tracer's module) on the [`Kernel`]
 //! runner, in f32 and (where the device passes the start-up check) f64: the tracer's `Params`
-//! and outputs, a second uniform of its own ([`GpuPathParams`], binding 6), and a pipeline per
+//! and outputs, a second uniform of its own ([`GpuPathParams`], binding 7), and a pipeline per
 //! scene [`Variant`] ([`Variant::of_path`]). Each dispatch adds as many samples per pixel as keep its
 //! steps within lavapipe's budget ([`path_samples_per_dispatch`]): a path of up to 16 bounces
 //! with two shadow rays each may take tens of thousands of steps, and lavapipe stops a loop
@@ -19,7 +19,7 @@ use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
 
-/// shaders/path.wgsl's `PathParams` (binding 6; keep in sync). Its CPU twin is
+/// shaders/path.wgsl's `PathParams` (binding 7; keep in sync). Its CPU twin is
 /// [`PathParams`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -74,7 +74,7 @@ impl GpuPathParams {
 
 /// The path kernel in f32: the tracer's uniform and outputs (colour unused, depth, steps,
 /// estimates, and the running mean of the linear radiance in `accumulated`), its own uniform at
-/// binding 6.
+/// binding 7 (binding 6 is the AOV output).
 ///
 /// Trusted (no runtime checks injected), as the tracer is: every loop of path.wgsl is bounded
 /// by the params (`bounces` of at most 16, the samples of a dispatch, the tracer's
@@ -89,7 +89,7 @@ pub const PATH_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: true,
     second_uniform: Some(SecondUniform {
-        binding: 6,
+        binding: 7,
         bytes: size_of::<GpuPathParams>() as u64,
     }),
 };
@@ -202,12 +202,15 @@ impl<F: GpuReal> GpuPathTracer<F> {
                 .pack_uniforms(&trace, bytemuck::bytes_of(&second))
         };
         // Colour (0, but the frame's shape needs it), depth, steps, estimates and the
-        // accumulator; the accumulator alone with the colour for Readback::Colour.
+        // accumulator; the accumulator alone with the colour for Readback::Colour; the AOVs
+        // too for Readback::Hdr.
         let read = match readback {
-            Readback::All => [true, true, true, true, true],
-            Readback::Colour => [true, false, false, false, true],
+            Readback::All => [true, true, true, true, true, false],
+            Readback::Colour => [true, false, false, false, true, false],
+            Readback::Hdr => [true; 6],
         };
-        let constants = self.constants(params);
+        let mut constants = self.constants(params);
+        constants.extend_from_slice(readback.constants());
         render_image_bands(
             &self.kernel,
             &constants,

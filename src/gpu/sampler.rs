@@ -17,9 +17,10 @@ use crate::params::TraceParams;
 pub const SAMPLE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "level",
     bytes_per_item: 4,
+    on_demand: false,
 }];
 
-/// The sampled grid, as shaders/sample.wgsl's `SampleGrid` (binding 6; keep in sync): its first
+/// The sampled grid, as shaders/sample.wgsl's `SampleGrid` (binding 7; keep in sync): its first
 /// point, the spacing of its points, its points per row and rows per layer, and the band of
 /// rows (of rows of rows) this dispatch samples.
 #[repr(C)]
@@ -36,7 +37,7 @@ pub struct GpuSampleGrid {
 }
 
 /// The sampler: uniforms [`GpuParams`] (the tracer's, for its estimate) and [`GpuSampleGrid`]
-/// (binding 6), one output, the levels. Trusted (no runtime checks injected): its only
+/// (binding 7), one output, the levels. Trusted (no runtime checks injected): its only
 /// loop is the estimate's, bounded by `max_iterations`, and `sample` checks the point against
 /// the band before it writes.
 pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
@@ -48,7 +49,7 @@ pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: true,
     second_uniform: Some(SecondUniform {
-        binding: 6,
+        binding: 7,
         bytes: size_of::<GpuSampleGrid>() as u64,
     }),
 };

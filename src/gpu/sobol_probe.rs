@@ -26,6 +26,7 @@ struct ProbeParams {
 const PROBE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "bits",
     bytes_per_item: 4,
+    on_demand: false,
 }];
 
 /// The probe kernel: uniform `ProbeParams`, one output. Untrusted (wgpu's checks kept): it is

@@ -161,7 +161,7 @@ impl<F: GpuReal> GpuTracer<F> {
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
-        let constants = self.constants(params, shade);
+        let constants = self.constants(params, shade, readback);
         let size = (params.width, params.height);
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
@@ -179,7 +179,7 @@ impl<F: GpuReal> GpuTracer<F> {
         sink: &mut dyn FnMut(Frame, RunTimes) -> Result<()>,
     ) -> Result<()> {
         let mut steps = frames.flat_map(|(params, shade)| {
-            let constants = self.constants(&params, shade);
+            let constants = self.constants(&params, shade, readback);
             let uniform = self.uniforms(&params);
             let read = image_readback(&self.kernel, readback);
             let run = Run {
@@ -194,9 +194,21 @@ impl<F: GpuReal> GpuTracer<F> {
         stream_frames(&self.kernel, &mut steps, sink)
     }
 
-    /// The override constants of a scene's pipeline here.
-    fn constants(&self, params: &TraceParams<F>, shade: bool) -> Vec<(&'static str, f64)> {
-        self.with_device_constants(self.variant_for(params, shade))
+    /// The override constants of a scene's pipeline here, for what `readback` reads (AOVS
+    /// where it reads the AOVs, which only a shaded picture has).
+    fn constants(
+        &self,
+        params: &TraceParams<F>,
+        shade: bool,
+        readback: Readback,
+    ) -> Vec<(&'static str, f64)> {
+        assert!(
+            shade || !readback.aovs(),
+            "the AOVs are made of a shaded picture"
+        );
+        let mut constants = self.with_device_constants(self.variant_for(params, shade));
+        constants.extend_from_slice(readback.constants());
+        constants
     }
 
     /// Dispatches per band: the samples, [`Self::samples_per_dispatch`] at a time.

@@ -91,7 +91,8 @@ impl Renderer {
         self.render_with(scene, picture, Readback::All, sink)
     }
 
-    /// As [`Self::render`], reading back only `readback`'s outputs.
+    /// As [`Self::render`], reading back only `readback`'s outputs ([`Readback::Hdr`]: a shaded
+    /// slice only, with its AOVs).
     pub fn render_with(
         &self,
         scene: &Scene,
@@ -99,9 +100,15 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        if readback.aovs() {
+            assert!(
+                picture == Picture::SHADED,
+                "the AOVs are made of a shaded slice"
+            );
+        }
         let mut summary = SummaryBuilder::new(scene.image.width);
         let mut counted = |band: &Frame| {
-            if readback == Readback::All {
+            if readback.maps() {
                 summary.add(band);
             }
             sink(band)
@@ -149,9 +156,10 @@ impl Renderer {
                 (times.seconds, times.gpu_seconds)
             }
             None => {
+                let aovs = readback.aovs();
                 let seconds = match self.precision {
-                    Precision::F32 => render_cpu::<f32>(scene, picture, &mut counted)?,
-                    Precision::F64 => render_cpu::<f64>(scene, picture, &mut counted)?,
+                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, &mut counted)?,
+                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, &mut counted)?,
                 };
                 (seconds, None)
             }
@@ -196,8 +204,12 @@ impl Renderer {
                 )?;
                 Ok((times.seconds, times.gpu_seconds))
             }
-            (None, Precision::F32) => path_cpu::<f32>(scene, &mut displayed).map(|s| (s, None)),
-            (None, Precision::F64) => path_cpu::<f64>(scene, &mut displayed).map(|s| (s, None)),
+            (None, Precision::F32) => {
+                path_cpu::<f32>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+            }
+            (None, Precision::F64) => {
+                path_cpu::<f64>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+            }
         }
     }
 
@@ -250,9 +262,9 @@ impl Renderer {
             return Ok(());
         };
         let mut sink = |frame: Frame, times: crate::gpu::kernel::RunTimes| {
-            let summary = match readback {
-                Readback::All => crate::stats::Summary::of(&frame),
-                Readback::Colour => SummaryBuilder::new(frame.width).finish(),
+            let summary = match readback.maps() {
+                true => crate::stats::Summary::of(&frame),
+                false => SummaryBuilder::new(frame.width).finish(),
             };
             let stats = self.stats(
                 (frame.width, frame.height),
@@ -314,11 +326,12 @@ impl Renderer {
     }
 }
 
-/// A picture on the CPU in `F`, band by band; returns the seconds spent rendering (the sink's
-/// time left out).
+/// A picture on the CPU in `F`, band by band, with the AOVs where `aovs` asks; returns the
+/// seconds spent rendering (the sink's time left out).
 fn render_cpu<F: Real>(
     scene: &Scene,
     picture: Picture,
+    aovs: bool,
     sink: &mut dyn FnMut(&Frame) -> Result<()>,
 ) -> Result<f64> {
     match picture {
@@ -326,7 +339,7 @@ fn render_cpu<F: Real>(
             let p = TraceParams::<F>::new(scene);
             cpu_bands(
                 (p.width, p.height),
-                &|rows| cpu::render_rows(&p, shade, rows),
+                &|rows| cpu::render_rows(&p, shade, aovs, rows),
                 &mut |band| sink(&band),
             )
         }
@@ -339,11 +352,15 @@ fn render_cpu<F: Real>(
 }
 
 /// A path-traced picture on the CPU in `F`, band by band (each band's colour still to be
-/// made); returns the seconds spent rendering.
-fn path_cpu<F: Real>(scene: &Scene, sink: &mut dyn FnMut(Frame) -> Result<()>) -> Result<f64> {
+/// made), with the AOVs where `aovs` asks; returns the seconds spent rendering.
+fn path_cpu<F: Real>(
+    scene: &Scene,
+    aovs: bool,
+    sink: &mut dyn FnMut(Frame) -> Result<()>,
+) -> Result<f64> {
     let p = TraceParams::<F>::new(scene);
     let path = PathParams::<F>::new(scene);
-    let rows = |rows| cpu::path::render_path_rows(&p, &path, rows);
+    let rows = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
     cpu_bands((p.width, p.height), &rows, sink)
 }
 

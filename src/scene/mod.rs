@@ -4,6 +4,7 @@
 
 pub mod animation;
 mod error;
+mod exr;
 mod load;
 mod png;
 pub mod presets;
@@ -11,6 +12,7 @@ pub mod rotation;
 pub mod schema;
 
 pub use error::{SceneError, SceneSource};
+pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr};
 pub use load::SceneLoader;
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png};
 

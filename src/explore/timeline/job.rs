@@ -159,6 +159,7 @@ fn run_job(mut planner: Planner, spec: JobSpec, shared: Arc<Shared>) -> (String,
         range: spec.range,
         out: Some(&spec.dir),
         resume: spec.resume,
+        hdr: false,
         video: spec.video.as_deref(),
         stop: Some(cancel),
     };

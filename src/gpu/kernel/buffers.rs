@@ -47,7 +47,7 @@ impl Kernel {
     pub(super) fn run_buffers(&self, items: u64, read: &[bool]) -> RunBuffers {
         let device = &self.ctx.device;
         let uniform = self.uniform_buffer(&format!("{} params", self.spec.name));
-        let storage = self.output_buffers(items, self.spec.name);
+        let storage = self.output_buffers(items, self.spec.name, read);
         let read_usage = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
         let readback = self
             .spec

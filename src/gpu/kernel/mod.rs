@@ -40,6 +40,11 @@ pub struct OutputSpec {
     pub name: &'static str,
     /// Bytes each grid item takes in it.
     pub bytes_per_item: u64,
+    /// Allocated whole only for a run that reads it back; otherwise a placeholder of one item,
+    /// which the kernel must not touch (the AOVs: the tracer writes them only under its AOVS
+    /// override, which the host sets exactly when it reads them). The band's rows are sized
+    /// without it where it is not read.
+    pub on_demand: bool,
 }
 
 /// What a compute kernel is: its module, entry point, uniform size and outputs. Binding 0 is the

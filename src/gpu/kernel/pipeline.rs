@@ -67,17 +67,20 @@ impl Kernel {
     }
 
     /// Storage buffers for the outputs, `items` each, usable as copy sources (for readback or
-    /// a texture).
-    pub fn output_buffers(&self, items: u64, label: &str) -> Vec<wgpu::Buffer> {
+    /// a texture). An on-demand output ([`super::OutputSpec::on_demand`]) is allocated whole
+    /// only where `read` reads it back (by index), else as one item.
+    pub fn output_buffers(&self, items: u64, label: &str, read: &[bool]) -> Vec<wgpu::Buffer> {
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
         self.spec
             .outputs
             .iter()
-            .map(|o| {
+            .enumerate()
+            .map(|(k, o)| {
+                let whole = !o.on_demand || read.get(k) == Some(&true);
                 buffer(
                     &self.ctx.device,
                     &format!("{label} {}", o.name),
-                    items * o.bytes_per_item,
+                    if whole { items } else { 1 } * o.bytes_per_item,
                     usage,
                 )
             })
@@ -170,14 +173,24 @@ impl Kernel {
 
     /// Rows per band for a grid this wide: at most `band_pixels()` items (bounded memory, and
     /// bounded time per dispatch so that no driver watchdog fires on big grids), within the
-    /// device's buffer and dispatch limits, a multiple of `band_row_multiple`.
+    /// device's buffer and dispatch limits, a multiple of `band_row_multiple`. The on-demand
+    /// outputs are left out ([`Self::band_rows_reading`] counts those read).
     pub fn band_rows(&self, width: u32, height: u32) -> u32 {
+        self.band_rows_reading(width, height, &[])
+    }
+
+    /// As [`Self::band_rows`], within the limits of the on-demand outputs `read` reads back too:
+    /// where a device's limits are too small for a band of them, the bands of a run that reads
+    /// them are shorter (never longer) than [`Self::band_rows`].
+    pub fn band_rows_reading(&self, width: u32, height: u32, read: &[bool]) -> u32 {
         let limit = self.ctx.device.limits();
         let widest = self
             .spec
             .outputs
             .iter()
-            .map(|o| o.bytes_per_item)
+            .enumerate()
+            .filter(|(k, o)| !o.on_demand || read.get(*k) == Some(&true))
+            .map(|(_, o)| o.bytes_per_item)
             .max()
             .unwrap_or(1);
         let items = crate::band_pixels()

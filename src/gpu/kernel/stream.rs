@@ -87,7 +87,7 @@ impl Kernel {
     /// The bands of a run as [`Step`]s, each with its dispatches' uniforms.
     pub fn steps<'r>(&self, run: &'r Run<'_>) -> impl Iterator<Item = Step> + 'r {
         let (width, height) = run.size;
-        let band_rows = self.band_rows(width, height).max(1);
+        let band_rows = self.band_rows_reading(width, height, run.read).max(1);
         let dispatches = run.dispatches_per_band.max(1);
         let constants = run.constants.to_vec();
         let read = run.read.to_vec();

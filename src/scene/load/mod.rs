@@ -1,7 +1,7 @@
 //! Building a [`Scene`] from layers: built-in defaults, a preset, a scene file (TOML, or a PNG
-//! written by qjulia), shorthand flags and `--set KEY=VALUE`, in that order of precedence. Every
-//! key is checked once, after all layers, and every error names where the offending value came
-//! from.
+//! or EXR written by qjulia), shorthand flags and `--set KEY=VALUE`, in that order of
+//! precedence. Every key is checked once, after all layers, and every error names where the
+//! offending value came from.
 //!
 //! This module owns the layers and the checks: reading each key's value by its kind, the
 //! ranges, and the whole scene's consistency. The `[animation]` table's keys and keyframes are
@@ -18,6 +18,7 @@ use toml::Value;
 
 use super::Scene;
 use super::error::{SceneError, SceneSource};
+use super::exr::scene_from_exr;
 use super::png::scene_from_png;
 use super::presets::Preset;
 use super::schema::{KEYS, Key, Kind, SCHEMA};
@@ -51,14 +52,18 @@ impl SceneLoader {
         self.toml_str(preset.toml, SceneSource::Preset(preset.slug.to_string()))
     }
 
-    /// Adds a scene file: TOML, or a PNG written by qjulia (its embedded scene).
+    /// Adds a scene file: TOML, or a PNG or OpenEXR file written by qjulia (its embedded
+    /// scene), by the extension.
     pub fn file(&mut self, path: &Path) -> Result<(), SceneError> {
         let source = SceneSource::File(path.to_path_buf());
-        let is_png = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        let text = if is_png {
+        let extension = |ext: &str| {
+            path.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+        };
+        let text = if extension("png") {
             scene_from_png(path)?
+        } else if extension("exr") {
+            scene_from_exr(path)?
         } else {
             std::fs::read_to_string(path)
                 .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?

@@ -1,0 +1,108 @@
+//! OpenEXR output (`--hdr FILE.exr`): one part of float32 channels, gathered band by band and
+//! written at the end. `R`, `G`, `B` the linear mean ([`Frame::linear`]: path mode's radiance,
+//! phong mode's unclamped colour mean), `albedo.R/G/B` and `N.X/Y/Z` the AOVs
+//! ([`Frame::albedo`], [`Frame::normal`]), `Z` the depth (NaN where the ray hits nothing, as
+//! `--depth` writes it), and the scene's TOML in the `qjulia-scene` string attribute of the
+//! header ([`crate::scene::scene_from_exr`] reads it back). ZIP compression (lossless, 16 rows
+//! a block), scan lines top to bottom.
+
+use std::io::{Seek, Write};
+
+use exr::prelude::{
+    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, ImageAttributes, Layer, LayerAttributes,
+    SmallVec, Text, WritableImage,
+};
+
+use crate::frame::Frame;
+use crate::scene::{SCENE_EXR_ATTRIBUTE, Scene};
+
+/// The channels, in the order [`HdrImage`] holds them (the file stores them sorted by name).
+pub const CHANNELS: [&str; 10] = [
+    "R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z",
+];
+
+/// The channels of a whole image, filled band by band, top to bottom (40 bytes a pixel in
+/// host memory until it is written).
+pub struct HdrImage {
+    width: u32,
+    height: u32,
+    channels: [Vec<f32>; 10],
+}
+
+impl HdrImage {
+    /// An image of `width` x `height` with no rows yet.
+    pub fn new(width: u32, height: u32) -> Self {
+        let pixels = width as usize * height as usize;
+        Self {
+            width,
+            height,
+            channels: std::array::from_fn(|_| Vec::with_capacity(pixels)),
+        }
+    }
+
+    /// The whole of `frame` (rendered with its AOVs).
+    pub fn of(frame: &Frame) -> Self {
+        let mut image = Self::new(frame.width, frame.height);
+        image.add_band(frame);
+        image
+    }
+
+    /// Appends a band of whole rows; it must hold the AOVs ([`crate::Readback::Hdr`]).
+    pub fn add_band(&mut self, band: &Frame) {
+        let pixels = band.pixel_count();
+        let linear = band.linear();
+        assert!(
+            linear.len() == pixels && band.albedo.len() == pixels && band.normal.len() == pixels,
+            "a band for the EXR carries its AOVs (Readback::Hdr)"
+        );
+        assert_eq!(band.width, self.width, "a band of the image's width");
+        for (k, values) in [linear, &band.albedo, &band.normal].into_iter().enumerate() {
+            for c in 0..3 {
+                self.channels[3 * k + c].extend(values.iter().map(|v| v[c]));
+            }
+        }
+        self.channels[9].extend_from_slice(&band.depth);
+    }
+
+    /// Rows added so far.
+    pub fn rows(&self) -> u32 {
+        (self.channels[9].len() / self.width.max(1) as usize) as u32
+    }
+
+    /// Writes the image as OpenEXR with `scene` in its header; every row must be there.
+    pub fn write(self, scene: &Scene, to: impl Write + Seek) -> std::io::Result<()> {
+        assert_eq!(self.rows(), self.height, "every row of the EXR is there");
+        let size = (self.width as usize, self.height as usize);
+        let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = CHANNELS
+            .iter()
+            .zip(self.channels)
+            .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
+            .collect();
+        let layer = LayerAttributes {
+            software_name: Some(Text::from(concat!("qjulia ", env!("CARGO_PKG_VERSION")))),
+            ..Default::default()
+        };
+        let mut attributes = ImageAttributes::with_size(size);
+        // The scene as its UTF-8 bytes: OpenEXR's strings are bytes, and a scene is ASCII but
+        // for what its TOML strings may hold.
+        attributes.other.insert(
+            Text::from(SCENE_EXR_ATTRIBUTE),
+            exr::meta::attribute::AttributeValue::Text(Text::from_slice_unchecked(
+                scene.to_toml().as_bytes(),
+            )),
+        );
+        let image = Image::new(
+            attributes,
+            Layer::new(
+                size,
+                layer,
+                Encoding::SMALL_LOSSLESS,
+                AnyChannels::sort(channels),
+            ),
+        );
+        image.write().to_buffered(to).map_err(|e| match e {
+            exr::error::Error::Io(e) => e,
+            e => std::io::Error::other(e),
+        })
+    }
+}
