@@ -787,7 +787,7 @@ fn copy_radiance(
     target: &KernelTarget,
     spare: Option<wgpu::Buffer>,
 ) -> wgpu::Buffer {
-    let accumulated = &target.outputs[crate::gpu::TRACE_OUTPUTS.len() - 1];
+    let accumulated = &target.outputs[crate::gpu::ACCUMULATED_OUTPUT];
     let bytes = target.row_stride as u64 * target.height as u64 * 16;
     let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
         device.create_buffer(&wgpu::BufferDescriptor {

@@ -340,7 +340,8 @@ const STEPS_OUTPUT: usize = 2;
 /// accumulator after it stays on the device in phong mode, the AOVs after that come back only
 /// for [`Readback::Hdr`].
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
-const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
+/// Where the running mean of the samples (`accumulated`) is among the tracer's outputs.
+pub const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
 const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
 
 /// [`IMAGE_OUTPUTS`] of an f64 kernel: the depth is f64.
