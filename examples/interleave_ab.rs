@@ -178,11 +178,13 @@ fn main() {
         ("PIXEL_EPSILON", 0.0),
         ("CUT", 0.0),
     ];
+    // The depth output alone comes back.
+    let read: Vec<bool> = (0..TRACE_OUTPUTS.len()).map(|k| k == 1).collect();
     let run = |kernel: &Kernel| {
         let r = Run {
             constants: &constants,
             size: (size, size),
-            read: &[false, true, false, false, false],
+            read: &read,
             dispatches_per_band: 1,
             params: &uniform,
         };
