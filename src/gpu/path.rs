@@ -12,7 +12,10 @@ use super::kernel::{Band, Kernel, KernelSpec, RunTimes, SecondUniform};
 use super::params::{GpuParams, GpuParams64};
 use super::shaders::{PATH_MODULE, PATH64_MODULE};
 use super::variant::Variant;
-use super::{GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, render_image_bands};
+use super::{
+    ACCUMULATED_OUTPUT, GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS,
+    image_readback, render_image_bands,
+};
 use crate::algebra::{Real, Vec3};
 use crate::cpu::path::PathParams;
 use crate::error::Result;
@@ -201,14 +204,10 @@ impl<F: GpuReal> GpuPathTracer<F> {
             self.kernel
                 .pack_uniforms(&trace, bytemuck::bytes_of(&second))
         };
-        // Colour (0, but the frame's shape needs it), depth, steps, estimates and the
-        // accumulator; the accumulator alone with the colour for Readback::Colour; the AOVs
-        // too for Readback::Hdr.
-        let read = match readback {
-            Readback::All => [true, true, true, true, true, false],
-            Readback::Colour => [true, false, false, false, true, false],
-            Readback::Hdr => [true; 6],
-        };
+        // What the tracer reads for `readback` (the colour, 0 here, gives the frame its
+        // shape), and the accumulator: the radiance.
+        let mut read = image_readback(&self.kernel, readback);
+        read[ACCUMULATED_OUTPUT] = true;
         let mut constants = self.constants(params);
         constants.extend_from_slice(readback.constants());
         render_image_bands(
