@@ -144,8 +144,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
         let device_constants = F::device_constants(&ctx)?;
         Ok(Self {
             kernel: Kernel::new(ctx, F::PATH_KERNEL)?,
-            // QJULIA_SPECIALISE=0 runs every scene on the generic pipeline, as the tracer does.
-            specialise: std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0"),
+            specialise: super::variant::specialise_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         })

@@ -90,8 +90,7 @@ impl<F: GpuReal> GpuTracer<F> {
         let device_constants = F::device_constants(&ctx)?;
         let tracer = Self {
             kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,
-            // QJULIA_SPECIALISE=0 runs every scene on the generic pipeline (to measure the gain).
-            specialise: std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0"),
+            specialise: super::variant::specialise_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         };

@@ -6,6 +6,12 @@ use crate::algebra::Real;
 use crate::params::TraceParams;
 use crate::scene::{Algebra, NormalMethod};
 
+/// Whether scenes get pipelines of their own variant: yes, unless `QJULIA_SPECIALISE=0`, which
+/// runs every scene on the generic pipeline (to measure the gain).
+pub fn specialise_from_env() -> bool {
+    std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0")
+}
+
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
