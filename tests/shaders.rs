@@ -224,6 +224,31 @@ fn shared_constants_match_the_cpu_twin() {
     }
 }
 
+/// `module` with its overrides set to `constants` for `entry` (naga's pipeline-constant pass,
+/// which also drops what `entry` does not reach), validated; panics naming `what` otherwise.
+fn specialise(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    entry: &str,
+    constants: &naga::back::PipelineConstants,
+    what: &str,
+) -> naga::Module {
+    let (specialised, _) = naga::back::pipeline_constants::process_overrides(
+        module,
+        info,
+        Some((naga::ShaderStage::Compute, entry)),
+        constants,
+    )
+    .unwrap_or_else(|e| panic!("{what}: {e}"));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&specialised)
+    .unwrap_or_else(|e| panic!("{what} does not validate: {e:?}"));
+    specialised.into_owned()
+}
+
 /// Specialises `source` for each variant and `entry` (the f64 modules with and without the
 /// start-up check's sqrt repair, alternating) and validates it; hands each specialised module
 /// to `check` with its index.
@@ -248,20 +273,8 @@ fn validate_variants(
         if source.is_f64() {
             constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
         }
-        let (specialised, _) = naga::back::pipeline_constants::process_overrides(
-            &module,
-            &info,
-            Some((naga::ShaderStage::Compute, entry)),
-            &constants,
-        )
-        .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&specialised)
-        .unwrap_or_else(|e| panic!("{} {variant:?} does not validate: {e:?}", source.name));
-        check(k, &specialised);
+        let what = format!("{} {variant:?}", source.name);
+        check(k, &specialise(&module, &info, entry, &constants, &what));
     }
 }
 
@@ -309,19 +322,8 @@ fn the_aov_pipelines_validate() {
                 constants.insert(name.to_string(), value);
             }
             constants.insert("AOVS".to_string(), 1.0);
-            let (specialised, _) = naga::back::pipeline_constants::process_overrides(
-                &module,
-                &info,
-                Some((naga::ShaderStage::Compute, entry)),
-                &constants,
-            )
-            .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", source.name));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&specialised)
-            .unwrap_or_else(|e| panic!("{} {variant:?} with AOVS: {e:?}", source.name));
+            let what = format!("{} {variant:?} with AOVS", source.name);
+            specialise(&module, &info, entry, &constants, &what);
         }
     }
 }
