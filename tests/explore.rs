@@ -668,30 +668,31 @@ fn a_deep_export_writes_the_bytes_of_qjulia_render() {
         qjulia::Precision::F64,
         "the view shows f64"
     );
+    let stderr = assert_export_is_render(
+        &mut harness,
+        "explorer_deep_export",
+        &["--preset", "deep-zoom", "--width", "96", "--height", "72"],
+    );
+    assert!(stderr.contains("rendering in f64"), "{stderr}");
+}
+
+/// Exports the view to a PNG and renders `qjulia render ARGS -o cli.png`: the two must be the
+/// same bytes. On a difference both PNGs are kept under target/ (NAME_actual.png, the export,
+/// and NAME_expected.png) and the panic counts the pixels that differ. Returns render's stderr.
+fn assert_export_is_render(
+    harness: &mut Harness<'static, ExplorerApp>,
+    name: &str,
+    args: &[&str],
+) -> String {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("export.png");
     harness.state_mut().start_export(path.clone());
-    wait_for_message(&mut harness, "exported");
-    let out = common::qjulia(
-        dir.path(),
-        &[
-            "render",
-            "--preset",
-            "deep-zoom",
-            "--width",
-            "96",
-            "--height",
-            "72",
-            "-o",
-            "cli.png",
-        ],
-    );
+    wait_for_message(harness, "exported");
+    let mut all = vec!["render"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", "cli.png"]);
+    let out = common::qjulia(dir.path(), &all);
     assert!(out.status.success(), "{}", common::stderr(&out));
-    assert!(
-        common::stderr(&out).contains("rendering in f64"),
-        "{}",
-        common::stderr(&out)
-    );
     let (exported, cli) = (
         std::fs::read(&path).unwrap(),
         std::fs::read(dir.path().join("cli.png")).unwrap(),
@@ -701,20 +702,22 @@ fn a_deep_export_writes_the_bytes_of_qjulia_render() {
         let ([w, h], a) = decode(&path);
         let (_, b) = decode(&dir.path().join("cli.png"));
         let differ = a.chunks(3).zip(b.chunks(3)).filter(|(x, y)| x != y).count();
-        let out = common::output_dir();
-        std::fs::create_dir_all(&out).unwrap();
-        std::fs::copy(&path, out.join("explorer_deep_export_actual.png")).unwrap();
+        let target = common::output_dir();
+        std::fs::create_dir_all(&target).unwrap();
+        std::fs::copy(&path, target.join(format!("{name}_actual.png"))).unwrap();
         std::fs::copy(
             dir.path().join("cli.png"),
-            out.join("explorer_deep_export_expected.png"),
+            target.join(format!("{name}_expected.png")),
         )
         .unwrap();
         panic!(
-            "Export PNG and `qjulia render` differ: {differ} of {} pixels (both PNGs under {})",
+            "{name}: Export PNG and `qjulia render` differ: {differ} of {} pixels (both PNGs \
+             under {})",
             w * h,
-            out.display()
+            target.display()
         );
     }
+    common::stderr(&out)
 }
 
 #[test]
@@ -1026,14 +1029,10 @@ fn a_path_export_writes_the_bytes_of_qjulia_render() {
         return;
     };
     harness.step();
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("export.png");
-    harness.state_mut().start_export(path.clone());
-    wait_for_message(&mut harness, "exported");
-    let out = common::qjulia(
-        dir.path(),
+    assert_export_is_render(
+        &mut harness,
+        "explorer_path_export",
         &[
-            "render",
             "--preset",
             "path-traced",
             "--width",
@@ -1042,14 +1041,7 @@ fn a_path_export_writes_the_bytes_of_qjulia_render() {
             "48",
             "--set",
             "image.samples=2",
-            "-o",
-            "cli.png",
         ],
-    );
-    assert!(out.status.success(), "{}", common::stderr(&out));
-    assert!(
-        std::fs::read(&path).unwrap() == std::fs::read(dir.path().join("cli.png")).unwrap(),
-        "Export PNG and `qjulia render` wrote different bytes in path mode"
     );
 }
 
