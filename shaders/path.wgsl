@@ -296,7 +296,7 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     estimates = 0u;
     var mean = vec3<f32>(0.0);
     var made = 0u;
-    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     if params.sample_start > 0u {
         mean = accumulated[index].xyz;
         made = out_estimates[index];

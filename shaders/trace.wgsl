@@ -886,22 +886,34 @@ fn pack_colour(colour: vec3<Real>) -> u32 {
     return v.x | (v.y << 8u) | (v.z << 16u) | 0xff000000u;
 }
 
-// The AOVs of a pixel's samples so far (`--hdr`): the mean of their unclamped colours, and over
-// the samples whose primary ray hit, how many did and the means of their hits' base colours and
-// shading normals (0 while none has). In f32 in both precisions, as the accumulator is.
+// The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
+// colours and the sum of the squared deviations of their luminances from the running mean
+// (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
+// did and the means of their hits' base colours and shading normals (0 while none has). In f32
+// in both precisions, as the accumulator is.
 struct Aovs {
     colour: vec3<f32>,
     hits: f32,
     albedo: vec3<f32>,
     normal: vec3<f32>,
+    m2: f32,
+}
+
+// Rec. 709 luminance of a linear colour, as shaders/bsdf.wgsl's `luminance` (the phong module
+// has no bsdf.wgsl).
+fn sample_luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
 // Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1); where it hit, its albedo and normal to the running
-// means over the hits, by the same rule with the hits counted so far.
+// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 by Welford's rule,
+// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)); where it hit, its albedo and normal to
+// the running means over the hits, by the same rule with the hits counted so far.
 fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>) -> Aovs {
     var out = a;
     out.colour = a.colour + (colour - a.colour) / f32(k + 1u);
+    let l = sample_luminance(colour);
+    out.m2 = a.m2 + (l - sample_luminance(a.colour)) * (l - sample_luminance(out.colour));
     if hit {
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
@@ -920,15 +932,16 @@ fn add_pixel_aovs(a: Aovs, k: u32, pixel: Pixel) -> Aovs {
     return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal));
 }
 
-// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo, normal.
+// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo and M2, normal.
 fn load_aovs(index: u32) -> Aovs {
     let a = out_aovs[3u * index];
-    return Aovs(a.xyz, a.w, out_aovs[3u * index + 1u].xyz, out_aovs[3u * index + 2u].xyz);
+    let b = out_aovs[3u * index + 1u];
+    return Aovs(a.xyz, a.w, b.xyz, out_aovs[3u * index + 2u].xyz, b.w);
 }
 
 fn store_aovs(index: u32, a: Aovs) {
     out_aovs[3u * index] = vec4<f32>(a.colour, a.hits);
-    out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, 0.0);
+    out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, a.m2);
     out_aovs[3u * index + 2u] = vec4<f32>(a.normal, 0.0);
 }
 
@@ -967,7 +980,7 @@ fn main(
     if SPECIALISED && !SAMPLES {
         samples = 1u;
     }
-    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     if samples <= 1u {
         let pixel = trace_pixel(i, j, 0u, t_min);
         out_colour[index] = pack_colour(pixel.colour);

@@ -31,6 +31,13 @@ pub struct Frame {
     /// whose primary ray hit; 0 where none did. A mean of unit vectors: of length 1 where every
     /// sample hit the same face, shorter where they disagree.
     pub normal: Vec<[f32; 3]>,
+    /// The AOVs: the sum of the squared deviations of the samples' luminances from their mean
+    /// (Welford's M2), of which the denoiser makes each pixel's variance; empty where the AOVs
+    /// were not asked for.
+    pub luminance_m2: Vec<f32>,
+    /// Where the frame was denoised (`image.denoise`): the linear mean before the denoiser
+    /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
+    pub noisy: Vec<[f32; 3]>,
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
     /// marker aside). Must be 0: the stability suite checks it.
     pub non_finite: u64,
@@ -53,6 +60,8 @@ impl Frame {
             unclamped: Vec::new(),
             albedo: Vec::new(),
             normal: Vec::new(),
+            luminance_m2: Vec::new(),
+            noisy: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }
@@ -74,6 +83,8 @@ impl Frame {
         self.unclamped.extend_from_slice(&band.unclamped);
         self.albedo.extend_from_slice(&band.albedo);
         self.normal.extend_from_slice(&band.normal);
+        self.luminance_m2.extend_from_slice(&band.luminance_m2);
+        self.noisy.extend_from_slice(&band.noisy);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
     }
@@ -99,6 +110,22 @@ impl Frame {
             true => &self.unclamped,
             false => &self.radiance,
         }
+    }
+
+    /// Puts a denoised linear image and its packed colours in place of the mean's, keeping
+    /// the mean in [`Self::noisy`].
+    pub fn set_denoised(&mut self, linear: Vec<[f32; 3]>, colour: Vec<u32>) {
+        assert_eq!(
+            linear.len(),
+            self.pixel_count(),
+            "a denoised image of the frame's size"
+        );
+        let slot = match self.radiance.is_empty() {
+            true => &mut self.unclamped,
+            false => &mut self.radiance,
+        };
+        self.noisy = std::mem::replace(slot, linear);
+        self.colour = colour;
     }
 
     /// Whether each pixel's primary ray hit the set.

@@ -1,6 +1,7 @@
 //! OpenEXR output (`--hdr FILE.exr`): one part of float32 channels, gathered band by band and
 //! written at the end. `R`, `G`, `B` the linear mean ([`Frame::linear`]: path mode's radiance,
-//! phong mode's unclamped colour mean), `albedo.R/G/B` and `N.X/Y/Z` the AOVs
+//! phong mode's unclamped colour mean; with a denoiser the denoised one, and the mean before
+//! it in `noisy.R/G/B`, [`NOISY_CHANNELS`]), `albedo.R/G/B` and `N.X/Y/Z` the AOVs
 //! ([`Frame::albedo`], [`Frame::normal`]), `Z` the depth (NaN where the ray hits nothing, as
 //! `--depth` writes it), and the scene's TOML in the `qjulia-scene` string attribute of the
 //! header ([`crate::scene::scene_from_exr`] reads it back). ZIP compression (lossless, 16 rows
@@ -21,12 +22,17 @@ pub const CHANNELS: [&str; 10] = [
     "R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z",
 ];
 
+/// The layer a denoised image's mean before the denoiser goes in ([`Frame::noisy`]).
+pub const NOISY_CHANNELS: [&str; 3] = ["noisy.R", "noisy.G", "noisy.B"];
+
 /// The channels of a whole image, filled band by band, top to bottom (40 bytes a pixel in
-/// host memory until it is written).
+/// host memory until it is written, 52 with the noisy layer).
 pub struct HdrImage {
     width: u32,
     height: u32,
     channels: [Vec<f32>; 10],
+    /// `noisy.R/G/B`, where the bands were denoised.
+    noisy: [Vec<f32>; 3],
 }
 
 impl HdrImage {
@@ -37,6 +43,7 @@ impl HdrImage {
             width,
             height,
             channels: std::array::from_fn(|_| Vec::with_capacity(pixels)),
+            noisy: Default::default(),
         }
     }
 
@@ -62,6 +69,11 @@ impl HdrImage {
             }
         }
         self.channels[9].extend_from_slice(&band.depth);
+        if !band.noisy.is_empty() {
+            for c in 0..3 {
+                self.noisy[c].extend(band.noisy.iter().map(|v| v[c]));
+            }
+        }
     }
 
     /// Rows added so far.
@@ -73,9 +85,16 @@ impl HdrImage {
     pub fn write(self, scene: &Scene, to: impl Write + Seek) -> std::io::Result<()> {
         assert_eq!(self.rows(), self.height, "every row of the EXR is there");
         let size = (self.width as usize, self.height as usize);
+        let pixels = self.channels[9].len();
+        assert!(
+            self.noisy.iter().all(|c| c.is_empty() || c.len() == pixels),
+            "every band or none was denoised"
+        );
         let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = CHANNELS
             .iter()
             .zip(self.channels)
+            .chain(NOISY_CHANNELS.iter().zip(self.noisy))
+            .filter(|(_, values)| values.len() == pixels)
             .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
             .collect();
         let layer = LayerAttributes {

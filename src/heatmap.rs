@@ -412,6 +412,8 @@ mod tests {
             unclamped: Vec::new(),
             albedo: Vec::new(),
             normal: Vec::new(),
+            luminance_m2: Vec::new(),
+            noisy: Vec::new(),
             non_finite: 0,
             estimates: 0,
         };

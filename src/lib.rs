@@ -9,6 +9,7 @@ pub mod algebra;
 pub mod animate;
 pub mod compare;
 pub mod cpu;
+pub mod denoise;
 pub mod display;
 pub mod error;
 pub mod explore;

@@ -55,6 +55,17 @@ pub struct RenderStats {
     pub render_seconds: f64,
     /// GPU time from timestamp queries; None where unsupported (and on the CPU).
     pub gpu_seconds: Option<f64>,
+    /// The denoiser's wall seconds (`image.denoise`), where it ran: the preparation and the
+    /// passes, not in `render_seconds`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise_seconds: Option<f64>,
+    /// The denoiser's passes' GPU time, where they ran on a GPU with timestamps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise_gpu_seconds: Option<f64>,
+    /// Where the denoiser ran, "gpu" or "cpu" (a GPU whose buffers cannot hold the image
+    /// leaves it to the CPU).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise_backend: Option<String>,
     #[serde(flatten)]
     pub summary: Summary,
 }
@@ -250,6 +261,8 @@ mod tests {
             unclamped: Vec::new(),
             albedo: Vec::new(),
             normal: Vec::new(),
+            luminance_m2: Vec::new(),
+            noisy: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }

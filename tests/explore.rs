@@ -94,6 +94,8 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         unclamped: Vec::new(),
         albedo: Vec::new(),
         normal: Vec::new(),
+        luminance_m2: Vec::new(),
+        noisy: Vec::new(),
         non_finite: 0,
         estimates: 0,
     }
@@ -327,6 +329,8 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 unclamped: Vec::new(),
                 albedo: Vec::new(),
                 normal: Vec::new(),
+                luminance_m2: Vec::new(),
+                noisy: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
             }

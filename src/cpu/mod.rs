@@ -2,6 +2,7 @@
 //! f64, parallel over rows with rayon. The tests hold the GPU to it.
 
 pub mod bsdf;
+pub mod denoise;
 pub mod julia2d;
 pub mod light;
 pub mod path;
@@ -270,6 +271,8 @@ where
         unclamped,
         albedo: aov(|a| a.albedo),
         normal: aov(|a| a.normal),
+        luminance_m2: aovs.par_iter().map(|a| a.m2).collect(),
+        noisy: Vec::new(),
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
     }

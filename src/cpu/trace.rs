@@ -65,15 +65,18 @@ pub struct Pixel<F> {
     pub normal: Vec3<F>,
 }
 
-/// The AOVs of a pixel's samples so far (`--hdr`): the mean of their unclamped colours, and over
-/// the samples whose primary ray hit, how many did and the means of their hits' base colours and
-/// shading normals (0 while none has). In f32 in both precisions, as the shader keeps them.
+/// The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
+/// colours and the sum of the squared deviations of their luminances from the running mean
+/// (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
+/// did and the means of their hits' base colours and shading normals (0 while none has). In f32
+/// in both precisions, as the shader keeps them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Aovs {
     pub colour: Vec3<f32>,
     pub hits: f32,
     pub albedo: Vec3<f32>,
     pub normal: Vec3<f32>,
+    pub m2: f32,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -833,9 +836,16 @@ pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
     channel(colour.x) | (channel(colour.y) << 8) | (channel(colour.z) << 16) | 0xff00_0000
 }
 
+/// Rec. 709 luminance of a linear colour, as [`super::bsdf::luminance`] (the shader's phong
+/// module has no bsdf.wgsl).
+pub fn sample_luminance(c: Vec3<f32>) -> f32 {
+    super::bsdf::luminance(c)
+}
+
 /// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1); where it hit, its albedo and normal to the running
-/// means over the hits, by the same rule with the hits counted so far.
+/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 by Welford's rule,
+/// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)); where it hit, its albedo and normal to
+/// the running means over the hits, by the same rule with the hits counted so far.
 pub fn add_aovs(
     a: Aovs,
     k: u32,
@@ -846,6 +856,8 @@ pub fn add_aovs(
 ) -> Aovs {
     let mut out = a;
     out.colour = a.colour + (colour - a.colour) / (k + 1) as f32;
+    let l = sample_luminance(colour);
+    out.m2 = a.m2 + (l - sample_luminance(a.colour)) * (l - sample_luminance(out.colour));
     if hit {
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;

@@ -1,10 +1,12 @@
 //! The kernels of one device, each built on first use and then shared: the tracer, the path
-//! tracer and the 2D view in f32 and (where the device passes the start-up check) f64, and the mesh's sampler.
+//! tracer and the 2D view in f32 and (where the device passes the start-up check) f64, the mesh's
+//! sampler and the denoiser.
 //! The explorer's views, its exports and the renders of a command all take their kernels from
 //! one of these, so a kernel is built once per device.
 
 use std::sync::{Arc, Mutex};
 
+use super::denoise::GpuDenoiser;
 use super::path::GpuPathTracer;
 use super::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
 use crate::error::Result;
@@ -19,6 +21,7 @@ pub struct GpuKernels {
     sampler: Mutex<Option<Arc<GpuSampler>>>,
     path: Mutex<Option<Arc<GpuPathTracer>>>,
     path64: Mutex<Option<Arc<GpuPathTracer<f64>>>>,
+    denoiser: Mutex<Option<Arc<GpuDenoiser>>>,
 }
 
 impl GpuKernels {
@@ -33,6 +36,7 @@ impl GpuKernels {
             sampler: Mutex::new(None),
             path: Mutex::new(None),
             path64: Mutex::new(None),
+            denoiser: Mutex::new(None),
         }
     }
 
@@ -68,6 +72,11 @@ impl GpuKernels {
     /// The f64 path tracer, where the device passes the start-up check of f64.
     pub fn path64(&self) -> Result<Arc<GpuPathTracer<f64>>> {
         built(&self.path64, || GpuPathTracer::new_f64(self.ctx.clone()))
+    }
+
+    /// The denoiser's a-trous pass (`image.denoise = "atrous"`).
+    pub fn denoiser(&self) -> Result<Arc<GpuDenoiser>> {
+        built(&self.denoiser, || GpuDenoiser::new(self.ctx.clone()))
     }
 
     /// The f64 tracer, where the device passes the start-up check of f64.

@@ -1,6 +1,7 @@
 //! The GPU path: adapter and device choice, and the kernels on the one runner ([`kernel`]).
 
 pub mod bsdf_probe;
+pub mod denoise;
 pub mod f64check;
 mod julia2d;
 pub mod kernel;
@@ -497,7 +498,7 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
     };
     // The accumulator where it was read back (path mode): the mean linear radiance.
     let accumulated: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
-    // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo,
+    // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo and M2,
     // normal). The colour is phong mode's linear mean; path mode's is the accumulator's.
     let aovs: &[[[f32; 4]; 3]] = output(band, AOVS_OUTPUT);
     let aov = |k: usize| -> Vec<[f32; 3]> {
@@ -531,6 +532,8 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
         },
         albedo: aov(1),
         normal: aov(2),
+        luminance_m2: aovs.par_iter().map(|a| a[1][3]).collect(),
+        noisy: Vec::new(),
         non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64
             + accumulated
                 .par_iter()

@@ -41,6 +41,8 @@ pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
 pub const SOBOL_WGSL: &str = include_str!("../../shaders/sobol.wgsl");
 /// The sampler's test-support kernel (src/gpu/sobol_probe.rs); needs [`SOBOL_WGSL`].
 pub const SOBOL_PROBE_WGSL: &str = include_str!("../../shaders/sobol_probe.wgsl");
+/// The denoiser's a-trous pass (twin: src/cpu/denoise.rs); needs nothing in front of it.
+pub const DENOISE_WGSL: &str = include_str!("../../shaders/denoise.wgsl");
 /// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
 pub const F64CHECK_WGSL: &str = include_str!("../../shaders/f64check.wgsl");
 
@@ -141,6 +143,12 @@ pub const SOBOL_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     parts: &[SOBOL_WGSL, SOBOL_PROBE_WGSL],
 };
 
+/// The denoiser: its pass alone (it works on f32 images in either precision).
+pub const DENOISE_MODULE: ShaderModuleSource = ShaderModuleSource {
+    name: "denoise",
+    parts: &[DENOISE_WGSL],
+};
+
 /// Every module the GPU path builds; the tests validate each with naga.
 pub const ALL_MODULES: &[ShaderModuleSource] = &[
     TRACE_MODULE,
@@ -153,6 +161,7 @@ pub const ALL_MODULES: &[ShaderModuleSource] = &[
     PATH_MODULE,
     PATH64_MODULE,
     SOBOL_PROBE_MODULE,
+    DENOISE_MODULE,
 ];
 
 /// Parses and validates WGSL with naga (the version wgpu uses), as the GPU path would, with

@@ -26,6 +26,7 @@ use std::sync::Arc;
 use crate::algebra::Real;
 use crate::cpu;
 use crate::cpu::path::PathParams;
+use crate::denoise::Denoiser;
 use crate::display::Display;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
@@ -92,8 +93,39 @@ impl Renderer {
     }
 
     /// As [`Self::render`], reading back only `readback`'s outputs ([`Readback::Hdr`]: a shaded
-    /// slice only, with its AOVs).
+    /// slice only, with its AOVs). With a denoiser (`image.denoise`) the shaded slice is
+    /// rendered whole with its AOVs, denoised ([`crate::denoise`]) and handed to `sink` as one
+    /// band: the filter reaches across bands.
     pub fn render_with(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        readback: Readback,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    ) -> Result<RenderStats> {
+        if picture != Picture::SHADED || scene.image.denoise == Denoiser::None {
+            return self.render_noisy(scene, picture, readback, sink);
+        }
+        let mut whole = Frame::empty(scene.image.width);
+        let mut stats = self.render_noisy(scene, picture, Readback::Hdr, &mut |band| {
+            whole.append(band);
+            Ok(())
+        })?;
+        let denoised = crate::denoise::denoise(&whole, scene, self.gpu.as_deref())?;
+        let colour = match picture.path_traced(scene) {
+            true => Display::of(scene).pack_all(&denoised.linear),
+            false => crate::denoise::pack_phong(&denoised.linear),
+        };
+        whole.set_denoised(denoised.linear, colour);
+        stats.denoise_seconds = Some(denoised.seconds);
+        stats.denoise_gpu_seconds = denoised.gpu_seconds;
+        stats.denoise_backend = Some(denoised.backend.into());
+        sink(&whole)?;
+        Ok(stats)
+    }
+
+    /// [`Self::render_with`] without the denoiser: the mean of the samples, band by band.
+    fn render_noisy(
         &self,
         scene: &Scene,
         picture: Picture,
@@ -229,6 +261,9 @@ impl Renderer {
             height,
             render_seconds,
             gpu_seconds,
+            denoise_seconds: None,
+            denoise_gpu_seconds: None,
+            denoise_backend: None,
             summary,
         }
     }

@@ -16,6 +16,7 @@ pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr};
 pub use load::SceneLoader;
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png};
 
+use crate::denoise::Denoiser;
 use crate::display::ToneMap;
 use schema::{Range, scene_schema};
 use serde::Serialize;
@@ -439,6 +440,28 @@ scene_schema! {
             /// Path mode: the curve from exposed linear radiance to [0, 1] (docs/book/display.md).
             tone_map: ToneMap = ToneMap::None, choice(),
                 "path mode: \"none\" (a clamp), \"reinhard\" or \"aces\" (Narkowicz 2015)";
+            /// The denoiser run on the linear image before the display transform, in either
+            /// model (docs/book/denoise.md); its parameters are the `[denoise]` table.
+            denoise: Denoiser = Denoiser::None, choice(),
+                "\"none\" or \"atrous\" (edge-avoiding, guided by albedo, normal, depth and variance)";
+        }
+
+        /// The denoiser's parameters (`image.denoise = "atrous"`, docs/book/denoise.md).
+        denoise: Denoise "the denoiser's parameters (image.denoise = \"atrous\")" {
+            /// Passes of the a-trous filter; pass k spaces its 5 x 5 taps 2^k pixels apart.
+            iterations: u32 = 5, integer(1, 10), slider(1, 10),
+                "a-trous passes, {range}: the filter reaches 2 (2^iterations - 1) pixels";
+            /// How far a neighbour's luminance may differ, in standard deviations of the
+            /// pixel's noise (0: luminance is not an edge).
+            sigma_luminance: f64 = 4.0, float(Range::at_least(0.0)), slider(0.0, 16.0),
+                "luminance edges, in standard deviations of the noise, {range} (0 = off)";
+            /// The exponent of the normals' cosine (0: normals are not edges).
+            sigma_normal: f64 = 128.0, float(Range::at_least(0.0)), slider(0.0, 256.0),
+                "the exponent of the normals' cosine, {range} (0 = off)";
+            /// How far a neighbour's depth may stray from the local plane, in multiples of the
+            /// depth's change across the offset (0: depth is not an edge).
+            sigma_depth: f64 = 1.0, float(Range::at_least(0.0)), slider(0.0, 8.0),
+                "depth edges, in multiples of the depth's slope, {range} (0 = off)";
         }
 
         /// A cut: the set is intersected with the half-space normal . p <= offset (slice

@@ -1,0 +1,271 @@
+//! The denoiser (`image.denoise`, the `[denoise]` table): an edge-avoiding a-trous wavelet
+//! filter (Dammertz et al. 2010) with SVGF's edge-stopping functions and variance (Schied et
+//! al. 2017), on the linear image of a whole frame before the display transform, in either
+//! model. This module owns the filter's steps around the passes:
+//!
+//! 1. [`prepare`]: each pixel's linear colour divided by its albedo AOV (the illumination), the
+//!    variance of its mean luminance (from the AOVs' Welford M2), and its guide (the mean normal
+//!    of its hits, sample 0's depth);
+//! 2. the passes, on the GPU (src/gpu/denoise.rs over shaders/denoise.wgsl) or on the CPU
+//!    (its twin, src/cpu/denoise.rs);
+//! 3. [`finish`]: the illumination times the albedo again.
+//!
+//! The book's chapter "Denoising" (docs/book/denoise.md) gives every formula.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::algebra::Vec3;
+use crate::cpu::denoise::{DenoiseParams, Pass, luminance};
+use crate::error::Result;
+use crate::frame::Frame;
+use crate::gpu::GpuKernels;
+use crate::scene::Scene;
+
+/// `image.denoise`: which denoiser runs on the linear image.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Denoiser {
+    /// None: the image is the mean of its samples.
+    #[default]
+    None,
+    /// The edge-avoiding a-trous filter, guided by the albedo, normal and depth AOVs and by
+    /// each pixel's variance.
+    Atrous,
+}
+
+impl Denoiser {
+    /// Every denoiser, in the order the scene file lists them.
+    pub const ALL: [Denoiser; 2] = [Denoiser::None, Denoiser::Atrous];
+
+    /// The name the scene file uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Denoiser::None => "none",
+            Denoiser::Atrous => "atrous",
+        }
+    }
+}
+
+/// An albedo channel below this divides the colour as this (a black albedo would give no
+/// illumination to filter); a pixel none of whose samples hit is not divided at all.
+pub const ALBEDO_FLOOR: f32 = 0.01;
+
+/// The image the passes filter, the guides they follow and the albedo to multiply back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prepared {
+    pub width: u32,
+    pub height: u32,
+    /// Each pixel's illumination (linear colour / albedo) and the variance of its mean
+    /// luminance.
+    pub image: Vec<[f32; 4]>,
+    /// Each pixel's mean normal and depth (-1 where sample 0 missed).
+    pub guide: Vec<[f32; 4]>,
+    /// What each pixel was divided by ([`demodulation`]).
+    pub albedo: Vec<[f32; 3]>,
+}
+
+/// A denoised frame's linear image and what it cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Denoised {
+    pub linear: Vec<[f32; 3]>,
+    /// Wall seconds, the preparation and the passes (on the GPU: upload, passes, readback).
+    pub seconds: f64,
+    /// The passes' GPU time, where they ran on a GPU with timestamps.
+    pub gpu_seconds: Option<f64>,
+    /// "gpu" or "cpu".
+    pub backend: &'static str,
+}
+
+/// What a pixel's colour is divided by: its albedo AOV, each channel at least
+/// [`ALBEDO_FLOOR`]; 1 where none of its samples hit (the AOV is 0 there).
+pub fn demodulation(albedo: [f32; 3]) -> [f32; 3] {
+    if albedo == [0.0; 3] {
+        return [1.0; 3];
+    }
+    albedo.map(|a| a.max(ALBEDO_FLOOR))
+}
+
+fn vec3(v: [f32; 3]) -> Vec3<f32> {
+    Vec3::new(v[0], v[1], v[2])
+}
+
+/// The variance of the mean luminance of a pixel of `samples` samples whose luminances' squared
+/// deviations sum to `m2`: m2 / (n (n - 1)).
+pub fn mean_variance(m2: f32, samples: u32) -> f32 {
+    let n = samples as f32;
+    (m2 / (n * (n - 1.0))).max(0.0)
+}
+
+/// Where a pixel has one sample, its variance is estimated from its neighbours: the variance of
+/// the luminances of the pixels within 2 of it (itself included) whose sample 0 did as its did
+/// (hit or missed).
+pub const SPATIAL_RADIUS: i32 = 2;
+
+fn spatial_variance(luma: &[f32], hit: &[bool], (w, h): (usize, usize), i: usize, j: usize) -> f32 {
+    let (mut sum, mut squares, mut n) = (0.0f64, 0.0f64, 0.0f64);
+    let centre = hit[j * w + i];
+    for dy in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
+        for dx in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
+            let (x, y) = (i as i32 + dx, j as i32 + dy);
+            if x < 0 || y < 0 || x >= w as i32 || y >= h as i32 {
+                continue;
+            }
+            let k = y as usize * w + x as usize;
+            if hit[k] != centre {
+                continue;
+            }
+            let l = luma[k] as f64;
+            sum += l;
+            squares += l * l;
+            n += 1.0;
+        }
+    }
+    let mean = sum / n;
+    (squares / n - mean * mean).max(0.0) as f32
+}
+
+/// A whole frame (rendered with its AOVs, [`crate::Readback::Hdr`]) of `samples` samples a
+/// pixel, ready for the passes.
+pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
+    let pixels = frame.pixel_count();
+    let linear = frame.linear();
+    assert!(
+        linear.len() == pixels
+            && frame.albedo.len() == pixels
+            && frame.normal.len() == pixels
+            && frame.luminance_m2.len() == pixels,
+        "the denoiser needs the AOVs (Readback::Hdr)"
+    );
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let albedo: Vec<[f32; 3]> = frame.albedo.par_iter().map(|&a| demodulation(a)).collect();
+    let hit: Vec<bool> = frame.depth.par_iter().map(|d| !d.is_nan()).collect();
+    let variance: Vec<f32> = if samples >= 2 {
+        frame
+            .luminance_m2
+            .par_iter()
+            .map(|&m2| mean_variance(m2, samples))
+            .collect()
+    } else {
+        let luma: Vec<f32> = linear.par_iter().map(|&c| luminance(vec3(c))).collect();
+        (0..pixels)
+            .into_par_iter()
+            .map(|k| spatial_variance(&luma, &hit, (w, h), k % w, k / w))
+            .collect()
+    };
+    let image = (0..pixels)
+        .into_par_iter()
+        .map(|k| {
+            let (c, a) = (linear[k], albedo[k]);
+            // The illumination's luminance varies as the colour's over the albedo's squared.
+            let scale = luminance(vec3(a));
+            [
+                c[0] / a[0],
+                c[1] / a[1],
+                c[2] / a[2],
+                variance[k] / (scale * scale),
+            ]
+        })
+        .collect();
+    let guide = (0..pixels)
+        .into_par_iter()
+        .map(|k| {
+            let n = frame.normal[k];
+            let depth = if hit[k] { frame.depth[k] } else { -1.0 };
+            [n[0], n[1], n[2], depth]
+        })
+        .collect();
+    Prepared {
+        width: frame.width,
+        height: frame.height,
+        image,
+        guide,
+        albedo,
+    }
+}
+
+/// The passes of `scene`'s `[denoise]` over an image of `width` x `height`: pass k's taps lie
+/// 2^k pixels apart.
+pub fn passes(scene: &Scene, width: u32, height: u32) -> Vec<DenoiseParams> {
+    let d = &scene.denoise;
+    (0..d.iterations)
+        .map(|k| DenoiseParams {
+            width,
+            height,
+            step: 1 << k,
+            sigma_luminance: d.sigma_luminance as f32,
+            sigma_normal: d.sigma_normal as f32,
+            sigma_depth: d.sigma_depth as f32,
+        })
+        .collect()
+}
+
+/// The passes on the CPU twin, one after another.
+pub fn run_cpu(
+    passes: &[DenoiseParams],
+    image: Vec<[f32; 4]>,
+    guide: &[[f32; 4]],
+) -> Vec<[f32; 4]> {
+    passes.iter().fold(image, |source, &params| {
+        Pass {
+            params,
+            source: &source,
+            guide,
+        }
+        .atrous_pass()
+    })
+}
+
+/// The filtered illumination times the albedo it was divided by.
+pub fn finish(image: &[[f32; 4]], albedo: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    image
+        .par_iter()
+        .zip(albedo)
+        .map(|(v, a)| [v[0] * a[0], v[1] * a[1], v[2] * a[2]])
+        .collect()
+}
+
+/// Phong mode's packed colours of a denoised linear image: each channel clamped to [0, 1],
+/// times 255, rounded half up, as the tracer packs its mean (no curve).
+pub fn pack_phong(linear: &[[f32; 3]]) -> Vec<u32> {
+    linear
+        .par_iter()
+        .map(|&c| crate::cpu::trace::pack_colour(vec3(c)))
+        .collect()
+}
+
+/// `scene`'s denoiser over a whole `frame` (with its AOVs): on `gpu` where there is one and the
+/// image fits its buffers, else on the CPU.
+pub fn denoise(frame: &Frame, scene: &Scene, gpu: Option<&GpuKernels>) -> Result<Denoised> {
+    let start = Instant::now();
+    let prepared = prepare(frame, scene.image.samples);
+    let passes = passes(scene, frame.width, frame.height);
+    let (image, gpu_seconds, backend) = match gpu {
+        Some(kernels) => {
+            let denoiser = kernels.denoiser()?;
+            match denoiser.fits(prepared.image.len() as u64) {
+                true => {
+                    let run = denoiser.run(&passes, &prepared.image, &prepared.guide)?;
+                    (run.image, run.gpu_seconds, "gpu")
+                }
+                false => (
+                    run_cpu(&passes, prepared.image, &prepared.guide),
+                    None,
+                    "cpu",
+                ),
+            }
+        }
+        None => (
+            run_cpu(&passes, prepared.image, &prepared.guide),
+            None,
+            "cpu",
+        ),
+    };
+    Ok(Denoised {
+        linear: finish(&image, &prepared.albedo),
+        seconds: start.elapsed().as_secs_f64(),
+        gpu_seconds,
+        backend,
+    })
+}
