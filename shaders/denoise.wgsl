@@ -111,8 +111,8 @@ fn axis_slope(before: f32, z: f32, after: f32) -> f32 {
 }
 
 // The variance at (i, j) blurred by a 3 x 3 binomial kernel (1 2 1 / 4 each way) over the
-// pixels inside the image, renormalised: SVGF's prefilter, so that one unlucky pixel does not
-// set its own scale.
+// pixels inside the image, renormalised: SVGF's prefilter. The pass takes the smaller of it and
+// the pixel's own: a firefly's variance, blurred, would open its neighbours to it and spread it.
 fn blurred_variance(i: i32, j: i32) -> f32 {
     var sum = 0.0;
     var weights = 0.0;
@@ -189,7 +189,7 @@ fn atrous_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let centre = load_image(index);
     let g = guide[index];
     let slope = depth_slope(i, j);
-    let sd = sqrt(blurred_variance(i, j));
+    let sd = sqrt(min(blurred_variance(i, j), centre.w));
     let lp = luminance(centre.xyz);
     let step = i32(params.step);
     var sum = vec3<f32>(0.0);

@@ -208,6 +208,30 @@ const PATH: Twin = Twin {
     ],
 };
 
+const DENOISE: Twin = Twin {
+    wgsl: "shaders/denoise.wgsl",
+    rust: "src/cpu/denoise.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "xyz",
+            reason: "WGSL's `.xyz` swizzle of a vec4, written out there",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_image",
+            reason: "writes the pass's output buffer (image_a or image_b, by params.source); on                      the CPU `atrous_pass` collects `atrous_main`'s pixels into a new image",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "atrous_pass",
+            reason: "the CPU's dispatch: rows in parallel, `atrous_main` per pixel",
+        },
+    ],
+};
+
 const LIGHT: Twin = Twin {
     wgsl: "shaders/light.wgsl",
     rust: "src/cpu/light.rs",
@@ -440,9 +464,14 @@ fn path_twins_match() {
 }
 
 #[test]
+fn denoise_twins_match() {
+    check(&DENOISE);
+}
+
+#[test]
 fn every_exception_has_a_reason() {
     for twin in [
-        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &PATH,
+        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &PATH, &DENOISE,
     ] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);

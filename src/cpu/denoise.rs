@@ -100,7 +100,8 @@ pub fn axis_slope(before: f32, z: f32, after: f32) -> f32 {
 
 impl Pass<'_> {
     /// The variance at (i, j) blurred by a 3 x 3 binomial kernel (1 2 1 / 4 each way) over the
-    /// pixels inside the image, renormalised.
+    /// pixels inside the image, renormalised: SVGF's prefilter. The pass takes the smaller of
+    /// it and the pixel's own: a firefly's variance, blurred, would open its neighbours to it.
     pub fn blurred_variance(&self, i: i32, j: i32) -> f32 {
         let p = &self.params;
         let (mut sum, mut weights) = (0.0f32, 0.0f32);
@@ -180,7 +181,7 @@ impl Pass<'_> {
         let centre = self.load_image(index);
         let g = self.guide[index];
         let slope = self.depth_slope(i, j);
-        let sd = self.blurred_variance(i, j).sqrt();
+        let sd = self.blurred_variance(i, j).min(centre[3]).sqrt();
         let lp = luminance(xyz(centre));
         let step = params.step as i32;
         let mut sum = Vec3::zero();

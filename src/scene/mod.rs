@@ -453,14 +453,14 @@ scene_schema! {
                 "a-trous passes, {range}: the filter reaches 2 (2^iterations - 1) pixels";
             /// How far a neighbour's luminance may differ, in standard deviations of the
             /// pixel's noise (0: luminance is not an edge).
-            sigma_luminance: f64 = 4.0, float(Range::at_least(0.0)), slider(0.0, 16.0),
+            sigma_luminance: f64 = 2.0, float(Range::at_least(0.0)), slider(0.0, 16.0),
                 "luminance edges, in standard deviations of the noise, {range} (0 = off)";
             /// The exponent of the normals' cosine (0: normals are not edges).
-            sigma_normal: f64 = 128.0, float(Range::at_least(0.0)), slider(0.0, 256.0),
+            sigma_normal: f64 = 16.0, float(Range::at_least(0.0)), slider(0.0, 256.0),
                 "the exponent of the normals' cosine, {range} (0 = off)";
             /// How far a neighbour's depth may stray from the local plane, in multiples of the
             /// depth's change across the offset (0: depth is not an edge).
-            sigma_depth: f64 = 1.0, float(Range::at_least(0.0)), slider(0.0, 8.0),
+            sigma_depth: f64 = 4.0, float(Range::at_least(0.0)), slider(0.0, 16.0),
                 "depth edges, in multiples of the depth's slope, {range} (0 = off)";
         }
 
