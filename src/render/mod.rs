@@ -100,6 +100,31 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        self.render_rows(scene, picture, readback, 0..scene.image.height, sink)
+    }
+
+    /// As [`Self::render_with`], the image's rows `rows` alone (`render --tile`, a slice
+    /// only): every pixel exactly as a render of the whole image makes it (the GPU's bands of
+    /// the whole image's size, starting on a cone block's row and cropped; the CPU's pixels
+    /// depend on their own row alone). The stats are those of these rows (width x their count).
+    pub fn render_rows(
+        &self,
+        scene: &Scene,
+        picture: Picture,
+        readback: Readback,
+        rows: std::ops::Range<u32>,
+        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    ) -> Result<RenderStats> {
+        let height = scene.image.height;
+        assert!(
+            rows.start < rows.end && rows.end <= height,
+            "rows {rows:?} of an image of {height}"
+        );
+        assert!(
+            rows == (0..height) || picture != Picture::Julia2d,
+            "the 2D view renders whole"
+        );
+        let size = (scene.image.width, rows.end - rows.start);
         if readback.aovs() {
             assert!(
                 picture == Picture::SHADED,
@@ -115,30 +140,28 @@ impl Renderer {
         };
         if picture.path_traced(scene) {
             return self
-                .render_path(scene, readback, &mut counted)
-                .map(|times| {
-                    self.stats(
-                        (scene.image.width, scene.image.height),
-                        times,
-                        summary.finish(),
-                    )
-                });
+                .render_path(scene, readback, rows, &mut counted)
+                .map(|times| self.stats(size, times, summary.finish()));
         }
         let (render_seconds, gpu_seconds) = match &self.gpu {
             Some(kernels) => {
                 let mut owned = |band: Frame| counted(&band);
                 let times = match (picture, self.precision) {
-                    (Picture::Slice { shade }, Precision::F32) => kernels.tracer()?.render_bands(
-                        &TraceParams::<f32>::new(scene),
-                        shade,
-                        readback,
-                        &mut owned,
-                    )?,
+                    (Picture::Slice { shade }, Precision::F32) => {
+                        kernels.tracer()?.render_band_rows(
+                            &TraceParams::<f32>::new(scene),
+                            shade,
+                            readback,
+                            rows,
+                            &mut owned,
+                        )?
+                    }
                     (Picture::Slice { shade }, Precision::F64) => {
-                        kernels.tracer64()?.render_bands(
+                        kernels.tracer64()?.render_band_rows(
                             &TraceParams::<f64>::new(scene),
                             shade,
                             readback,
+                            rows,
                             &mut owned,
                         )?
                     }
@@ -158,17 +181,13 @@ impl Renderer {
             None => {
                 let aovs = readback.aovs();
                 let seconds = match self.precision {
-                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, &mut counted)?,
-                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, &mut counted)?,
+                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, rows, &mut counted)?,
+                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, rows, &mut counted)?,
                 };
                 (seconds, None)
             }
         };
-        Ok(self.stats(
-            (scene.image.width, scene.image.height),
-            (render_seconds, gpu_seconds),
-            summary.finish(),
-        ))
+        Ok(self.stats(size, (render_seconds, gpu_seconds), summary.finish()))
     }
 
     /// A path-traced picture (`shading.model = "path"`) band by band: each band's colour is
@@ -178,37 +197,40 @@ impl Renderer {
         &self,
         scene: &Scene,
         readback: Readback,
+        rows: std::ops::Range<u32>,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<(f64, Option<f64>)> {
         let display = Display::of(scene);
         let mut displayed = |mut band: Frame| {
-            band.colour = display.pack_all(&band.radiance);
+            display.show(&mut band);
             sink(&band)
         };
         match (&self.gpu, self.precision) {
             (Some(kernels), Precision::F32) => {
-                let times = kernels.path()?.render_bands(
+                let times = kernels.path()?.render_band_rows(
                     &TraceParams::<f32>::new(scene),
                     &PathParams::new(scene),
                     readback,
+                    rows,
                     &mut displayed,
                 )?;
                 Ok((times.seconds, times.gpu_seconds))
             }
             (Some(kernels), Precision::F64) => {
-                let times = kernels.path64()?.render_bands(
+                let times = kernels.path64()?.render_band_rows(
                     &TraceParams::<f64>::new(scene),
                     &PathParams::new(scene),
                     readback,
+                    rows,
                     &mut displayed,
                 )?;
                 Ok((times.seconds, times.gpu_seconds))
             }
             (None, Precision::F32) => {
-                path_cpu::<f32>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+                path_cpu::<f32>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
             }
             (None, Precision::F64) => {
-                path_cpu::<f64>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+                path_cpu::<f64>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
             }
         }
     }
@@ -332,13 +354,15 @@ fn render_cpu<F: Real>(
     scene: &Scene,
     picture: Picture,
     aovs: bool,
+    rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(&Frame) -> Result<()>,
 ) -> Result<f64> {
     match picture {
         Picture::Slice { shade } => {
             let p = TraceParams::<F>::new(scene);
             cpu_bands(
-                (p.width, p.height),
+                p.width,
+                rows,
                 &|rows| cpu::render_rows(&p, shade, aovs, rows),
                 &mut |band| sink(&band),
             )
@@ -346,7 +370,7 @@ fn render_cpu<F: Real>(
         Picture::Julia2d => {
             let p = Julia2dParams::<F>::new(scene);
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
-            cpu_bands((p.width, p.height), &rows, &mut |band| sink(&band))
+            cpu_bands(p.width, 0..p.height, &rows, &mut |band| sink(&band))
         }
     }
 }
@@ -356,12 +380,13 @@ fn render_cpu<F: Real>(
 fn path_cpu<F: Real>(
     scene: &Scene,
     aovs: bool,
+    rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     let p = TraceParams::<F>::new(scene);
     let path = PathParams::<F>::new(scene);
-    let rows = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
-    cpu_bands((p.width, p.height), &rows, sink)
+    let render = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
+    cpu_bands(p.width, rows, &render, sink)
 }
 
 /// Samples the grid on the CPU in `F`, a layer at a time; the seconds spent sampling.
@@ -404,18 +429,20 @@ pub fn band_pixels() -> u64 {
         .map_or(1 << 22, |n| n.max(64))
 }
 
-/// Renders an image of `width` x `height` on the CPU band by band with `render_rows`, handing
-/// each band to `sink`; returns the seconds spent rendering (the sink's time left out).
+/// Renders the rows `rows` of an image `width` wide on the CPU band by band with
+/// `render_rows`, handing each band to `sink`; returns the seconds spent rendering (the sink's
+/// time left out). A pixel depends on its own row alone, so any rows can be rendered.
 fn cpu_bands(
-    (width, height): (u32, u32),
+    width: u32,
+    rows: std::ops::Range<u32>,
     render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     let band_rows = (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32;
     let mut seconds = 0.0;
-    let mut row = 0;
-    while row < height {
-        let rows = band_rows.min(height - row);
+    let (mut row, end) = (rows.start, rows.end);
+    while row < end {
+        let rows = band_rows.min(end - row);
         let start = std::time::Instant::now();
         let band = render_rows(row..row + rows);
         seconds += start.elapsed().as_secs_f64();
