@@ -108,7 +108,7 @@ pub struct RenderArgs {
     pub hdr: Option<PathBuf>,
     /// Render only the K-th (0-based) of N bands of rows, [K*H/N, (K+1)*H/N), into a partial
     /// EXR (--hdr, required; no -o, --depth or --steps): `qjulia merge` puts the parts together.
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub tile: Option<String>,
     #[command(flatten)]
     pub tracer: TracerArgs,
