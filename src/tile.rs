@@ -331,7 +331,7 @@ fn read_part(path: &Path) -> Result<Part> {
             .channel_data
             .list
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name == *name)
             .map(|c| &c.sample_data)
             .ok_or_else(|| bad(path, format!("has no {name} channel")))
     };
