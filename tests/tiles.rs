@@ -103,17 +103,21 @@ fn phong_tiles_merge_to_one_gpu_render() {
     if common::gpu("phong tiles").is_none() {
         return;
     }
-    // Cone tracing (the default), several samples a pixel (a mean over dispatches), a soft
-    // light: every part of phong mode's colour.
+    // Cone tracing (one march per 8x8 block: the tiles of 2, 3 and 7 start inside blocks),
+    // several samples a pixel (a mean over dispatches), a soft light: every part of phong
+    // mode's colour. Then the seed's tracing, which the default scene uses.
     let scene = [
         "--backend",
         "gpu",
+        "--set",
+        "fractal.tracing=\"cone\"",
         "--set",
         "image.samples=3",
         "--set",
         "light.radius=0.3",
     ];
-    assert_tiles_merge_to_one_render("phong-gpu", &scene, &[1, 2, 3, 7]);
+    assert_tiles_merge_to_one_render("phong-gpu-cone", &scene, &[1, 2, 3, 7]);
+    assert_tiles_merge_to_one_render("phong-gpu-seed", &["--backend", "gpu"], &[3]);
 }
 
 #[test]
@@ -136,7 +140,14 @@ fn path_tiles_merge_to_one_gpu_render() {
 
 #[test]
 fn tiles_merge_to_one_cpu_render_in_both_models_and_precisions() {
-    let phong = ["--backend", "cpu", "--set", "image.samples=2"];
+    let phong = [
+        "--backend",
+        "cpu",
+        "--set",
+        "image.samples=2",
+        "--set",
+        "fractal.tracing=\"cone\"",
+    ];
     assert_tiles_merge_to_one_render("phong-cpu", &phong, &[3]);
     let f64 = ["--backend", "cpu", "--precision", "f64"];
     assert_tiles_merge_to_one_render("phong-cpu-f64", &f64, &[2]);
