@@ -118,6 +118,11 @@ impl Display {
         0xFF00_0000 | (b << 16) | (g << 8) | r
     }
 
+    /// A path-traced frame's colour, made of its radiance: what `render` and `merge` show.
+    pub fn show(&self, frame: &mut crate::frame::Frame) {
+        frame.colour = self.pack_all(&frame.radiance);
+    }
+
     /// The packed colours of linear RGB triples, in parallel.
     pub fn pack_all(&self, linear: &[[f32; 3]]) -> Vec<u32> {
         linear.par_iter().map(|&c| self.pack(c)).collect()

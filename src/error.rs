@@ -35,6 +35,10 @@ pub enum Error {
     /// Bad input: a flag that is not a scene key. Exit 2.
     #[error(transparent)]
     Flag(#[from] FlagError),
+    /// Bad input: a part given to `merge` (unreadable, not a partial, of another scene,
+    /// overlapping another). Exit 2.
+    #[error("{}: {message}", path.display())]
+    Part { path: PathBuf, message: String },
     /// wgpu found no adapter (or none matching WGPU_ADAPTER_NAME). Exit 1.
     #[error("no GPU adapter: {0}; {INSTALL_ADAPTER_HINT}")]
     NoAdapter(String),
@@ -63,7 +67,7 @@ impl Error {
     /// The process exit code for this error: 2 for bad input, 1 for anything else.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scene(_) | Error::Flag(_) => 2,
+            Error::Scene(_) | Error::Flag(_) | Error::Part { .. } => 2,
             _ => 1,
         }
     }

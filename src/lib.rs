@@ -27,6 +27,7 @@ pub mod render;
 pub mod report;
 pub mod scene;
 pub mod stats;
+pub mod tile;
 pub mod uniform;
 pub mod video;
 

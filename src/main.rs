@@ -32,6 +32,7 @@ fn main() -> ExitCode {
     };
     let result = match &cli.command {
         Some(cli::Command::Render(args)) => cli::render(args),
+        Some(cli::Command::Merge(args)) => cli::merge(args),
         Some(cli::Command::Animate(args)) => cli::animate(args),
         Some(cli::Command::Render2d(args)) => cli::render2d(args),
         Some(cli::Command::Mesh(args)) => cli::mesh(args),

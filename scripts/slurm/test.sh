@@ -3,8 +3,11 @@
 # slurmd, munge), renders an 8-frame 96x64 animation with scripts/slurm/submit.sh as an array of
 # 3 tasks (frames 0..1, 2..4, 5..7) and the video job after it, waits for both, and checks that
 # every frame equals the same frame of one whole `qjulia animate` run byte for byte (cmp), that
-# each task rendered its own range, and that the video holds 8 frames of 96x64 (ffprobe).
-# Before that, without Slurm, it checks animate.sbatch's split for many frame and task counts.
+# each task rendered its own range, and that the video holds 8 frames of 96x64 (ffprobe). Then
+# a path-traced 64x45 still with scripts/slurm/submit-still.sh as an array of 3 tiles (rows
+# 0..15, 15..30, 30..45) and the merge job after it, and checks that the merged PNG and EXR
+# equal one whole `qjulia render` byte for byte. Before that, without Slurm, it checks
+# animate.sbatch's split for many frame and task counts, and still.sbatch's tiles.
 #
 #   scripts/slurm/test.sh      as root; QJULIA_BIN defaults to target/release/qjulia
 #
@@ -190,6 +193,29 @@ for n in 1 7 8 120; do
 done
 echo "slurm test: animate.sbatch's split is contiguous and even"
 
+# still.sbatch's tiles, without Slurm: array task ID k + 5 of T renders tile k/T into
+# PARTS/tile-k-of-T.exr; its merge job merges the T parts, in order, with the tiles' --backend.
+stub_all=$tmp/stub-qjulia-all
+printf '#!/bin/sh\necho "$*"\n' >"$stub_all" # prints its arguments
+chmod +x "$stub_all"
+for t in 1 3 7; do
+    for ((k = 0; k < t; k++)); do
+        line=$(QJULIA_BIN=$stub_all QJULIA_SCENE=s QJULIA_PARTS=$tmp/p QJULIA_OPTS="--backend gpu" \
+            SLURM_ARRAY_TASK_ID=$((k + 5)) SLURM_ARRAY_TASK_MIN=5 \
+            SLURM_ARRAY_TASK_MAX=$((t + 4)) SLURM_ARRAY_TASK_COUNT=$t \
+            "$here/still.sbatch" | tail -n 1) || fail "still.sbatch failed for task $k of $t"
+        [[ $line == "render --scene s --backend gpu --tile $k/$t --hdr $tmp/p/tile-$k-of-$t.exr" ]] ||
+            fail "still.sbatch task $k of $t ran: $line"
+    done
+    want="merge"
+    for ((k = 0; k < t; k++)); do want+=" $tmp/p/tile-$k-of-$t.exr"; done
+    line=$(QJULIA_BIN=$stub_all QJULIA_STEP=merge QJULIA_PARTS=$tmp/p QJULIA_TASKS=$t \
+        QJULIA_PNG=o.png QJULIA_OPTS="--set image.samples=2 --backend gpu" \
+        "$here/still.sbatch" | tail -n 1) || fail "still.sbatch's merge failed for $t tiles"
+    [[ $line == "$want -o o.png --backend gpu" ]] || fail "still.sbatch's merge of $t tiles ran: $line"
+done
+echo "slurm test: still.sbatch renders tile k/T in task k and merges the T tiles in order"
+
 # 2. The reference: one whole run, no split.
 cat >"$tmp/scene.toml" <<EOF
 [image]
@@ -202,6 +228,20 @@ path_radius = 0.25
 EOF
 timeout "$(left)" "$bin" animate --scene "$tmp/scene.toml" --out "$tmp/whole" 2>"$tmp/log/whole.log" ||
     fail "the whole run failed (log: $tmp/log/whole.log)"
+
+# The still's reference: one whole path-traced render.
+cat >"$tmp/still.toml" <<EOF
+[image]
+width = 64
+height = 45
+samples = 4
+
+[shading]
+model = "path"
+EOF
+timeout "$(left)" "$bin" render --scene "$tmp/still.toml" -o "$tmp/whole-still.png" \
+    --hdr "$tmp/whole-still.exr" 2>"$tmp/log/whole-still.log" ||
+    fail "the whole still failed (log: $tmp/log/whole-still.log)"
 
 # 3. munge, slurmctld, slurmd.
 dd if=/dev/urandom of="$tmp/munge/munge.key" bs=1024 count=1 status=none
@@ -328,3 +368,41 @@ if ((video_checked)); then
         fail "the video is not $frames frames of 96x64: $(tr '\n' ' ' <<<"$probe")"
     echo "slurm test: the video holds $frames frames of 96x64"
 fi
+
+# 8. The still: 3 tiles and the merge, by submit-still.sh as a user would.
+submitted=$(QJULIA_BIN=$bin QJULIA_HDR=$tmp/still.exr \
+    QJULIA_ARRAY_OPTS="--output=$tmp/jobs/tile-%A_%a.out" \
+    QJULIA_MERGE_OPTS="--output=$tmp/jobs/merge-%j.out" \
+    timeout 60 "$here/submit-still.sh" "$tmp/still.toml" "$tmp/parts" "$tmp/still.png" "$tasks") ||
+    fail "submit-still.sh failed"
+echo "$submitted"
+tiles=$(sed -n 's/^array job \([0-9]*\):.*/\1/p' <<<"$submitted")
+merge=$(sed -n 's/^merge job \([0-9]*\):.*/\1/p' <<<"$submitted")
+[[ -n $tiles && -n $merge ]] || fail "submit-still.sh printed no job ids"
+jobs+=("$tiles" "$merge")
+still_finished() { # the merge job has ended, or a tile has failed
+    local a m
+    a=$(states "$tiles") || return 1
+    m=$(states "$merge") || return 1
+    if grep -qvE '^(PENDING|CONFIGURING|RUNNING|COMPLETING|COMPLETED)$' <<<"$a"; then
+        return 0
+    fi
+    case $m in
+    PENDING | CONFIGURING | RUNNING | COMPLETING | REQUEUED | RESIZING | SUSPENDED) return 1 ;;
+    *) return 0 ;;
+    esac
+}
+wait_until "the still's jobs to finish" still_finished
+echo "slurm test: the still's jobs finished ($(($(date +%s) - started)) s)"
+tile_states=$(states "$tiles" | sort | uniq -c | sed "s/^ *//" | paste -sd, -)
+[[ $tile_states == "$tasks COMPLETED" ]] || fail "tile array job $tiles: $tile_states (wanted $tasks COMPLETED)"
+[[ $(states "$merge") == COMPLETED ]] || fail "merge job $merge: $(states "$merge") (wanted COMPLETED)"
+for ((k = 0; k < tasks; k++)); do
+    grep -q "^qjulia task $k of $tasks: tile $k/$tasks " "$tmp/jobs/tile-${tiles}_$k.out" ||
+        fail "tile task $k's output does not say tile $k/$tasks"
+done
+[[ $(names "$tmp/parts") == "$(printf "tile-%d-of-$tasks.exr\n" $(seq 0 $((tasks - 1))))" ]] ||
+    fail "the tiles wrote: $(names "$tmp/parts" | tr '\n' ' ')"
+cmp "$tmp/whole-still.png" "$tmp/still.png" || fail "the merged still's PNG differs from one render's"
+cmp "$tmp/whole-still.exr" "$tmp/still.exr" || fail "the merged still's EXR differs from one render's"
+echo "slurm test: the path-traced still of $tasks tiles equals one render, byte for byte (PNG and EXR)"

@@ -6,14 +6,22 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use qjulia::animate::{self, FrameRange, Progress};
+use qjulia::error::FlagError;
 use qjulia::output::{OutputPaths, StreamingOutputs, write_view_outputs};
 use qjulia::scene::View;
+use qjulia::tile::Tile;
 use qjulia::{Frame, Picture, Precision, Readback};
 
-use super::{AnimateArgs, ExploreArgs, GpuParamsArgs, MeshArgs, Render2dArgs, RenderArgs};
+use super::{
+    AnimateArgs, BackendArg, ExploreArgs, GpuParamsArgs, MergeArgs, MeshArgs, Render2dArgs,
+    RenderArgs,
+};
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = args.scene.load_with_view(args.view)?;
+    if let Some(tile) = &args.tile {
+        return render_tile(args, &scene, tile);
+    }
     let mut paths = OutputPaths {
         png: args.output.clone().or_else(|| {
             (args.depth.is_none() && args.steps.is_none() && args.hdr.is_none())
@@ -80,6 +88,90 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     outputs.finish(&stats)?;
     report_render(&stats);
+    Ok(())
+}
+
+/// `render --tile K/N`: the tile's rows, with their AOVs, into the partial EXR (and --stats).
+fn render_tile(args: &RenderArgs, scene: &qjulia::Scene, text: &str) -> anyhow::Result<()> {
+    let flag =
+        |message: &str| qjulia::Error::from(FlagError::new(format!("--tile {text}"), message));
+    let tile = Tile::parse(text, scene.image.height)?;
+    for (given, name) in [
+        (args.output.is_some(), "-o"),
+        (args.depth.is_some(), "--depth"),
+        (args.steps.is_some(), "--steps"),
+    ] {
+        if given {
+            let why = format!(
+                "writes a partial EXR only: {name} is refused with it (qjulia merge writes the PNG)"
+            );
+            return Err(flag(&why).into());
+        }
+    }
+    let Some(hdr) = &args.hdr else {
+        return Err(flag("writes a partial EXR: give --hdr FILE.exr").into());
+    };
+    let rows = tile.rows(scene.image.height);
+    let notice = &mut |n: &str| eprintln!("qjulia: {n}");
+    let picture = Picture::SHADED;
+    let plan = args.tracer.planner().plan(scene, picture.into(), notice)?;
+    let mut band = Frame::empty(scene.image.width);
+    let stats =
+        plan.renderer
+            .render_rows(scene, picture, Readback::Hdr, rows.clone(), &mut |b| {
+                band.append(b);
+                Ok(())
+            })?;
+    qjulia::tile::write_partial(hdr, args.stats.as_deref(), scene, tile, &band, &stats)?;
+    eprintln!(
+        "qjulia: tile {tile}, rows {}..{} of {}x{}, on {} ({}) in {:.3} s",
+        rows.start,
+        rows.end,
+        scene.image.width,
+        scene.image.height,
+        stats.adapter,
+        stats.precision,
+        stats.render_seconds
+    );
+    Ok(())
+}
+
+/// `merge PARTS...`: the tiles checked and put together, then the outputs of one render.
+pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
+    let (scene, mut frame, mut stats) = qjulia::tile::merge(&args.parts)?;
+    if scene.image.denoise != qjulia::denoise::Denoiser::None {
+        // The denoiser sees the whole image, as in one render: on the parts' backend unless
+        // asked otherwise (the same adapter gives the same bytes).
+        let backend = match args.backend {
+            BackendArg::Auto if stats.backend == "cpu" => qjulia::Backend::Cpu,
+            BackendArg::Auto => qjulia::Backend::Gpu,
+            other => other.backend(),
+        };
+        let plan = qjulia::Planner::new(backend, qjulia::PrecisionChoice::F32).plan(
+            &scene,
+            qjulia::Picture::SHADED.into(),
+            &mut |_| {},
+        )?;
+        plan.renderer.denoise(&scene, &mut frame, &mut stats)?;
+    }
+    let paths = OutputPaths {
+        png: args
+            .output
+            .clone()
+            .or_else(|| args.hdr.is_none().then(|| PathBuf::from("qjulia.png"))),
+        hdr: args.hdr.clone(),
+        stats: args.stats.clone(),
+        ..Default::default()
+    };
+    write_view_outputs(&paths, &frame, &stats, &scene)?;
+    eprintln!(
+        "qjulia: merged {} parts into {}x{} (rendered on {}, {})",
+        args.parts.len(),
+        stats.width,
+        stats.height,
+        stats.adapter,
+        stats.precision
+    );
     Ok(())
 }
 

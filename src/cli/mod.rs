@@ -5,7 +5,7 @@
 mod commands;
 mod report;
 
-pub use commands::{animate, explore, gpu_params, info, mesh, render, render2d};
+pub use commands::{animate, explore, gpu_params, info, merge, mesh, render, render2d};
 pub use report::report;
 
 use std::path::PathBuf;
@@ -32,6 +32,10 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG (and optionally depth, steps and stats).
     Render(RenderArgs),
+    /// Put the partial EXRs of `render --tile` together: checks that they are one scene's
+    /// tiles covering every row once, then writes what one `render` of the scene writes, byte
+    /// for byte (the PNG, --hdr, --stats but for its times).
+    Merge(MergeArgs),
     /// Render the frames of the scene's [animation] to DIR/frame-NNNNN.png, each a full qjulia
     /// PNG carrying its frame's scene.
     Animate(AnimateArgs),
@@ -102,8 +106,33 @@ pub struct RenderArgs {
     /// scene in the header (`--scene FILE.exr` reads it back).
     #[arg(long, value_name = "FILE.exr")]
     pub hdr: Option<PathBuf>,
+    /// Render only the K-th (0-based) of N bands of rows, [K*H/N, (K+1)*H/N), into a partial
+    /// EXR (--hdr, required; no -o, --depth or --steps): `qjulia merge` puts the parts together.
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
+    pub tile: Option<String>,
     #[command(flatten)]
     pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The partial EXRs of `render --tile K/N`, in any order: one scene's, every row once.
+    #[arg(value_name = "PART.exr", required = true)]
+    pub parts: Vec<PathBuf>,
+    /// The PNG to write (default qjulia.png, unless only --hdr is asked for).
+    #[arg(short = 'o', long = "output", value_name = "FILE.png")]
+    pub output: Option<PathBuf>,
+    /// Write the whole image's OpenEXR, as `render --hdr` writes it.
+    #[arg(long, value_name = "FILE.exr")]
+    pub hdr: Option<PathBuf>,
+    /// Write the whole image's statistics as JSON, as `render --stats` (render_seconds and
+    /// gpu_seconds: the sums of the parts').
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    /// Where the denoiser runs (`image.denoise`); auto: the parts' backend, whose bytes it
+    /// then gives.
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
 }
 
 /// Which tracer renders, and in which precision (`render`, `render2d`, `animate`).

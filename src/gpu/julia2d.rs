@@ -107,6 +107,14 @@ impl<F: GpuReal> GpuJulia2d<F> {
         let size = (params.width, params.height);
         let constants = &self.device_constants;
         let read = image_readback(&self.kernel, readback);
-        render_image_bands(&self.kernel, constants, (size, 1), &read, &uniform, sink)
+        render_image_bands(
+            &self.kernel,
+            constants,
+            (size, 1),
+            &read,
+            &uniform,
+            0..size.1,
+            sink,
+        )
     }
 }

@@ -400,6 +400,7 @@ pub(crate) fn render_image_bands(
     ((width, height), dispatches): ((u32, u32), u32),
     read: &[bool],
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
+    rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
     let run = kernel::Run {
@@ -409,7 +410,47 @@ pub(crate) fn render_image_bands(
         dispatches_per_band: dispatches,
         params: uniform,
     };
-    kernel.run(&run, |out| decode_frame(width, &out), sink)
+    // A band must start on a multiple of the kernel's rows (a cone block's): rendered from the
+    // block row at or above `rows.start`, and the rows above it cropped off.
+    let multiple = kernel.spec().band_row_multiple.max(1);
+    let start = rows.start / multiple * multiple;
+    let keep = rows.clone();
+    let decode =
+        |out: BandOutput<'_>| decode_frame(width, &crop_band(&out, &keep, &mut Vec::new()));
+    kernel.run_rows(&run, start..rows.end, decode, sink)
+}
+
+/// The rows of `band` that lie in `keep`, as a band of their own; `slices` holds its outputs.
+fn crop_band<'a>(
+    band: &BandOutput<'a>,
+    keep: &std::ops::Range<u32>,
+    slices: &'a mut Vec<Option<&'a [u8]>>,
+) -> BandOutput<'a> {
+    let first = keep.start.max(band.row);
+    let last = keep.end.min(band.row + band.rows).max(first);
+    if (first, last) == (band.row, band.row + band.rows) {
+        return BandOutput {
+            row: band.row,
+            rows: band.rows,
+            outputs: band.outputs,
+        };
+    }
+    let (skip, rows) = ((first - band.row) as usize, (last - first) as usize);
+    *slices = band
+        .outputs
+        .iter()
+        .map(|o| {
+            o.map(|bytes| {
+                let per_row = bytes.len() / band.rows.max(1) as usize;
+                &bytes[skip * per_row..(skip + rows) * per_row]
+            })
+        })
+        .collect();
+    BandOutput {
+        row: first,
+        rows: rows as u32,
+        outputs: slices,
+    }
 }
 
 /// Which outputs of an image kernel come back for `readback`. All: colour, depth, steps and

@@ -188,12 +188,25 @@ impl<F: GpuReal> GpuPathTracer<F> {
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
+        self.render_band_rows(params, path, readback, 0..params.height, sink)
+    }
+
+    /// As [`Self::render_bands`], the image's rows `rows` alone (`render --tile`), each pixel
+    /// exactly as a render of the whole image makes it (the dispatches cover the same samples).
+    pub fn render_band_rows(
+        &self,
+        params: &TraceParams<F>,
+        path: &PathParams<F>,
+        readback: Readback,
+        rows: std::ops::Range<u32>,
+        sink: &mut dyn FnMut(Frame) -> Result<()>,
+    ) -> Result<RunTimes> {
         let samples = params.samples.max(1);
         // Within lavapipe's loop budget, and within `band_pixels()` rays a dispatch as the
         // tracer keeps it, so that a big image's dispatches stay of bounded cost.
-        let rows = self.kernel.band_rows(params.width, params.height);
+        let band_rows = self.kernel.band_rows(params.width, params.height);
         let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps).min(
-            super::GpuTracer::<F>::samples_per_dispatch_in(rows, params.width, samples),
+            super::GpuTracer::<F>::samples_per_dispatch_in(band_rows, params.width, samples),
         );
         let second = GpuPathParams::new(path);
         let uniform = |band: Band| {
@@ -218,6 +231,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
             ),
             &read,
             &uniform,
+            rows,
             sink,
         )
     }

@@ -160,12 +160,27 @@ impl<F: GpuReal> GpuTracer<F> {
         readback: Readback,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
+        self.render_band_rows(params, shade, readback, 0..params.height, sink)
+    }
+
+    /// As [`Self::render_bands`], the image's rows `rows` alone (`render --tile`), each pixel
+    /// exactly as a render of the whole image makes it: the dispatches cover the same samples,
+    /// and a band that would start inside a cone block starts on the block's first row, the
+    /// rows above `rows` cropped off.
+    pub fn render_band_rows(
+        &self,
+        params: &TraceParams<F>,
+        shade: bool,
+        readback: Readback,
+        rows: std::ops::Range<u32>,
+        sink: &mut dyn FnMut(Frame) -> Result<()>,
+    ) -> Result<RunTimes> {
         let constants = self.constants(params, shade, readback);
         let size = (params.width, params.height);
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
         let read = image_readback(&self.kernel, readback);
-        render_image_bands(&self.kernel, &constants, shape, &read, &uniform, sink)
+        render_image_bands(&self.kernel, &constants, shape, &read, &uniform, rows, sink)
     }
 
     /// Renders many frames one after another, each handed whole to `sink` with its times, in

@@ -103,35 +103,61 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        let all = 0..scene.image.height;
         if picture != Picture::SHADED || scene.image.denoise == Denoiser::None {
-            return self.render_noisy(scene, picture, readback, sink);
+            return self.render_rows(scene, picture, readback, all, sink);
         }
         let mut whole = Frame::empty(scene.image.width);
-        let mut stats = self.render_noisy(scene, picture, Readback::Hdr, &mut |band| {
+        let mut stats = self.render_rows(scene, picture, Readback::Hdr, all, &mut |band| {
             whole.append(band);
             Ok(())
         })?;
-        let denoised = crate::denoise::denoise(&whole, scene, self.gpu.as_deref())?;
-        let colour = match picture.path_traced(scene) {
-            true => Display::of(scene).pack_all(&denoised.linear),
-            false => crate::denoise::pack_phong(&denoised.linear),
-        };
-        whole.set_denoised(denoised.linear, colour);
-        stats.denoise_seconds = Some(denoised.seconds);
-        stats.denoise_gpu_seconds = denoised.gpu_seconds;
-        stats.denoise_backend = Some(denoised.backend.into());
+        self.denoise(scene, &mut whole, &mut stats)?;
         sink(&whole)?;
         Ok(stats)
     }
 
-    /// [`Self::render_with`] without the denoiser: the mean of the samples, band by band.
-    fn render_noisy(
+    /// Runs `scene`'s denoiser (`image.denoise`, [`crate::denoise`]) over a whole shaded
+    /// `frame` rendered with its AOVs, on this renderer's GPU where it has one: the frame's
+    /// linear image becomes the denoised one (the mean kept in [`Frame::noisy`]) and its colour
+    /// that image's display; the denoiser's figures go in `stats`. `render` and `merge` both
+    /// come here, so that their bytes agree.
+    pub fn denoise(&self, scene: &Scene, frame: &mut Frame, stats: &mut RenderStats) -> Result<()> {
+        let denoised = crate::denoise::denoise(frame, scene, self.gpu.as_deref())?;
+        let colour = match Picture::SHADED.path_traced(scene) {
+            true => Display::of(scene).pack_all(&denoised.linear),
+            false => crate::denoise::pack_phong(&denoised.linear),
+        };
+        frame.set_denoised(denoised.linear, colour);
+        stats.denoise_seconds = Some(denoised.seconds);
+        stats.denoise_gpu_seconds = denoised.gpu_seconds;
+        stats.denoise_backend = Some(denoised.backend.into());
+        Ok(())
+    }
+
+    /// As [`Self::render_with`] without the denoiser, the image's rows `rows` alone (`render
+    /// --tile`, a slice only): every pixel exactly as a render of the whole image makes it (the
+    /// GPU's bands of the whole image's size, starting on a cone block's row and cropped; the
+    /// CPU's pixels depend on their own row alone). The stats are those of these rows (width x
+    /// their count).
+    pub fn render_rows(
         &self,
         scene: &Scene,
         picture: Picture,
         readback: Readback,
+        rows: std::ops::Range<u32>,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
+        let height = scene.image.height;
+        assert!(
+            rows.start < rows.end && rows.end <= height,
+            "rows {rows:?} of an image of {height}"
+        );
+        assert!(
+            rows == (0..height) || picture != Picture::Julia2d,
+            "the 2D view renders whole"
+        );
+        let size = (scene.image.width, rows.end - rows.start);
         if readback.aovs() {
             assert!(
                 picture == Picture::SHADED,
@@ -147,30 +173,28 @@ impl Renderer {
         };
         if picture.path_traced(scene) {
             return self
-                .render_path(scene, readback, &mut counted)
-                .map(|times| {
-                    self.stats(
-                        (scene.image.width, scene.image.height),
-                        times,
-                        summary.finish(),
-                    )
-                });
+                .render_path(scene, readback, rows, &mut counted)
+                .map(|times| self.stats(size, times, summary.finish()));
         }
         let (render_seconds, gpu_seconds) = match &self.gpu {
             Some(kernels) => {
                 let mut owned = |band: Frame| counted(&band);
                 let times = match (picture, self.precision) {
-                    (Picture::Slice { shade }, Precision::F32) => kernels.tracer()?.render_bands(
-                        &TraceParams::<f32>::new(scene),
-                        shade,
-                        readback,
-                        &mut owned,
-                    )?,
+                    (Picture::Slice { shade }, Precision::F32) => {
+                        kernels.tracer()?.render_band_rows(
+                            &TraceParams::<f32>::new(scene),
+                            shade,
+                            readback,
+                            rows,
+                            &mut owned,
+                        )?
+                    }
                     (Picture::Slice { shade }, Precision::F64) => {
-                        kernels.tracer64()?.render_bands(
+                        kernels.tracer64()?.render_band_rows(
                             &TraceParams::<f64>::new(scene),
                             shade,
                             readback,
+                            rows,
                             &mut owned,
                         )?
                     }
@@ -190,17 +214,13 @@ impl Renderer {
             None => {
                 let aovs = readback.aovs();
                 let seconds = match self.precision {
-                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, &mut counted)?,
-                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, &mut counted)?,
+                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, rows, &mut counted)?,
+                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, rows, &mut counted)?,
                 };
                 (seconds, None)
             }
         };
-        Ok(self.stats(
-            (scene.image.width, scene.image.height),
-            (render_seconds, gpu_seconds),
-            summary.finish(),
-        ))
+        Ok(self.stats(size, (render_seconds, gpu_seconds), summary.finish()))
     }
 
     /// A path-traced picture (`shading.model = "path"`) band by band: each band's colour is
@@ -210,37 +230,40 @@ impl Renderer {
         &self,
         scene: &Scene,
         readback: Readback,
+        rows: std::ops::Range<u32>,
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<(f64, Option<f64>)> {
         let display = Display::of(scene);
         let mut displayed = |mut band: Frame| {
-            band.colour = display.pack_all(&band.radiance);
+            display.show(&mut band);
             sink(&band)
         };
         match (&self.gpu, self.precision) {
             (Some(kernels), Precision::F32) => {
-                let times = kernels.path()?.render_bands(
+                let times = kernels.path()?.render_band_rows(
                     &TraceParams::<f32>::new(scene),
                     &PathParams::new(scene),
                     readback,
+                    rows,
                     &mut displayed,
                 )?;
                 Ok((times.seconds, times.gpu_seconds))
             }
             (Some(kernels), Precision::F64) => {
-                let times = kernels.path64()?.render_bands(
+                let times = kernels.path64()?.render_band_rows(
                     &TraceParams::<f64>::new(scene),
                     &PathParams::new(scene),
                     readback,
+                    rows,
                     &mut displayed,
                 )?;
                 Ok((times.seconds, times.gpu_seconds))
             }
             (None, Precision::F32) => {
-                path_cpu::<f32>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+                path_cpu::<f32>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
             }
             (None, Precision::F64) => {
-                path_cpu::<f64>(scene, readback.aovs(), &mut displayed).map(|s| (s, None))
+                path_cpu::<f64>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
             }
         }
     }
@@ -367,13 +390,15 @@ fn render_cpu<F: Real>(
     scene: &Scene,
     picture: Picture,
     aovs: bool,
+    rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(&Frame) -> Result<()>,
 ) -> Result<f64> {
     match picture {
         Picture::Slice { shade } => {
             let p = TraceParams::<F>::new(scene);
             cpu_bands(
-                (p.width, p.height),
+                p.width,
+                rows,
                 &|rows| cpu::render_rows(&p, shade, aovs, rows),
                 &mut |band| sink(&band),
             )
@@ -381,7 +406,7 @@ fn render_cpu<F: Real>(
         Picture::Julia2d => {
             let p = Julia2dParams::<F>::new(scene);
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
-            cpu_bands((p.width, p.height), &rows, &mut |band| sink(&band))
+            cpu_bands(p.width, 0..p.height, &rows, &mut |band| sink(&band))
         }
     }
 }
@@ -391,12 +416,13 @@ fn render_cpu<F: Real>(
 fn path_cpu<F: Real>(
     scene: &Scene,
     aovs: bool,
+    rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     let p = TraceParams::<F>::new(scene);
     let path = PathParams::<F>::new(scene);
-    let rows = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
-    cpu_bands((p.width, p.height), &rows, sink)
+    let render = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
+    cpu_bands(p.width, rows, &render, sink)
 }
 
 /// Samples the grid on the CPU in `F`, a layer at a time; the seconds spent sampling.
@@ -439,18 +465,20 @@ pub fn band_pixels() -> u64 {
         .map_or(1 << 22, |n| n.max(64))
 }
 
-/// Renders an image of `width` x `height` on the CPU band by band with `render_rows`, handing
-/// each band to `sink`; returns the seconds spent rendering (the sink's time left out).
+/// Renders the rows `rows` of an image `width` wide on the CPU band by band with
+/// `render_rows`, handing each band to `sink`; returns the seconds spent rendering (the sink's
+/// time left out). A pixel depends on its own row alone, so any rows can be rendered.
 fn cpu_bands(
-    (width, height): (u32, u32),
+    width: u32,
+    rows: std::ops::Range<u32>,
     render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     let band_rows = (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32;
     let mut seconds = 0.0;
-    let mut row = 0;
-    while row < height {
-        let rows = band_rows.min(height - row);
+    let (mut row, end) = (rows.start, rows.end);
+    while row < end {
+        let rows = band_rows.min(end - row);
         let start = std::time::Instant::now();
         let band = render_rows(row..row + rows);
         seconds += start.elapsed().as_secs_f64();

@@ -247,3 +247,58 @@ impl SplitMix {
         qjulia::algebra::Vec2::new(self.next(), self.next())
     }
 }
+
+/// Asserts that two files hold the same bytes. Where two PNGs differ, writes
+/// `NAME-expected.png`, `NAME-actual.png` and `NAME-diff.png` (the largest channel difference
+/// per pixel, times 16, in grey) under [`output_dir`] and names them in the panic.
+pub fn assert_same_file(name: &str, expected: &std::path::Path, actual: &std::path::Path) {
+    let (a, b) = (
+        std::fs::read(expected).unwrap(),
+        std::fs::read(actual).unwrap(),
+    );
+    if a == b {
+        return;
+    }
+    let is_png = |p: &std::path::Path| p.extension().is_some_and(|e| e == "png");
+    if !(is_png(expected) && is_png(actual)) {
+        panic!(
+            "{name}: {} and {} differ",
+            expected.display(),
+            actual.display()
+        );
+    }
+    let ([w, h], e) = qjulia::output::read_png_rgb(expected).unwrap();
+    let (size, x) = qjulia::output::read_png_rgb(actual).unwrap();
+    let dir = output_dir();
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(expected, dir.join(format!("{name}-expected.png"))).unwrap();
+    std::fs::copy(actual, dir.join(format!("{name}-actual.png"))).unwrap();
+    let mut differ = 0;
+    if size == [w, h] {
+        let diff: Vec<u8> = e
+            .chunks(3)
+            .zip(x.chunks(3))
+            .flat_map(|(p, q)| {
+                let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+                differ += (d > 0) as usize;
+                [d.saturating_mul(16); 3]
+            })
+            .collect();
+        image::save_buffer(
+            dir.join(format!("{name}-diff.png")),
+            &diff,
+            w,
+            h,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
+    }
+    panic!(
+        "{name}: the PNGs differ ({} and {}; {differ} pixels differ, sizes {:?} and {size:?}); \
+         expected, actual and diff under {}",
+        expected.display(),
+        actual.display(),
+        [w, h],
+        dir.display()
+    );
+}

@@ -53,6 +53,20 @@ impl Kernel {
     pub fn run<T>(
         &self,
         run: &Run<'_>,
+        decode: impl FnMut(BandOutput<'_>) -> T,
+        sink: impl FnMut(T) -> Result<()>,
+    ) -> Result<RunTimes> {
+        self.run_rows(run, 0..run.size.1, decode, sink)
+    }
+
+    /// As [`Self::run`], over the grid's rows `rows` alone (`render --tile`): the bands are the
+    /// whole grid's band size, from `rows.start` on, so that each dispatch covers the same
+    /// samples as in a run of the whole grid. `rows.start` must be a multiple of the kernel's
+    /// `band_row_multiple` (a cone block's row).
+    pub fn run_rows<T>(
+        &self,
+        run: &Run<'_>,
+        rows: std::ops::Range<u32>,
         mut decode: impl FnMut(BandOutput<'_>) -> T,
         mut sink: impl FnMut(T) -> Result<()>,
     ) -> Result<RunTimes> {
@@ -61,7 +75,7 @@ impl Kernel {
             self.spec.outputs.len(),
             "read: one flag per output"
         );
-        let mut steps = self.steps(run);
+        let mut steps = self.steps_rows(run, rows);
         let mut times = RunTimes::default();
         let mut first_submitted = None;
         // The sink's time is left out, though the device may have run the next band meanwhile.
@@ -86,32 +100,50 @@ impl Kernel {
 
     /// The bands of a run as [`Step`]s, each with its dispatches' uniforms.
     pub fn steps<'r>(&self, run: &'r Run<'_>) -> impl Iterator<Item = Step> + 'r {
+        self.steps_rows(run, 0..run.size.1)
+    }
+
+    /// As [`Self::steps`], the bands of the grid's rows `rows` alone, each of the whole grid's
+    /// band size (the last may be shorter), from `rows.start` on (see [`Self::run_rows`]).
+    pub fn steps_rows<'r>(
+        &self,
+        run: &'r Run<'_>,
+        rows: std::ops::Range<u32>,
+    ) -> impl Iterator<Item = Step> + 'r {
         let (width, height) = run.size;
         let band_rows = self.band_rows_reading(width, height, run.read).max(1);
+        let multiple = self.spec.band_row_multiple.max(1);
+        assert!(
+            rows.start.is_multiple_of(multiple) && rows.end <= height,
+            "rows {rows:?} start on a multiple of {multiple} and lie in the grid's {height}"
+        );
+        let end = rows.end;
         let dispatches = run.dispatches_per_band.max(1);
         let constants = run.constants.to_vec();
         let read = run.read.to_vec();
-        (0..height).step_by(band_rows as usize).map(move |row| {
-            let rows = band_rows.min(height - row);
-            Step {
-                constants: constants.clone(),
-                width,
-                height,
-                row,
-                rows,
-                band_rows,
-                read: read.clone(),
-                uniforms: (0..dispatches)
-                    .map(|dispatch| {
-                        (run.params)(Band {
-                            row,
-                            rows,
-                            dispatch,
+        (rows.start..end)
+            .step_by(band_rows as usize)
+            .map(move |row| {
+                let rows = band_rows.min(end - row);
+                Step {
+                    constants: constants.clone(),
+                    width,
+                    height,
+                    row,
+                    rows,
+                    band_rows,
+                    read: read.clone(),
+                    uniforms: (0..dispatches)
+                        .map(|dispatch| {
+                            (run.params)(Band {
+                                row,
+                                rows,
+                                dispatch,
+                            })
                         })
-                    })
-                    .collect(),
-            }
-        })
+                        .collect(),
+                }
+            })
     }
 
     /// Runs a stream of bands (of one grid or of many: an animation's frames), two at a time:
