@@ -127,8 +127,19 @@ fn the_monte_carlo_page_measures_every_case() {
     }
     let csv = mc::csv(&curves);
     assert_eq!(csv.lines().count(), 1 + curves.len() * mc::SAMPLES.len());
+    assert_eq!(curves.iter().filter(|c| c.case.denoise).count(), 3);
+    for c in &curves {
+        let s = c.split;
+        assert!(s.edge.is_finite() && s.flat.is_finite() && (0.0..=1.0).contains(&s.edge_share));
+    }
     let md = mc::markdown(&curves, 8, 1024, "a test machine");
-    for verdict in ["Sobol' against random", "**Bounces**", "rough metal"] {
+    for verdict in [
+        "Sobol' against random",
+        "**Bounces**",
+        "rough metal",
+        "the denoiser**",
+        "on edge pixels",
+    ] {
         assert!(md.contains(verdict), "{md}");
     }
     let dir = tempfile::tempdir().unwrap();

@@ -4,6 +4,10 @@
 //! against samples per pixel and against seconds, log-log, with the fitted slope. Writes
 //! `monte_carlo.csv`, `monte_carlo.png` and `monte_carlo.md`.
 //!
+//! Each scene also has a denoised curve (`image.denoise = "atrous"`, Sobol', 3 bounces), whose
+//! seconds include the denoiser's, and the page measures the denoiser's bias: its error at the
+//! most samples, on edge pixels and on flat ones ([`edge_mask`]), against plain averaging's.
+//!
 //! The reference is rendered with the `random` sampler (the plain hash), so that the Sobol'
 //! curves are measured against an independent estimate. A `random` curve's first samples are
 //! the reference's own first samples: its RMSE is biased low by at most the share
@@ -31,6 +35,8 @@ pub struct Case {
     pub scene_name: &'static str,
     pub sampler: PathSampler,
     pub bounces: u32,
+    /// Whether the denoiser runs (`image.denoise = "atrous"` at the scene's `[denoise]`).
+    pub denoise: bool,
 }
 
 /// One measured point of a curve.
@@ -44,8 +50,18 @@ pub struct Point {
     /// error of the bulk of the image, without the rare glints (a small bright sun seen in a
     /// glossy lobe) that dominate the RMSE of a few pixels.
     pub trimmed: f64,
-    /// The render's GPU seconds where the device times it, else its render seconds.
+    /// The render's GPU seconds where the device times it, else its render seconds; with the
+    /// denoiser's (its GPU seconds, else its wall seconds) added.
     pub seconds: f64,
+}
+
+/// The RMSE of a curve's last point split by pixel kind ([`edge_mask`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Split {
+    pub edge: f64,
+    pub flat: f64,
+    /// The share of pixels that are edges.
+    pub edge_share: f64,
 }
 
 /// A measured curve, its fitted log-log slope (RMSE against samples) and its reference's mean
@@ -56,6 +72,8 @@ pub struct Curve {
     pub points: Vec<Point>,
     pub slope: f64,
     pub reference_mean: f64,
+    /// The last point's RMSE on edge and on flat pixels.
+    pub split: Split,
 }
 
 /// The page's scenes at `size` x `size`: the two path presets, and the path-traced preset as a
@@ -77,27 +95,86 @@ pub fn scenes(size: u32) -> Vec<(&'static str, Scene)> {
     out
 }
 
-/// The cases: every scene with both samplers at 3 bounces, and the path-traced preset with
-/// Sobol' at 1 and 5 bounces.
+/// The cases: every scene with both samplers at 3 bounces and with Sobol' denoised, and the
+/// path-traced preset with Sobol' at 1 and 5 bounces.
 pub fn cases() -> Vec<Case> {
     let mut out = Vec::new();
+    let case = |scene_name, sampler, bounces, denoise| Case {
+        scene_name,
+        sampler,
+        bounces,
+        denoise,
+    };
     for scene_name in ["path-traced", "path-gallery", "rough metal"] {
         for sampler in PathSampler::ALL {
-            out.push(Case {
-                scene_name,
-                sampler,
-                bounces: 3,
-            });
+            out.push(case(scene_name, sampler, 3, false));
         }
+        out.push(case(scene_name, PathSampler::Sobol, 3, true));
     }
     for bounces in [1, 5] {
-        out.push(Case {
-            scene_name: "path-traced",
-            sampler: PathSampler::Sobol,
-            bounces,
-        });
+        out.push(case("path-traced", PathSampler::Sobol, bounces, false));
     }
     out
+}
+
+/// Which pixels are edges, for the denoiser's bias: a pixel whose primary ray hit where a
+/// 4-neighbour's missed (or the other way), or whose mean normal and a neighbour's part by
+/// more than [`EDGE_COSINE`], or whose depth and a neighbour's differ by more than
+/// [`EDGE_DEPTH`] of its own. The rest are flat. Needs the frame's AOVs.
+pub fn edge_mask(frame: &Frame) -> Vec<bool> {
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let unit = |v: [f32; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if l > 0.0 { v.map(|c| c / l) } else { [0.0; 3] }
+    };
+    let parted = |a: usize, b: usize| {
+        let (da, db) = (frame.depth[a], frame.depth[b]);
+        if da.is_nan() || db.is_nan() {
+            return da.is_nan() != db.is_nan();
+        }
+        let (na, nb) = (unit(frame.normal[a]), unit(frame.normal[b]));
+        let cosine = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+        cosine < EDGE_COSINE || (da - db).abs() > EDGE_DEPTH * da
+    };
+    (0..w * h)
+        .map(|k| {
+            let (i, j) = (k % w, k / w);
+            (i > 0 && parted(k, k - 1))
+                || (i + 1 < w && parted(k, k + 1))
+                || (j > 0 && parted(k, k - w))
+                || (j + 1 < h && parted(k, k + w))
+        })
+        .collect()
+}
+
+/// Neighbours' normals part (an edge) where their cosine is below this (about 25 degrees).
+pub const EDGE_COSINE: f32 = 0.9;
+/// Neighbours' depths part (an edge) where they differ by more than this share.
+pub const EDGE_DEPTH: f32 = 0.02;
+
+/// The RMSE of `image` against `reference` over the pixels `mask` picks.
+fn rmse_where(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[bool], pick: bool) -> f64 {
+    let (a, b): (Vec<[f32; 3]>, Vec<[f32; 3]>) = image
+        .iter()
+        .zip(reference)
+        .zip(mask)
+        .filter(|(_, m)| **m == pick)
+        .map(|((a, b), _)| (*a, *b))
+        .unzip();
+    if a.is_empty() { 0.0 } else { rmse(&a, &b) }
+}
+
+/// The seconds a curve takes to reach an RMSE of `target`: interpolated log-log between the
+/// points either side of it; None where no point reaches it.
+pub fn seconds_to(curve: &Curve, target: f64) -> Option<f64> {
+    let k = curve.points.iter().position(|p| p.rmse <= target)?;
+    let p = curve.points[k];
+    if k == 0 {
+        return Some(p.seconds);
+    }
+    let q = curve.points[k - 1];
+    let t = (target.ln() - q.rmse.ln()) / (p.rmse.ln() - q.rmse.ln());
+    Some((q.seconds.ln() + t * (p.seconds.ln() - q.seconds.ln())).exp())
 }
 
 /// The RMSE of two linear images over every channel of every pixel.
@@ -159,8 +236,20 @@ pub fn curve_slope(points: &[Point]) -> f64 {
 /// A path-traced render of `scene` through `planner`: the frame and its seconds.
 pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
     let plan = planner.plan(scene, Picture::SHADED.into(), &mut |_| {})?;
-    let (frame, stats) = plan.renderer.render_frame(scene, Picture::SHADED)?;
-    Ok((frame, stats.gpu_seconds.unwrap_or(stats.render_seconds)))
+    let mut frame = Frame::empty(scene.image.width);
+    // With the AOVs: the edge mask needs them (and a denoised render has them anyway).
+    let stats = plan.renderer.render_with(
+        scene,
+        Picture::SHADED,
+        crate::render::Readback::Hdr,
+        &mut |band| {
+            frame.append(band);
+            Ok(())
+        },
+    )?;
+    let denoise = stats.denoise_gpu_seconds.or(stats.denoise_seconds);
+    let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0);
+    Ok((frame, seconds))
 }
 
 /// `scene` with this case's sampler, bounces and samples.
@@ -169,6 +258,15 @@ pub fn case_scene(scene: &Scene, sampler: PathSampler, bounces: u32, samples: u3
     s.path.sampler = sampler;
     s.path.bounces = bounces;
     s.image.samples = samples;
+    s
+}
+
+/// A case's scene at `samples`: [`case_scene`], with the denoiser where the case has it.
+fn scene_of(base: &Scene, case: &Case, samples: u32) -> Scene {
+    let mut s = case_scene(base, case.sampler, case.bounces, samples);
+    if case.denoise {
+        s.image.denoise = crate::denoise::Denoiser::Atrous;
+    }
     s
 }
 
@@ -219,6 +317,7 @@ pub fn run(
             .expect("made above")
             .1;
         let mut points = Vec::new();
+        let mut last = None;
         for samples in SAMPLES {
             progress(
                 &format!(
@@ -230,7 +329,7 @@ pub fn run(
                 done,
                 total,
             );
-            let scene = case_scene(base, case.sampler, case.bounces, samples);
+            let scene = scene_of(base, &case, samples);
             let (frame, seconds) = render(planner, &scene)?;
             points.push(Point {
                 samples,
@@ -238,8 +337,16 @@ pub fn run(
                 trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
                 seconds,
             });
+            last = Some(frame);
             done += 1;
         }
+        let last = last.expect("a point");
+        let mask = edge_mask(&last);
+        let split = Split {
+            edge: rmse_where(&last.radiance, reference, &mask, true),
+            flat: rmse_where(&last.radiance, reference, &mask, false),
+            edge_share: mask.iter().filter(|&&e| e).count() as f64 / mask.len().max(1) as f64,
+        };
         let reference_mean = reference
             .iter()
             .map(|p| (p[0] + p[1] + p[2]) as f64 / 3.0)
@@ -250,6 +357,7 @@ pub fn run(
             case,
             points,
             reference_mean,
+            split,
         });
     }
     Ok(curves)
@@ -257,14 +365,15 @@ pub fn run(
 
 /// The curves as CSV: one row per point.
 pub fn csv(curves: &[Curve]) -> String {
-    let mut out = String::from("scene,sampler,bounces,samples,rmse,rmse_trimmed,seconds\n");
+    let mut out = String::from("scene,sampler,bounces,denoise,samples,rmse,rmse_trimmed,seconds\n");
     for c in curves {
         for p in &c.points {
             out.push_str(&format!(
-                "{},{},{},{},{:.6e},{:.6e},{:.6}\n",
+                "{},{},{},{},{},{:.6e},{:.6e},{:.6}\n",
                 c.case.scene_name,
                 c.case.sampler.name(),
                 c.case.bounces,
+                if c.case.denoise { "atrous" } else { "none" },
                 p.samples,
                 p.rmse,
                 p.trimmed,
@@ -275,9 +384,15 @@ pub fn csv(curves: &[Curve]) -> String {
     out
 }
 
-/// A curve's label: scene, sampler and bounces.
+/// A curve's label: scene, sampler, bounces and the denoiser.
 fn label(c: &Case) -> String {
-    format!("{} {} {}b", c.scene_name, c.sampler.name(), c.bounces)
+    let denoised = if c.denoise { " denoised" } else { "" };
+    format!(
+        "{} {} {}b{denoised}",
+        c.scene_name,
+        c.sampler.name(),
+        c.bounces
+    )
 }
 
 /// The point of a curve at `samples`.
@@ -322,8 +437,16 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
     md.push_str("\n## Verdicts\n\n");
     let find = |scene: &str, sampler: PathSampler, bounces: u32| {
         curves.iter().find(|c| {
-            c.case.scene_name == scene && c.case.sampler == sampler && c.case.bounces == bounces
+            c.case.scene_name == scene
+                && c.case.sampler == sampler
+                && c.case.bounces == bounces
+                && !c.case.denoise
         })
+    };
+    let denoised = |scene: &str| {
+        curves
+            .iter()
+            .find(|c| c.case.scene_name == scene && c.case.denoise)
     };
     for scene in ["path-traced", "path-gallery", "rough metal"] {
         let (Some(s), Some(r)) = (
@@ -350,6 +473,52 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
             (r64.trimmed / s64.trimmed).powi(2),
             s.slope,
             r.slope
+        ));
+    }
+    let most = SAMPLES[SAMPLES.len() - 1];
+    for scene in ["path-traced", "path-gallery", "rough metal"] {
+        let (Some(plain), Some(random), Some(d)) = (
+            find(scene, PathSampler::Sobol, 3),
+            find(scene, PathSampler::Random, 3),
+            denoised(scene),
+        ) else {
+            continue;
+        };
+        let (Some(p16), Some(d16), Some(p64)) = (at(plain, 16), at(d, 16), at(plain, 64)) else {
+            continue;
+        };
+        // The target: plain Sobol's error at 64 samples. Who reaches it first?
+        let target = p64.rmse;
+        let ways = [
+            ("Sobol'", seconds_to(plain, target)),
+            ("random", seconds_to(random, target)),
+            ("Sobol' denoised", seconds_to(d, target)),
+        ];
+        let cheapest = ways
+            .iter()
+            .filter_map(|(name, s)| s.map(|s| (name, s)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let seconds = |s: Option<f64>| s.map_or("never".into(), |s| format!("{s:.3} s"));
+        md.push_str(&format!(
+            "- **{scene}, the denoiser** (Sobol', 3 bounces): at 16 samples RMSE {:.4} against \
+             {:.4} plain ({:.2}x; trimmed {:.4} against {:.4}). To plain Sobol's error at 64 \
+             samples ({target:.4}): Sobol' {}, random {}, Sobol' denoised {}; the cheapest is \
+             {}. Its bias, at {most} samples: RMSE {:.4} on edge pixels ({:.1}% of them) and \
+             {:.4} on flat ones, where plain averaging has {:.4} and {:.4}.\n",
+            d16.rmse,
+            p16.rmse,
+            d16.rmse / p16.rmse,
+            d16.trimmed,
+            p16.trimmed,
+            seconds(ways[0].1),
+            seconds(ways[1].1),
+            seconds(ways[2].1),
+            cheapest.map_or("none of them".into(), |(name, _)| name.to_string()),
+            d.split.edge,
+            100.0 * d.split.edge_share,
+            d.split.flat,
+            plain.split.edge,
+            plain.split.flat,
         ));
     }
     let bounce_curves: Vec<&Curve> = [1, 3, 5]
@@ -475,6 +644,45 @@ mod tests {
         assert!(rmse(&a, &b) > 3.0);
         assert!((rmse_trimmed(&a, &b, 0.005) - 0.1).abs() < 1e-6);
         assert!((rmse_trimmed(&a, &b, 0.0) - rmse(&a, &b)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn edges_are_where_hits_normals_or_depths_part() {
+        // 4 x 1: a miss, then three hits, the last turned away from the others.
+        let mut f = Frame::empty(4);
+        f.height = 1;
+        f.depth = vec![f32::NAN, 2.0, 2.0, 2.0];
+        f.normal = vec![[0.0; 3], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]];
+        assert_eq!(edge_mask(&f), [true, true, true, true]);
+        f.normal[3] = [0.0, 0.1, 2.0];
+        assert_eq!(edge_mask(&f), [true, true, false, false]);
+        f.depth[3] = 2.1;
+        assert_eq!(edge_mask(&f), [true, true, true, true]);
+    }
+
+    #[test]
+    fn the_seconds_to_an_error_interpolate_log_log() {
+        let point = |samples, rmse, seconds| Point {
+            samples,
+            rmse,
+            trimmed: rmse,
+            seconds,
+        };
+        let curve = Curve {
+            case: cases()[0].clone(),
+            points: vec![point(1, 0.4, 1.0), point(4, 0.1, 16.0)],
+            slope: -1.0,
+            reference_mean: 1.0,
+            split: Split {
+                edge: 0.0,
+                flat: 0.0,
+                edge_share: 0.0,
+            },
+        };
+        // Halfway in log error between 0.4 and 0.1 is 0.2: halfway in log seconds, 4 s.
+        assert!((seconds_to(&curve, 0.2).unwrap() - 4.0).abs() < 1e-9);
+        assert_eq!(seconds_to(&curve, 0.5), Some(1.0));
+        assert_eq!(seconds_to(&curve, 0.05), None);
     }
 
     #[test]
