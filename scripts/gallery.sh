@@ -18,3 +18,10 @@ r cut --set cut.enabled=true --set 'cut.normal=[0, 0, 1]' --set cut.offset=0.0
 # Path mode's two presets, at their own 512x512.
 "$q" render --preset path-traced -o "$out/path-traced.png" --stats /tmp/gallery-path-traced.json
 "$q" render --preset path-gallery -o "$out/path-gallery.png" --stats /tmp/gallery-path-gallery.json
+# The denoiser (docs/book/denoise.md): the path-traced preset at 256x256, 16 samples noisy and
+# denoised, and 1,024 samples as the reference, side by side (ImageMagick's montage).
+t=(--preset path-traced --width 256 --height 256)
+"$q" render "${t[@]}" --set image.samples=16 -o /tmp/gallery-noisy.png --stats /tmp/gallery-noisy.json
+"$q" render "${t[@]}" --set image.samples=16 --set 'image.denoise="atrous"' -o /tmp/gallery-denoised.png --stats /tmp/gallery-denoised.json
+"$q" render "${t[@]}" --set image.samples=1024 -o /tmp/gallery-reference.png --stats /tmp/gallery-reference.json
+montage /tmp/gallery-noisy.png /tmp/gallery-denoised.png /tmp/gallery-reference.png -tile 3x1 -geometry 256x256+2+2 "$out/denoise-triple.png"
