@@ -427,3 +427,56 @@ fn the_binary_denoises_writes_the_noisy_layer_and_refuses_bad_values() {
         );
     }
 }
+
+/// An animation's frames are denoised as `render` denoises: frame 0 of the default animation
+/// is the scene itself, byte for byte, on the GPU (where frames otherwise stream) and the CPU.
+#[test]
+fn animate_denoises_its_frames_as_render_does() {
+    let gpu = common::gpu("denoised animation").is_some();
+    for backend in ["cpu", "gpu"] {
+        if backend == "gpu" && !gpu {
+            continue;
+        }
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let scene = [
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--backend",
+            backend,
+            "--set",
+            "image.samples=4",
+            "--set",
+            "light.radius=0.3",
+            "--set",
+            "image.denoise=\"atrous\"",
+        ];
+        let out = common::qjulia(
+            dir.path(),
+            &[&["animate", "--frames", "0..1"], &scene[..]].concat(),
+        );
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let out = common::qjulia(
+            dir.path(),
+            &[&["render", "-o", "r.png"], &scene[..]].concat(),
+        );
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let render = std::fs::read(dir.path().join("r.png")).expect("the render");
+        let frame =
+            std::fs::read(dir.path().join("qjulia-frames/frame-00000.png")).expect("frame 0");
+        assert!(
+            frame == render,
+            "{backend}: frame 0 is not the denoised render"
+        );
+        // And the denoiser did something: the noisy render differs.
+        let mut noisy = scene.to_vec();
+        noisy.truncate(noisy.len() - 2);
+        let out = common::qjulia(
+            dir.path(),
+            &[&["render", "-o", "n.png"], &noisy[..]].concat(),
+        );
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        assert!(std::fs::read(dir.path().join("n.png")).expect("noisy") != render);
+    }
+}

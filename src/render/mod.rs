@@ -303,11 +303,14 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(Frame, RenderStats) -> Result<()>,
     ) -> Result<()> {
-        // Path-traced frames go one by one (the choice of model is not animated: the first
-        // frame's is every frame's).
+        // Path-traced and denoised frames go one by one (the choice of model and of denoiser
+        // is not animated: the first frame's is every frame's).
         let mut scenes = scenes.peekable();
-        let path_traced = scenes.peek().is_some_and(|s| picture.path_traced(s));
-        let (Some(kernels), Picture::Slice { shade }, false) = (&self.gpu, picture, path_traced)
+        let one_by_one = scenes.peek().is_some_and(|s| {
+            picture.path_traced(s)
+                || (picture == Picture::SHADED && s.image.denoise != Denoiser::None)
+        });
+        let (Some(kernels), Picture::Slice { shade }, false) = (&self.gpu, picture, one_by_one)
         else {
             for scene in scenes {
                 let mut frame = Frame::empty(scene.image.width);
