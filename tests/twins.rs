@@ -68,6 +68,12 @@ const TRACE: Twin = Twin {
                      specialised pipeline gets from the ALGEBRA_PARTS override",
         },
         OnlyIn {
+            side: Side::Rust,
+            name: "iterate_orbit_pair_parts",
+            reason: "iterate_orbit_pair's loop compiled once per algebra, as \
+                     iterate_orbit_parts is iterate_orbit's",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "load_aovs",
             reason: "reads a pixel's AOVs back from the out_aovs buffer between dispatches; the \

@@ -12,6 +12,33 @@ pub fn specialise_from_env() -> bool {
     std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0")
 }
 
+/// Camera rays a tracer invocation traces together (the kernels' `INTERLEAVE` override) where
+/// nothing else is asked for: two, samples k and k + 1 of a pixel fused step for step and orbit
+/// iteration for orbit iteration (on lavapipe the two chains of dependent arithmetic overlap:
+/// docs/PERFORMANCE.md measures it). The pixels are the same bit for bit with 1 or 2.
+pub const DEFAULT_INTERLEAVE: u32 = 2;
+
+/// The `INTERLEAVE` of the tracer's and the path tracer's pipelines: `QJULIA_INTERLEAVE=1` traces
+/// every camera ray alone, `2` in pairs; unset (or anything else) [`DEFAULT_INTERLEAVE`]. A
+/// device's choice, not a scene's: it is no part of a [`Variant`], and the generic pipeline gets
+/// it too.
+pub fn interleave_from_env() -> u32 {
+    match std::env::var("QJULIA_INTERLEAVE").as_deref() {
+        Ok("1") => 1,
+        Ok("2") => 2,
+        _ => DEFAULT_INTERLEAVE,
+    }
+}
+
+/// The override constant of an `interleave` of 1 or 2 (the kernels' `INTERLEAVE`).
+pub fn interleave_constant(interleave: u32) -> (&'static str, f64) {
+    assert!(
+        interleave == 1 || interleave == 2,
+        "interleave {interleave}: 1 or 2"
+    );
+    ("INTERLEAVE", interleave as f64)
+}
+
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
