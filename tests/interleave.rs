@@ -66,25 +66,42 @@ fn path_scene(sets: &[&str]) -> qjulia::Scene {
     small(&all)
 }
 
+/// The same values, or a panic naming how many differ and the first.
+fn assert_same<T: PartialEq + std::fmt::Debug>(what: &str, output: &str, one: &[T], two: &[T]) {
+    assert_eq!(one.len(), two.len(), "{what}: {output}: lengths");
+    let differ: Vec<usize> = (0..one.len()).filter(|&k| one[k] != two[k]).collect();
+    if let Some(&k) = differ.first() {
+        panic!(
+            "{what}: {output}: {} of {} values differ, the first at {k}: {:?} with INTERLEAVE 1, \
+             {:?} with 2",
+            differ.len(),
+            one.len(),
+            one[k],
+            two[k]
+        );
+    }
+}
+
 /// Every output of two frames, byte for byte (floats by their bits), and both made some hits
 /// (so that the comparison is of traced pixels, not of a background).
 fn assert_same_bytes(what: &str, one: &Frame, two: &Frame) {
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let bits3 = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(one.colour, two.colour, "{what}: colour");
-    assert_eq!(bits(&one.depth), bits(&two.depth), "{what}: depth");
     let bits64 = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(
-        bits64(&one.depth_f64),
-        bits64(&two.depth_f64),
-        "{what}: f64 depth"
-    );
-    assert_eq!(one.steps, two.steps, "{what}: steps");
-    assert_eq!(one.estimates, two.estimates, "{what}: estimates");
-    assert_eq!(bits3(&one.radiance), bits3(&two.radiance), "{what}: radiance");
-    assert_eq!(bits3(&one.unclamped), bits3(&two.unclamped), "{what}: AOV colour");
-    assert_eq!(bits3(&one.albedo), bits3(&two.albedo), "{what}: AOV albedo");
-    assert_eq!(bits3(&one.normal), bits3(&two.normal), "{what}: AOV normal");
+    assert_same(what, "colour", &one.colour, &two.colour);
+    assert_same(what, "depth", &bits(&one.depth), &bits(&two.depth));
+    let (d1, d2) = (bits64(&one.depth_f64), bits64(&two.depth_f64));
+    assert_same(what, "f64 depth", &d1, &d2);
+    assert_same(what, "steps", &one.steps, &two.steps);
+    assert_same(what, "estimates", &[one.estimates], &[two.estimates]);
+    let (r1, r2) = (bits3(&one.radiance), bits3(&two.radiance));
+    assert_same(what, "radiance", &r1, &r2);
+    let (u1, u2) = (bits3(&one.unclamped), bits3(&two.unclamped));
+    assert_same(what, "AOV colour", &u1, &u2);
+    let (a1, a2) = (bits3(&one.albedo), bits3(&two.albedo));
+    assert_same(what, "AOV albedo", &a1, &a2);
+    let (n1, n2) = (bits3(&one.normal), bits3(&two.normal));
+    assert_same(what, "AOV normal", &n1, &n2);
     let hits = one.depth.iter().filter(|d| !d.is_nan()).count();
     assert!(hits > 0, "{what}: no pixel hit");
     assert!(one.estimates > 0, "{what}: no estimates");
@@ -106,10 +123,15 @@ fn path_frame<F: GpuReal>(tracer: &GpuPathTracer<F>, scene: &qjulia::Scene) -> F
     let params = TraceParams::<F>::new(scene);
     let mut frame = Frame::empty(params.width);
     tracer
-        .render_bands(&params, &PathParams::new(scene), Readback::Hdr, &mut |band| {
-            frame.append(&band);
-            Ok(())
-        })
+        .render_bands(
+            &params,
+            &PathParams::new(scene),
+            Readback::Hdr,
+            &mut |band| {
+                frame.append(&band);
+                Ok(())
+            },
+        )
         .expect("a render");
     frame
 }
@@ -142,7 +164,11 @@ fn check_precision<F: GpuReal>(
         for sets in PHONG.iter().take(if specialise { PHONG.len() } else { 1 }) {
             let scene = small(sets);
             let what = format!("{name} phong {sets:?} (specialised {specialise})");
-            assert_same_bytes(&what, &phong_frame(&one, &scene), &phong_frame(&two, &scene));
+            assert_same_bytes(
+                &what,
+                &phong_frame(&one, &scene),
+                &phong_frame(&two, &scene),
+            );
         }
     }
     let mut one = make_path(ctx.clone()).expect("the path tracer");
@@ -208,16 +234,27 @@ fn the_cpu_pair_is_two_single_traces() {
                 }
             }
         }
-        assert!(hits > 0 && misses > 0, "{sets:?}: {hits} hits, {misses} misses");
+        assert!(
+            hits > 0 && misses > 0,
+            "{sets:?}: {hits} hits, {misses} misses"
+        );
         if sets.contains(&"fractal.max_steps=12") {
             assert!(stalled > 0, "{sets:?}: no ray ran out of steps");
         }
     }
     let scenes: [&[&str]; 4] = [
         &["image.samples=4", "cut.enabled=true"],
-        &["image.samples=3", "fractal.step_scale=1.8", "fractal.pixel_epsilon=1.0"],
+        &[
+            "image.samples=3",
+            "fractal.step_scale=1.8",
+            "fractal.pixel_epsilon=1.0",
+        ],
         &["image.samples=2", "fractal.max_steps=12"],
-        &["image.samples=2", "fractal.algebra=\"octonion\"", "camera.aperture=0.05"],
+        &[
+            "image.samples=2",
+            "fractal.algebra=\"octonion\"",
+            "camera.aperture=0.05",
+        ],
     ];
     for sets in scenes {
         check::<f32>(sets);
