@@ -207,11 +207,12 @@ fn path_camera_ray(i: u32, j: u32, sample: u32) -> Primary {
 }
 
 // One path through sample `sample` of pixel (i, j) from its camera ray `camera` (path_camera_ray)
-// and that ray's trace `first` (trace_primary, or a pair's): at each of up to `bounces` hits add
-// the direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
-// sun, one that meets the sphere light first its emission. The last scattered ray is traced for
-// that alone.
-fn trace_path_from(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> PathResult {
+// and that ray's trace `first` (trace_primary, or a pair's: path_main): at each of up to
+// `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves the region takes
+// the sky and the sun, one that meets the sphere light first its emission. The last scattered ray
+// is traced for that alone. (The CPU twin's trace_path takes the sample alone and traces its
+// camera ray; its trace_path_from is this.)
+fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> PathResult {
     var dir = camera.dir;
     var origin = camera.origin;
     var throughput = vec3<f32>(1.0);
@@ -290,13 +291,6 @@ fn trace_path_from(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -
     return result;
 }
 
-// One path through sample `sample` of pixel (i, j), its camera ray traced alone
-// (trace_path_from of path_camera_ray and trace_primary).
-fn trace_path(i: u32, j: u32, sample: u32) -> PathResult {
-    let camera = path_camera_ray(i, j, sample);
-    return trace_path_from(i, j, sample, camera, trace_primary(camera));
-}
-
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
 // m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
@@ -323,26 +317,24 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // With INTERLEAVE 2 the camera rays of samples k and k + 1 are traced as a pair at k
     // (trace_primary_pair), and k + 1's trace kept for it; an odd sample left over is traced
-    // alone (trace_path).
+    // alone. One call of trace_path for all three (two calls, each inlined, made the path
+    // kernel 17% slower on lavapipe).
     var second = Trace(0.0, 0u, false);
     var paired = false;
     for (var k = params.sample_start; k < params.sample_end; k++) {
-        var r: PathResult;
-        if paired || (INTERLEAVE >= 2u && k + 1u < params.sample_end) {
-            let camera = path_camera_ray(i, j, k);
-            var first = second;
-            if paired {
-                paired = false;
-            } else {
-                let pair = trace_primary_pair(camera, path_camera_ray(i, j, k + 1u));
-                first = pair.first;
-                second = pair.second;
-                paired = true;
-            }
-            r = trace_path_from(i, j, k, camera, first);
+        let camera = path_camera_ray(i, j, k);
+        var first = second;
+        if paired {
+            paired = false;
+        } else if INTERLEAVE >= 2u && k + 1u < params.sample_end {
+            let pair = trace_primary_pair(camera, path_camera_ray(i, j, k + 1u));
+            first = pair.first;
+            second = pair.second;
+            paired = true;
         } else {
-            r = trace_path(i, j, k);
+            first = trace_primary(camera);
         }
+        let r = trace_path(i, j, k, camera, first);
         mean += (r.radiance - mean) / f32(k + 1u);
         if k == 0u {
             out_depth[index] = select(-1.0, r.depth, r.hit);

@@ -120,7 +120,8 @@ override AOVS: bool = false;
 // together (sphere_trace_pair: one fused sphere trace whose estimates iterate both orbits in one
 // loop, each ray stopping on its own), then each sample is shaded as alone; with 1 every camera
 // ray is traced alone. The same pixels bit for bit either way. Not part of a Variant: a choice
-// of the device's (src/gpu/variant.rs, `interleave_from_env`), 2 measured to pay on lavapipe.
+// of the device's, which the host always sets (src/gpu/variant.rs: 2 for main, 1 for path_main,
+// by measurement on lavapipe, or QJULIA_INTERLEAVE).
 override INTERLEAVE: u32 = 2u;
 
 // params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.

@@ -195,10 +195,18 @@ const PATH: Twin = Twin {
             reason: "WGSL's `any(c > vec3(0.0))`",
         },
         OnlyIn {
+            side: Side::Rust,
+            name: "trace_path_from",
+            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
+                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
+                     signature its callers use, traces the camera ray and calls this",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "path_main",
             reason: "the entry point: the samples' running mean and the writes; on the CPU \
-                     `render_path_rows` loops over `trace_path` as it does",
+                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
+                     `trace_path_from` as it does",
         },
         OnlyIn {
             side: Side::Rust,

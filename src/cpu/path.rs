@@ -321,8 +321,9 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// One path through sample `sample` of pixel (i, j) from its camera ray `camera`
-    /// (`path_camera_ray`) and that ray's trace `first` (`trace_primary`, or a pair's): at each
-    /// of up to `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves
+    /// (`path_camera_ray`) and that ray's trace `first` (`trace_primary`, or a pair's): WGSL's
+    /// `trace_path`, which takes the camera ray and its trace (this file's `trace_path` takes
+    /// the sample alone, as its callers want). At each of up to `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves
     /// the region takes the sky and the sun, one that meets the sphere light first its
     /// emission. The last scattered ray is traced for that alone.
     pub fn trace_path_from(
@@ -430,7 +431,8 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// One path through sample `sample` of pixel (i, j), its camera ray traced alone
-    /// (`trace_path_from` of `path_camera_ray` and `trace_primary`).
+    /// (`trace_path_from` of `path_camera_ray` and `trace_primary`): WGSL's `trace_path` with
+    /// its camera ray traced here.
     pub fn trace_path(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> PathResult<F> {
         let camera = self.path_camera_ray(path, i, j, sample);
         let first = self.trace_primary(&camera);
@@ -462,25 +464,22 @@ pub fn render_path_rows<F: Real>(
             let mut made = Aovs::default();
             // As `path_main` with INTERLEAVE 2: the camera rays of samples k and k + 1 traced as
             // a pair at k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left
-            // traced alone (`trace_path`).
+            // traced alone.
             let samples = params.samples.max(1);
             let mut second = None;
             for k in 0..samples {
-                let r = if second.is_some() || k + 1 < samples {
-                    let camera = params.path_camera_ray(path, i, j, k);
-                    let first = match second.take() {
-                        Some(trace) => trace,
-                        None => {
-                            let next = params.path_camera_ray(path, i, j, k + 1);
-                            let [a, b] = params.trace_primary_pair(&camera, &next);
-                            second = Some(b);
-                            a
-                        }
-                    };
-                    params.trace_path_from(path, (i, j, k), &camera, first)
-                } else {
-                    params.trace_path(path, i, j, k)
+                let camera = params.path_camera_ray(path, i, j, k);
+                let traced = match second.take() {
+                    Some(trace) => trace,
+                    None if k + 1 < samples => {
+                        let next = params.path_camera_ray(path, i, j, k + 1);
+                        let [a, b] = params.trace_primary_pair(&camera, &next);
+                        second = Some(b);
+                        a
+                    }
+                    None => params.trace_primary(&camera),
                 };
+                let r = params.trace_path_from(path, (i, j, k), &camera, traced);
                 mean += (r.radiance - mean) / F::lit((k + 1) as f64);
                 if aovs {
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());

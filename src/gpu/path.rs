@@ -147,14 +147,16 @@ impl<F: GpuReal> GpuPathTracer<F> {
         Ok(Self {
             kernel: Kernel::new(ctx, F::PATH_KERNEL)?,
             specialise: super::variant::specialise_from_env(),
-            interleave: super::variant::interleave_from_env(),
+            interleave: super::variant::interleave_from_env(
+                super::variant::DEFAULT_PATH_INTERLEAVE,
+            ),
             device_constants,
             precision: std::marker::PhantomData,
         })
     }
 
     /// Camera rays an invocation traces together: 1 or 2 (by default
-    /// [`super::variant::interleave_from_env`]). The paths are the same either way.
+    /// [`super::variant::DEFAULT_PATH_INTERLEAVE`], or `QJULIA_INTERLEAVE`). The paths are the same either way.
     pub fn set_interleave(&mut self, interleave: u32) {
         super::variant::interleave_constant(interleave);
         self.interleave = interleave;

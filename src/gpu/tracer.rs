@@ -93,7 +93,7 @@ impl<F: GpuReal> GpuTracer<F> {
         let tracer = Self {
             kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,
             specialise: super::variant::specialise_from_env(),
-            interleave: super::variant::interleave_from_env(),
+            interleave: super::variant::interleave_from_env(super::variant::DEFAULT_INTERLEAVE),
             device_constants,
             precision: std::marker::PhantomData,
         };
@@ -107,7 +107,7 @@ impl<F: GpuReal> GpuTracer<F> {
     }
 
     /// Camera rays an invocation traces together: 1 or 2 (by default
-    /// [`super::variant::interleave_from_env`]). The pixels are the same either way.
+    /// [`super::variant::DEFAULT_INTERLEAVE`], or `QJULIA_INTERLEAVE`). The pixels are the same either way.
     pub fn set_interleave(&mut self, interleave: u32) {
         super::variant::interleave_constant(interleave);
         self.interleave = interleave;
