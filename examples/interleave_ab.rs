@@ -3,6 +3,9 @@
 //! them one after the other? Two readings of lavapipe disagree: docs/PERFORMANCE.md found it
 //! bound by the iterations' arithmetic (interleaving would not help), an earlier estimate a
 //! latency chain (about 114 lane-cycles an iteration: two independent chains would overlap).
+//! It paid, and the kernels now pair their camera rays (`sphere_trace_pair` in
+//! shaders/trace.wgsl, the `INTERLEAVE` override); this stays as the isolated measurement of the
+//! fused loops alone, without the cut, over-relaxation or shading.
 //!
 //! Both entry points sphere-trace the camera rays of samples 0..S of every pixel (quaternions,
 //! the tracer's own estimate and step rule, no cut, no over-relaxation) and write the sum of the

@@ -116,6 +116,13 @@ override LENS: bool = true;
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.
 override AOVS: bool = false;
+// Interleaving (issue 19): with 2, the camera rays of samples k and k + 1 of a pixel are traced
+// together (sphere_trace_pair: one fused sphere trace whose estimates iterate both orbits in one
+// loop, each ray stopping on its own), then each sample is shaded as alone; with 1 every camera
+// ray is traced alone. The same pixels bit for bit either way. Not part of a Variant: a choice
+// of the device's, which the host always sets (src/gpu/variant.rs: 2 for main, 1 for path_main,
+// by measurement on lavapipe, or QJULIA_INTERLEAVE).
+override INTERLEAVE: u32 = 2u;
 
 // params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.
 const COLOURING_FLAT: u32 = 0u;
@@ -251,6 +258,11 @@ fn estimate_julia(p: vec3<Real>) -> Real {
     estimates += 1u;
     var z = slice_point(p);
     let dz_norm2 = iterate_orbit(&z);
+    return orbit_distance(z, dz_norm2);
+}
+
+// The estimate from an orbit's last z and its |z'|^2 (estimate_julia's formula and guards).
+fn orbit_distance(z: Hyper, dz_norm2: Real) -> Real {
     let z_norm2 = hyper_dot(z, z, algebra_parts());
     if z_norm2 < MIN_NORMAL || dz_norm2 > DERIVATIVE_LIMIT || dz_norm2 <= z_norm2 * TINY {
         return 0.0;
@@ -355,6 +367,163 @@ fn sphere_trace(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real,
         }
     }
     return Trace(t, params.max_steps, false);
+}
+
+// iterate_orbit of two numbers at once (interleaving): both orbits in one loop, each stopping
+// on its own, so that the two chains of dependent arithmetic overlap; an orbit not `live` is not
+// iterated. Returns the two |z'|^2; each z and |z'|^2 is iterate_orbit's bit for bit.
+fn iterate_orbit_pair(z1: ptr<function, Hyper>, z2: ptr<function, Hyper>, live: vec2<bool>) -> vec2<Real> {
+    let parts = algebra_parts();
+    var z1_norm2 = hyper_dot(*z1, *z1, parts);
+    var z2_norm2 = hyper_dot(*z2, *z2, parts);
+    var dz1_norm2: Real = 1.0;
+    var dz2_norm2: Real = 1.0;
+    var dz1 = Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
+    var dz2 = dz1;
+    var on1 = live.x;
+    var on2 = live.y;
+    for (var i = 0u; i < params.max_iterations; i++) {
+        if !(on1 || on2) {
+            break;
+        }
+        if on1 {
+            if parts == 4u {
+                dz1 = hyper_scale(2.0, hyper_mul(*z1, dz1, parts));
+                dz1_norm2 = hyper_dot(dz1, dz1, parts);
+            } else {
+                dz1_norm2 *= 4.0 * z1_norm2;
+            }
+            *z1 = hyper_add(hyper_sq(*z1, parts), params.c);
+            z1_norm2 = hyper_dot(*z1, *z1, parts);
+            on1 = !(z1_norm2 > params.escape_radius_squared || dz1_norm2 > DERIVATIVE_LIMIT);
+        }
+        if on2 {
+            if parts == 4u {
+                dz2 = hyper_scale(2.0, hyper_mul(*z2, dz2, parts));
+                dz2_norm2 = hyper_dot(dz2, dz2, parts);
+            } else {
+                dz2_norm2 *= 4.0 * z2_norm2;
+            }
+            *z2 = hyper_add(hyper_sq(*z2, parts), params.c);
+            z2_norm2 = hyper_dot(*z2, *z2, parts);
+            on2 = !(z2_norm2 > params.escape_radius_squared || dz2_norm2 > DERIVATIVE_LIMIT);
+        }
+    }
+    return vec2<Real>(dz1_norm2, dz2_norm2);
+}
+
+// estimate_julia at two points at once (iterate_orbit_pair); a point not `live` is not estimated
+// (its estimate is 0, and not counted).
+fn estimate_julia_pair(p1: vec3<Real>, p2: vec3<Real>, live: vec2<bool>) -> vec2<Real> {
+    estimates += select(0u, 1u, live.x) + select(0u, 1u, live.y);
+    var z1 = slice_point(p1);
+    var z2 = slice_point(p2);
+    let dz_norm2 = iterate_orbit_pair(&z1, &z2, live);
+    return vec2<Real>(orbit_distance(z1, dz_norm2.x), orbit_distance(z2, dz_norm2.y));
+}
+
+// estimate_distance at two points at once: estimate_julia_pair, and the cut as
+// estimate_distance adds it.
+fn estimate_distance_pair(p1: vec3<Real>, p2: vec3<Real>, live: vec2<bool>) -> vec2<Real> {
+    var d = estimate_julia_pair(p1, p2, live);
+    if (!SPECIALISED || CUT) && params.cut != 0u {
+        d = vec2<Real>(max(d.x, cut_plane(p1)), max(d.y, cut_plane(p2)));
+    }
+    return d;
+}
+
+// One ray of an interleaved sphere trace (sphere_trace_pair): its ray and stretch, sphere_trace's
+// variables, whether it is still being traced, and its outcome once it is not.
+struct March {
+    origin: vec3<Real>,
+    dir: vec3<Real>,
+    t_end: Real,
+    eps_slope: Real,
+    t: Real,
+    omega: Real,
+    t_prev: Real,
+    prev_radius: Real,
+    live: bool,
+    trace: Trace,
+}
+
+// sphere_trace's start for the ray origin + t dir over [t_start, t_end]; a ray not `live` is
+// not traced (its outcome is a miss of no steps).
+fn march_start(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real, live: bool) -> March {
+    var omega = params.step_scale;
+    if SPECIALISED && !OVER_RELAXED {
+        omega = 1.0;
+    }
+    return March(origin, dir, t_end, eps_slope, t_start, omega, t_start, 0.0, live, Trace(0.0, 0u, false));
+}
+
+// One step of sphere_trace, its `steps`-th, for the live ray m with the estimate d at its point:
+// sphere_trace's loop body, where a return ends the ray (live false, its outcome in trace).
+fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
+    let radius = max(d, 0.0);
+    if (*m).omega > 1.0 && (*m).t - (*m).t_prev > (*m).prev_radius + radius {
+        (*m).t = (*m).t_prev + (*m).prev_radius;
+        (*m).omega = 1.0;
+        return;
+    }
+    let t_plain = (*m).t + radius;
+    var threshold = max(params.epsilon, t_plain * RELATIVE_EPSILON);
+    if !SPECIALISED || PIXEL_EPSILON {
+        threshold = max(threshold, (*m).eps_slope * t_plain);
+    }
+    if d < threshold {
+        (*m).trace = Trace(t_plain, steps, true);
+        (*m).live = false;
+        return;
+    }
+    (*m).t_prev = (*m).t;
+    (*m).prev_radius = radius;
+    (*m).t += (*m).omega * radius;
+    if (*m).t > (*m).t_end {
+        if t_plain > (*m).t_end {
+            (*m).trace = Trace((*m).t, steps, false);
+            (*m).live = false;
+            return;
+        }
+        (*m).t = t_plain;
+        (*m).omega = 1.0;
+    }
+}
+
+// A marched ray's outcome: where it stopped, or, still live after max_steps, a miss there
+// (sphere_trace's last return).
+fn march_end(m: March) -> Trace {
+    if m.live {
+        return Trace(m.t, params.max_steps, false);
+    }
+    return m.trace;
+}
+
+// Two sphere traces.
+struct TracePair {
+    first: Trace,
+    second: Trace,
+}
+
+// sphere_trace of two rays at once, step for step: both estimates of a step in one
+// estimate_distance_pair, each ray stepped by sphere_trace's rule and stopping on its own. Each
+// outcome is sphere_trace's of its ray bit for bit.
+fn sphere_trace_pair(a: March, b: March) -> TracePair {
+    var m1 = a;
+    var m2 = b;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        if !(m1.live || m2.live) {
+            break;
+        }
+        let d = estimate_distance_pair(m1.origin + m1.t * m1.dir, m2.origin + m2.t * m2.dir, vec2<bool>(m1.live, m2.live));
+        if m1.live {
+            march_step(&m1, d.x, steps);
+        }
+        if m2.live {
+            march_step(&m2, d.y, steps);
+        }
+    }
+    return TracePair(march_end(m1), march_end(m2));
 }
 
 // v normalised, or the fallback where v is too short to have a direction. Scaled by its largest
@@ -636,7 +805,7 @@ fn shading_features() -> bool {
 // the occlusion factor A and V the light's visibility (1 lit, 0 in shadow, between in a penumbra):
 // ambient A B + (shadow_factor + (1 - shadow_factor) V) (A (B + normal_tint |n|) max(N.L, 0)
 // + highlight), the highlight as in phong. With ambient 0, A 1 and a point light it is
-// phong's colour, shadowed as trace_pixel does. The viewer is at eye: the ray's origin (the
+// phong's colour, shadowed as shade_pixel does. The viewer is at eye: the ray's origin (the
 // camera's eye, or a point of the lens).
 fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     let base = hit_albedo(p);
@@ -662,7 +831,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     if SPECIALISED {
         shadows = SHADOWS;
     }
-    // As in trace_pixel: no shadow ray for an unlit point.
+    // As in shade_pixel: no shadow ray for an unlit point.
     if shadows && any(light > vec3<Real>(0.0)) {
         if (!SPECIALISED || SOFT_SHADOWS) && params.light_radius > 0.0 {
             light *= params.shadow_factor + (1.0 - params.shadow_factor) * soft_shadow(p, n);
@@ -795,11 +964,20 @@ struct Pixel {
     normal: vec3<Real>,
 }
 
-// Everything for one sample of pixel (i, j): the ray (the pinhole's from the eye, or the thin
-// lens's), bounds, sphere tracing (from t_min on: the cone's start, or 0), normal, Phong, shadow.
-// A lens ray starts from the ball: the cone covers the block's rays from the eye, not rays from
-// elsewhere on the lens.
-fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
+// A sample's camera ray: its origin and direction and the stretch [t_start, t_end] of it that
+// sphere tracing covers, within the bounding ball; `hit` false where it misses the ball.
+struct Primary {
+    origin: vec3<Real>,
+    dir: vec3<Real>,
+    t_start: Real,
+    t_end: Real,
+    hit: bool,
+}
+
+// Sample `sample`'s camera ray of pixel (i, j): the pinhole's from the eye, or the thin lens's,
+// against the bounds, from t_min on (the cone's start, or 0). A lens ray starts from the ball:
+// the cone covers the block's rays from the eye, not rays from elsewhere on the lens.
+fn primary_ray(i: u32, j: u32, sample: u32, t_min: Real) -> Primary {
     var origin = params.eye;
     var dir: vec3<Real>;
     var t_from = t_min;
@@ -811,19 +989,38 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
     } else {
         dir = camera_ray(i, j, sample);
     }
-    let none = vec3<Real>(0.0);
     let bounds = intersect_bounds(origin, dir);
-    if !bounds.hit {
-        return Pixel(params.background, -1.0, 0u, false, none, none);
+    return Primary(origin, dir, max(bounds.t_enter, t_from), bounds.t_exit, bounds.hit);
+}
+
+// A camera ray's sphere trace, with the pixel epsilon; a miss of no steps where it misses the
+// ball.
+fn trace_primary(ray: Primary) -> Trace {
+    if !ray.hit {
+        return Trace(0.0, 0u, false);
     }
-    let t_start = max(bounds.t_enter, t_from);
-    let trace = sphere_trace(origin, dir, t_start, bounds.t_exit, params.pixel_epsilon * params.pixel_angle);
+    return sphere_trace(ray.origin, ray.dir, ray.t_start, ray.t_end, params.pixel_epsilon * params.pixel_angle);
+}
+
+// Two camera rays' sphere traces at once (sphere_trace_pair): each trace_primary's bit for bit.
+fn trace_primary_pair(a: Primary, b: Primary) -> TracePair {
+    let eps_slope = params.pixel_epsilon * params.pixel_angle;
+    let m1 = march_start(a.origin, a.dir, a.t_start, a.t_end, eps_slope, a.hit);
+    let m2 = march_start(b.origin, b.dir, b.t_start, b.t_end, eps_slope, b.hit);
+    return sphere_trace_pair(m1, m2);
+}
+
+// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow.
+fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
+    let none = vec3<Real>(0.0);
     if !trace.hit {
         return Pixel(params.background, -1.0, trace.steps, false, none, none);
     }
     if SPECIALISED && !SHADE {
         return Pixel(params.background, trace.t, trace.steps, true, none, none);
     }
+    let origin = ray.origin;
+    let dir = ray.dir;
     let p = origin + trace.t * dir;
     let n = estimate_normal(p, dir);
     if shading_features() {
@@ -840,6 +1037,13 @@ fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
         colour *= params.shadow_factor;
     }
     return Pixel(colour, trace.t, trace.steps, true, p, n);
+}
+
+// Everything for one sample of pixel (i, j): its camera ray (primary_ray), sphere tracing,
+// and shading (shade_pixel).
+fn trace_pixel(i: u32, j: u32, sample: u32, t_min: Real) -> Pixel {
+    let ray = primary_ray(i, j, sample, t_min);
+    return shade_pixel(ray, trace_primary(ray));
 }
 
 // Where sample k lies in its pixel, (x, y) in [0, 1)^2 from the pixel's top left corner:
@@ -1005,8 +1209,25 @@ fn main(
             aovs = load_aovs(index);
         }
     }
+    // With INTERLEAVE 2 samples k and k + 1 are traced as a pair at k (trace_primary_pair), and
+    // k + 1's trace kept for it; an odd sample left over is traced alone.
+    var second = Trace(0.0, 0u, false);
+    var paired = false;
     for (var k = params.sample_start; k < params.sample_end; k++) {
-        let pixel = trace_pixel(i, j, k, t_min);
+        let ray = primary_ray(i, j, k, t_min);
+        var trace: Trace;
+        if paired {
+            trace = second;
+            paired = false;
+        } else if INTERLEAVE >= 2u && k + 1u < params.sample_end {
+            let pair = trace_primary_pair(ray, primary_ray(i, j, k + 1u, t_min));
+            trace = pair.first;
+            second = pair.second;
+            paired = true;
+        } else {
+            trace = trace_primary(ray);
+        }
+        let pixel = shade_pixel(ray, trace);
         let c = clamp(pixel.colour, vec3<Real>(0.0), vec3<Real>(1.0));
         mean += (c - mean) / Real(k + 1u);
         if k == 0u {

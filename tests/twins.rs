@@ -68,6 +68,12 @@ const TRACE: Twin = Twin {
                      specialised pipeline gets from the ALGEBRA_PARTS override",
         },
         OnlyIn {
+            side: Side::Rust,
+            name: "iterate_orbit_pair_parts",
+            reason: "iterate_orbit_pair's loop compiled once per algebra, as \
+                     iterate_orbit_parts is iterate_orbit's",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "load_aovs",
             reason: "reads a pixel's AOVs back from the out_aovs buffer between dispatches; the \
@@ -189,10 +195,18 @@ const PATH: Twin = Twin {
             reason: "WGSL's `any(c > vec3(0.0))`",
         },
         OnlyIn {
+            side: Side::Rust,
+            name: "trace_path_from",
+            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
+                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
+                     signature its callers use, traces the camera ray and calls this",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "path_main",
             reason: "the entry point: the samples' running mean and the writes; on the CPU \
-                     `render_path_rows` loops over `trace_path` as it does",
+                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
+                     `trace_path_from` as it does",
         },
         OnlyIn {
             side: Side::Rust,

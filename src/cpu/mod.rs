@@ -109,29 +109,46 @@ pub fn render_rows<F: Real>(
                 .copied()
                 .unwrap_or(F::zero());
             let before = ESTIMATES.get();
-            let first = params.trace_pixel(i, j, 0, t_min, shade);
-            let mut non_finite = non_finite_values(&first);
+            let clamp = |c: Vec3<F>| {
+                let unit = |v: F| v.max(F::zero()).min(F::one());
+                Vec3::new(unit(c.x), unit(c.y), unit(c.z))
+            };
+            let samples = params.samples.max(1);
+            let mut first = None;
+            let mut non_finite = 0;
             let mut made = trace::Aovs::default();
-            if aovs {
-                made = params.add_pixel_aovs(made, 0, &first);
+            let mut mean = Vec3::zero();
+            // As the kernel's `main` with INTERLEAVE 2: samples k and k + 1 traced as a pair at
+            // k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left traced alone.
+            let mut second = None;
+            for k in 0..samples {
+                let ray = params.primary_ray(i, j, k, t_min);
+                let trace = match second.take() {
+                    Some(trace) => trace,
+                    None if k + 1 < samples => {
+                        let next = params.primary_ray(i, j, k + 1, t_min);
+                        let [a, b] = params.trace_primary_pair(&ray, &next);
+                        second = Some(b);
+                        a
+                    }
+                    None => params.trace_primary(&ray),
+                };
+                let pixel = params.shade_pixel(&ray, trace, shade);
+                non_finite += non_finite_values(&pixel);
+                if aovs {
+                    made = params.add_pixel_aovs(made, k, &pixel);
+                }
+                // The running mean, as the kernel keeps it: exact where all samples agree.
+                mean = match k {
+                    0 => clamp(pixel.colour),
+                    _ => mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64),
+                };
+                first.get_or_insert(pixel);
             }
+            let first = first.expect("at least one sample");
             let colour = if params.samples <= 1 {
                 trace::pack_colour(first.colour)
             } else {
-                let clamp = |c: Vec3<F>| {
-                    let unit = |v: F| v.max(F::zero()).min(F::one());
-                    Vec3::new(unit(c.x), unit(c.y), unit(c.z))
-                };
-                // The running mean, as the kernel keeps it: exact where all samples agree.
-                let mut mean = clamp(first.colour);
-                for k in 1..params.samples {
-                    let pixel = params.trace_pixel(i, j, k, t_min, shade);
-                    non_finite += non_finite_values(&pixel);
-                    mean = mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64);
-                    if aovs {
-                        made = params.add_pixel_aovs(made, k, &pixel);
-                    }
-                }
                 trace::pack_colour(mean)
             };
             PixelOut {

@@ -13,7 +13,7 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, add_aovs};
+use super::trace::{Aovs, Primary, Trace, add_aovs};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -282,13 +282,11 @@ impl<F: Real> TraceParams<F> {
         (n + v * (min - c)).normalize()
     }
 
-    /// One path through sample `sample` of pixel (i, j): sample 0 through the pixel's centre
+    /// The camera ray of sample `sample` of pixel (i, j): sample 0 through the pixel's centre
     /// (the pinhole's ray), the others at the sampler's image-plane dimensions and, where the
-    /// aperture is open, its lens dimensions. Trace, and at each of up to `bounces` hits add the
-    /// direct light and scatter by the BSDF; a ray that leaves the region takes the sky and the
-    /// sun, one that meets the sphere light first its emission. The last scattered ray is traced
-    /// for that alone.
-    pub fn trace_path(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> PathResult<F> {
+    /// aperture is open, its lens dimensions; against the bounds (the whole stretch within the
+    /// ball).
+    pub fn path_camera_ray(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> Primary<F> {
         let half = F::lit(0.5);
         let mut s = (half, half);
         if sample > 0 {
@@ -312,6 +310,31 @@ impl<F: Real> TraceParams<F> {
             origin = ray.origin;
             dir = ray.dir;
         }
+        let bounds = self.intersect_bounds(origin, dir);
+        Primary {
+            origin,
+            dir,
+            t_start: bounds.t_enter,
+            t_end: bounds.t_exit,
+            hit: bounds.hit,
+        }
+    }
+
+    /// One path through sample `sample` of pixel (i, j) from its camera ray `camera`
+    /// (`path_camera_ray`) and that ray's trace `first` (`trace_primary`, or a pair's): WGSL's
+    /// `trace_path`, which takes the camera ray and its trace (this file's `trace_path` takes
+    /// the sample alone, as its callers want). At each of up to `bounces` hits add the direct light and scatter by the BSDF; a ray that leaves
+    /// the region takes the sky and the sun, one that meets the sphere light first its
+    /// emission. The last scattered ray is traced for that alone.
+    pub fn trace_path_from(
+        &self,
+        path: &PathParams<F>,
+        (i, j, sample): (u32, u32, u32),
+        camera: &Primary<F>,
+        first: Trace<F>,
+    ) -> PathResult<F> {
+        let mut dir = camera.dir;
+        let mut origin = camera.origin;
         let mut throughput = Vec3::splat(F::one());
         let mut radiance = Vec3::zero();
         let mut result = PathResult {
@@ -325,18 +348,20 @@ impl<F: Real> TraceParams<F> {
         let mut pdf_prev = F::zero();
         let light_on = self.light_radius > F::zero() && any_positive(path.light_intensity);
         for bounce in 0..=path.bounces {
-            let bounds = self.intersect_bounds(origin, dir);
-            let mut trace = super::trace::Trace {
-                t: F::zero(),
-                steps: 0,
-                hit: false,
-            };
-            if bounds.hit {
-                let mut eps_slope = F::zero();
-                if bounce == 0 {
-                    eps_slope = self.pixel_epsilon * self.pixel_angle;
+            // The camera ray's trace is given; a scattered ray's is made here (no pixel
+            // epsilon).
+            let mut trace = first;
+            if bounce > 0 {
+                trace = Trace {
+                    t: F::zero(),
+                    steps: 0,
+                    hit: false,
+                };
+                let bounds = self.intersect_bounds(origin, dir);
+                if bounds.hit {
+                    let (t_enter, t_exit) = (bounds.t_enter, bounds.t_exit);
+                    trace = self.sphere_trace(origin, dir, t_enter, t_exit, F::zero());
                 }
-                trace = self.sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, eps_slope);
             }
             if bounce == 0 {
                 result.depth = trace.t;
@@ -404,6 +429,15 @@ impl<F: Real> TraceParams<F> {
         result.radiance = radiance;
         result
     }
+
+    /// One path through sample `sample` of pixel (i, j), its camera ray traced alone
+    /// (`trace_path_from` of `path_camera_ray` and `trace_primary`): WGSL's `trace_path` with
+    /// its camera ray traced here.
+    pub fn trace_path(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> PathResult<F> {
+        let camera = self.path_camera_ray(path, i, j, sample);
+        let first = self.trace_primary(&camera);
+        self.trace_path_from(path, (i, j, sample), &camera, first)
+    }
 }
 
 /// Renders the rows `rows` (0 at the top) of the path-traced image, in parallel over rows, as
@@ -428,8 +462,24 @@ pub fn render_path_rows<F: Real>(
             let mut mean = Vec3::<F>::zero();
             let mut first = None;
             let mut made = Aovs::default();
-            for k in 0..params.samples.max(1) {
-                let r = params.trace_path(path, i, j, k);
+            // As `path_main` with INTERLEAVE 2: the camera rays of samples k and k + 1 traced as
+            // a pair at k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left
+            // traced alone.
+            let samples = params.samples.max(1);
+            let mut second = None;
+            for k in 0..samples {
+                let camera = params.path_camera_ray(path, i, j, k);
+                let traced = match second.take() {
+                    Some(trace) => trace,
+                    None if k + 1 < samples => {
+                        let next = params.path_camera_ray(path, i, j, k + 1);
+                        let [a, b] = params.trace_primary_pair(&camera, &next);
+                        second = Some(b);
+                        a
+                    }
+                    None => params.trace_primary(&camera),
+                };
+                let r = params.trace_path_from(path, (i, j, k), &camera, traced);
                 mean += (r.radiance - mean) / F::lit((k + 1) as f64);
                 if aovs {
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());

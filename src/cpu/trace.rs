@@ -45,6 +45,33 @@ pub struct Trace<F> {
     pub hit: bool,
 }
 
+/// One ray of an interleaved sphere trace (`sphere_trace_pair`): its ray and stretch,
+/// `sphere_trace`'s variables, whether it is still being traced, and its outcome once it is not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct March<F> {
+    pub origin: Vec3<F>,
+    pub dir: Vec3<F>,
+    pub t_end: F,
+    pub eps_slope: F,
+    pub t: F,
+    pub omega: F,
+    pub t_prev: F,
+    pub prev_radius: F,
+    pub live: bool,
+    pub trace: Trace<F>,
+}
+
+/// A sample's camera ray: its origin and direction and the stretch [t_start, t_end] of it that
+/// sphere tracing covers, within the bounding ball; `hit` false where it misses the ball.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Primary<F> {
+    pub origin: Vec3<F>,
+    pub dir: Vec3<F>,
+    pub t_start: F,
+    pub t_end: F,
+    pub hit: bool,
+}
+
 /// A ray: its origin and its unit direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray<F> {
@@ -144,6 +171,12 @@ impl<F: Real> TraceParams<F> {
         count(&super::ESTIMATES, 1);
         let mut z = self.slice_point(p);
         let dz_norm2 = self.iterate_orbit(&mut z);
+        self.orbit_distance(z, dz_norm2)
+    }
+
+    /// The estimate from an orbit's last z and its |z'|^2 (`estimate_julia`'s formula and
+    /// guards).
+    pub fn orbit_distance(&self, z: Hyper<F>, dz_norm2: F) -> F {
         let z_norm2 = hyper_dot(z, z, self.algebra_parts);
         if z_norm2 < F::min_positive_value()
             || dz_norm2 > F::lit(F::DERIVATIVE_LIMIT)
@@ -271,6 +304,198 @@ impl<F: Real> TraceParams<F> {
             steps: self.max_steps,
             hit: false,
         }
+    }
+
+    /// `iterate_orbit` of two numbers at once (interleaving): both orbits in one loop, each
+    /// stopping on its own; an orbit not `live` is not iterated. Returns the two |z'|^2; each z
+    /// and |z'|^2 is `iterate_orbit`'s bit for bit.
+    pub fn iterate_orbit_pair(
+        &self,
+        z1: &mut Hyper<F>,
+        z2: &mut Hyper<F>,
+        live: [bool; 2],
+    ) -> [F; 2] {
+        match self.algebra_parts {
+            1 => self.iterate_orbit_pair_parts::<1>(z1, z2, live),
+            2 => self.iterate_orbit_pair_parts::<2>(z1, z2, live),
+            _ => self.iterate_orbit_pair_parts::<4>(z1, z2, live),
+        }
+    }
+
+    /// [`Self::iterate_orbit_pair`] for a number of parts known at compile time (CPU only, as
+    /// `iterate_orbit_parts`).
+    #[inline(always)]
+    fn iterate_orbit_pair_parts<const PARTS: u32>(
+        &self,
+        z1: &mut Hyper<F>,
+        z2: &mut Hyper<F>,
+        live: [bool; 2],
+    ) -> [F; 2] {
+        let parts = PARTS;
+        let one = [
+            Vec4::real(F::one()),
+            Vec4::zero(),
+            Vec4::zero(),
+            Vec4::zero(),
+        ];
+        let mut z = [*z1, *z2];
+        let mut z_norm2 = [hyper_dot(z[0], z[0], parts), hyper_dot(z[1], z[1], parts)];
+        let mut dz_norm2 = [F::one(); 2];
+        let mut dz = [one; 2];
+        let mut on = live;
+        for _ in 0..self.max_iterations {
+            if !(on[0] || on[1]) {
+                break;
+            }
+            for k in 0..2 {
+                if !on[k] {
+                    continue;
+                }
+                count(&super::ITERATIONS, 1);
+                if parts == 4 {
+                    dz[k] = hyper_scale(F::lit(2.0), hyper_mul(z[k], dz[k], parts));
+                    dz_norm2[k] = hyper_dot(dz[k], dz[k], parts);
+                } else {
+                    dz_norm2[k] = dz_norm2[k] * (F::lit(4.0) * z_norm2[k]);
+                }
+                z[k] = hyper_add(hyper_sq(z[k], parts), self.c);
+                z_norm2[k] = hyper_dot(z[k], z[k], parts);
+                on[k] = !(z_norm2[k] > self.escape_radius_squared
+                    || dz_norm2[k] > F::lit(F::DERIVATIVE_LIMIT));
+            }
+        }
+        (*z1, *z2) = (z[0], z[1]);
+        dz_norm2
+    }
+
+    /// `estimate_julia` at two points at once (`iterate_orbit_pair`); a point not `live` is
+    /// not estimated (its estimate is 0, and not counted).
+    pub fn estimate_julia_pair(&self, p1: Vec3<F>, p2: Vec3<F>, live: [bool; 2]) -> [F; 2] {
+        count(
+            &super::ESTIMATES,
+            live.iter().filter(|&&l| l).count() as u64,
+        );
+        let mut z1 = self.slice_point(p1);
+        let mut z2 = self.slice_point(p2);
+        let dz_norm2 = self.iterate_orbit_pair(&mut z1, &mut z2, live);
+        [
+            self.orbit_distance(z1, dz_norm2[0]),
+            self.orbit_distance(z2, dz_norm2[1]),
+        ]
+    }
+
+    /// `estimate_distance` at two points at once: `estimate_julia_pair`, and the cut as
+    /// `estimate_distance` adds it.
+    pub fn estimate_distance_pair(&self, p1: Vec3<F>, p2: Vec3<F>, live: [bool; 2]) -> [F; 2] {
+        let d = self.estimate_julia_pair(p1, p2, live);
+        if self.cut {
+            return [d[0].max(self.cut_plane(p1)), d[1].max(self.cut_plane(p2))];
+        }
+        d
+    }
+
+    /// `sphere_trace`'s start for the ray origin + t dir over [t_start, t_end]; a ray not
+    /// `live` is not traced (its outcome is a miss of no steps).
+    pub fn march_start(
+        &self,
+        origin: Vec3<F>,
+        dir: Vec3<F>,
+        (t_start, t_end): (F, F),
+        eps_slope: F,
+        live: bool,
+    ) -> March<F> {
+        March {
+            origin,
+            dir,
+            t_end,
+            eps_slope,
+            t: t_start,
+            omega: self.step_scale,
+            t_prev: t_start,
+            prev_radius: F::zero(),
+            live,
+            trace: Trace {
+                t: F::zero(),
+                steps: 0,
+                hit: false,
+            },
+        }
+    }
+
+    /// One step of `sphere_trace`, its `steps`-th, for the live ray m with the estimate d at its
+    /// point: `sphere_trace`'s loop body, where a return ends the ray (live false, its outcome
+    /// in trace).
+    pub fn march_step(&self, m: &mut March<F>, d: F, steps: u32) {
+        let radius = d.max(F::zero());
+        if m.omega > F::one() && m.t - m.t_prev > m.prev_radius + radius {
+            m.t = m.t_prev + m.prev_radius;
+            m.omega = F::one();
+            return;
+        }
+        let t_plain = m.t + radius;
+        if d < self
+            .epsilon
+            .max(m.eps_slope * t_plain)
+            .max(t_plain * F::lit(F::RELATIVE_EPSILON))
+        {
+            m.trace = Trace {
+                t: t_plain,
+                steps,
+                hit: true,
+            };
+            m.live = false;
+            return;
+        }
+        m.t_prev = m.t;
+        m.prev_radius = radius;
+        m.t = m.t + m.omega * radius;
+        if m.t > m.t_end {
+            if t_plain > m.t_end {
+                m.trace = Trace {
+                    t: m.t,
+                    steps,
+                    hit: false,
+                };
+                m.live = false;
+                return;
+            }
+            m.t = t_plain;
+            m.omega = F::one();
+        }
+    }
+
+    /// A marched ray's outcome: where it stopped, or, still live after max_steps, a miss there
+    /// (`sphere_trace`'s last return).
+    pub fn march_end(&self, m: &March<F>) -> Trace<F> {
+        if m.live {
+            return Trace {
+                t: m.t,
+                steps: self.max_steps,
+                hit: false,
+            };
+        }
+        m.trace
+    }
+
+    /// `sphere_trace` of two rays at once, step for step: both estimates of a step in one
+    /// `estimate_distance_pair`, each ray stepped by `sphere_trace`'s rule and stopping on its
+    /// own. Each outcome is `sphere_trace`'s of its ray bit for bit.
+    pub fn sphere_trace_pair(&self, a: March<F>, b: March<F>) -> [Trace<F>; 2] {
+        let mut m = [a, b];
+        for steps in 1..=self.max_steps {
+            if !(m[0].live || m[1].live) {
+                break;
+            }
+            let p1 = m[0].origin + m[0].dir * m[0].t;
+            let p2 = m[1].origin + m[1].dir * m[1].t;
+            let d = self.estimate_distance_pair(p1, p2, [m[0].live, m[1].live]);
+            for k in 0..2 {
+                if m[k].live {
+                    self.march_step(&mut m[k], d[k], steps);
+                }
+            }
+        }
+        [self.march_end(&m[0]), self.march_end(&m[1])]
     }
 }
 
@@ -713,20 +938,11 @@ impl<F: Real> TraceParams<F> {
         t
     }
 
-    /// Everything for one sample of pixel (i, j): the ray (the pinhole's from the eye, or the
-    /// thin lens's), bounds, sphere tracing (from t_min on: the cone's start, or 0), normal,
-    /// Phong, shadow. A lens ray starts from the ball: the cone covers the block's rays from the
-    /// eye, not rays from elsewhere on the lens.
-    pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F, shade: bool) -> Pixel<F> {
-        let none = Vec3::zero();
-        let miss = |steps| Pixel {
-            colour: self.background,
-            depth: -F::one(),
-            steps,
-            hit: false,
-            point: none,
-            normal: none,
-        };
+    /// Sample `sample`'s camera ray of pixel (i, j): the pinhole's from the eye, or the thin
+    /// lens's, against the bounds, from t_min on (the cone's start, or 0). A lens ray starts
+    /// from the ball: the cone covers the block's rays from the eye, not rays from elsewhere on
+    /// the lens.
+    pub fn primary_ray(&self, i: u32, j: u32, sample: u32, t_min: F) -> Primary<F> {
         let (origin, dir, t_from) = if self.lens_sample(sample) {
             let ray = self.lens_ray(i, j, sample);
             (ray.origin, ray.dir, F::zero())
@@ -734,17 +950,53 @@ impl<F: Real> TraceParams<F> {
             (self.eye, self.camera_ray(i, j, sample), t_min)
         };
         let bounds = self.intersect_bounds(origin, dir);
-        if !bounds.hit {
-            return miss(0);
+        Primary {
+            origin,
+            dir,
+            t_start: bounds.t_enter.max(t_from),
+            t_end: bounds.t_exit,
+            hit: bounds.hit,
         }
-        let t_start = bounds.t_enter.max(t_from);
+    }
+
+    /// A camera ray's sphere trace, with the pixel epsilon; a miss of no steps where it misses
+    /// the ball.
+    pub fn trace_primary(&self, ray: &Primary<F>) -> Trace<F> {
+        if !ray.hit {
+            return Trace {
+                t: F::zero(),
+                steps: 0,
+                hit: false,
+            };
+        }
         let eps_slope = self.pixel_epsilon * self.pixel_angle;
-        let trace = self.sphere_trace(origin, dir, t_start, bounds.t_exit, eps_slope);
+        self.sphere_trace(ray.origin, ray.dir, ray.t_start, ray.t_end, eps_slope)
+    }
+
+    /// Two camera rays' sphere traces at once (`sphere_trace_pair`): each `trace_primary`'s
+    /// bit for bit.
+    pub fn trace_primary_pair(&self, a: &Primary<F>, b: &Primary<F>) -> [Trace<F>; 2] {
+        let eps_slope = self.pixel_epsilon * self.pixel_angle;
+        let m1 = self.march_start(a.origin, a.dir, (a.t_start, a.t_end), eps_slope, a.hit);
+        let m2 = self.march_start(b.origin, b.dir, (b.t_start, b.t_end), eps_slope, b.hit);
+        self.sphere_trace_pair(m1, m2)
+    }
+
+    /// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow.
+    /// `shade` is the kernel's SHADE override (false: depth and steps only, as a specialised
+    /// pipeline without the shading code): the colour is the background.
+    pub fn shade_pixel(&self, ray: &Primary<F>, trace: Trace<F>, shade: bool) -> Pixel<F> {
+        let none = Vec3::zero();
         if !trace.hit {
-            return miss(trace.steps);
+            return Pixel {
+                colour: self.background,
+                depth: -F::one(),
+                steps: trace.steps,
+                hit: false,
+                point: none,
+                normal: none,
+            };
         }
-        // `shade` is the kernel's SHADE override (false: depth and steps only, as a
-        // specialised pipeline without the shading code): the colour is the background.
         if !shade {
             return Pixel {
                 colour: self.background,
@@ -755,6 +1007,7 @@ impl<F: Real> TraceParams<F> {
                 normal: none,
             };
         }
+        let (origin, dir) = (ray.origin, ray.dir);
         let p = origin + dir * trace.t;
         let n = self.estimate_normal(p, dir);
         if self.shading_features() {
@@ -781,6 +1034,13 @@ impl<F: Real> TraceParams<F> {
             point: p,
             normal: n,
         }
+    }
+
+    /// Everything for one sample of pixel (i, j): its camera ray (`primary_ray`), sphere
+    /// tracing, and shading (`shade_pixel`).
+    pub fn trace_pixel(&self, i: u32, j: u32, sample: u32, t_min: F, shade: bool) -> Pixel<F> {
+        let ray = self.primary_ray(i, j, sample, t_min);
+        self.shade_pixel(&ray, self.trace_primary(&ray), shade)
     }
 }
 

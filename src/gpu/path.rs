@@ -120,6 +120,8 @@ pub fn path_samples_per_dispatch(bounces: u32, max_steps: u32) -> u32 {
 pub struct GpuPathTracer<F: GpuReal = f32> {
     kernel: Kernel,
     specialise: bool,
+    /// Camera rays an invocation traces together, 1 or 2 (the `INTERLEAVE` override).
+    interleave: u32,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -145,9 +147,19 @@ impl<F: GpuReal> GpuPathTracer<F> {
         Ok(Self {
             kernel: Kernel::new(ctx, F::PATH_KERNEL)?,
             specialise: super::variant::specialise_from_env(),
+            interleave: super::variant::interleave_from_env(
+                super::variant::DEFAULT_PATH_INTERLEAVE,
+            ),
             device_constants,
             precision: std::marker::PhantomData,
         })
+    }
+
+    /// Camera rays an invocation traces together: 1 or 2 (by default
+    /// [`super::variant::DEFAULT_PATH_INTERLEAVE`], or `QJULIA_INTERLEAVE`). The paths are the same either way.
+    pub fn set_interleave(&mut self, interleave: u32) {
+        super::variant::interleave_constant(interleave);
+        self.interleave = interleave;
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -167,12 +179,13 @@ impl<F: GpuReal> GpuPathTracer<F> {
     }
 
     /// The override constants of a scene's pipeline: its path variant's (none where
-    /// specialisation is off) and the device's.
+    /// specialisation is off), the interleaving and the device's.
     fn constants(&self, params: &TraceParams<F>) -> Vec<(&'static str, f64)> {
         let mut constants = match self.specialise {
             true => Variant::of_path(params).constants(),
             false => Vec::new(),
         };
+        constants.push(super::variant::interleave_constant(self.interleave));
         constants.extend_from_slice(&self.device_constants);
         constants
     }

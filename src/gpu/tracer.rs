@@ -55,6 +55,8 @@ pub const MAX_SAMPLES_PER_DISPATCH: u32 = 8;
 pub struct GpuTracer<F: GpuReal = f32> {
     kernel: Kernel,
     specialise: bool,
+    /// Camera rays an invocation traces together, 1 or 2 (the `INTERLEAVE` override).
+    interleave: u32,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -91,6 +93,7 @@ impl<F: GpuReal> GpuTracer<F> {
         let tracer = Self {
             kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,
             specialise: super::variant::specialise_from_env(),
+            interleave: super::variant::interleave_from_env(super::variant::DEFAULT_INTERLEAVE),
             device_constants,
             precision: std::marker::PhantomData,
         };
@@ -101,6 +104,13 @@ impl<F: GpuReal> GpuTracer<F> {
     /// Whether scenes get their own specialised pipelines.
     pub fn set_specialise(&mut self, on: bool) {
         self.specialise = on;
+    }
+
+    /// Camera rays an invocation traces together: 1 or 2 (by default
+    /// [`super::variant::DEFAULT_INTERLEAVE`], or `QJULIA_INTERLEAVE`). The pixels are the same either way.
+    pub fn set_interleave(&mut self, interleave: u32) {
+        super::variant::interleave_constant(interleave);
+        self.interleave = interleave;
     }
 
     /// The variant a scene runs on here: its own, or None (the generic pipeline) when
@@ -114,9 +124,10 @@ impl<F: GpuReal> GpuTracer<F> {
         self.kernel.pipeline(&self.with_device_constants(variant))
     }
 
-    /// A variant's constants (None: generic) and the device's.
+    /// A variant's constants (None: generic), the interleaving and the device's.
     fn with_device_constants(&self, variant: Option<Variant>) -> Vec<(&'static str, f64)> {
         let mut constants = variant.map(|v| v.constants()).unwrap_or_default();
+        constants.push(super::variant::interleave_constant(self.interleave));
         constants.extend_from_slice(&self.device_constants);
         constants
     }

@@ -12,6 +12,39 @@ pub fn specialise_from_env() -> bool {
     std::env::var_os("QJULIA_SPECIALISE").is_none_or(|v| v != "0")
 }
 
+/// Camera rays an invocation of the tracer (`main`) traces together (the kernels' `INTERLEAVE`
+/// override) unless `QJULIA_INTERLEAVE` says otherwise: two, samples k and k + 1 of a pixel
+/// fused step for step and orbit iteration for orbit iteration (on lavapipe the two chains of
+/// dependent arithmetic overlap: docs/PERFORMANCE.md measures it). The pixels are the same bit
+/// for bit with 1 or 2.
+pub const DEFAULT_INTERLEAVE: u32 = 2;
+
+/// As [`DEFAULT_INTERLEAVE`], for the path tracer (`path_main`): one, since on lavapipe pairing
+/// a path's camera ray did not pay (docs/PERFORMANCE.md: the rest of the path dominates, and
+/// with the lens the pair cost more than it saved).
+pub const DEFAULT_PATH_INTERLEAVE: u32 = 1;
+
+/// The `INTERLEAVE` of a pipeline: `QJULIA_INTERLEAVE=1` traces every camera ray alone, `2` in
+/// pairs; unset (or anything else) the kernel's `default` ([`DEFAULT_INTERLEAVE`],
+/// [`DEFAULT_PATH_INTERLEAVE`]). A device's choice, not a scene's: it is no part of a
+/// [`Variant`], and the generic pipeline gets it too.
+pub fn interleave_from_env(default: u32) -> u32 {
+    match std::env::var("QJULIA_INTERLEAVE").as_deref() {
+        Ok("1") => 1,
+        Ok("2") => 2,
+        _ => default,
+    }
+}
+
+/// The override constant of an `interleave` of 1 or 2 (the kernels' `INTERLEAVE`).
+pub fn interleave_constant(interleave: u32) -> (&'static str, f64) {
+    assert!(
+        interleave == 1 || interleave == 2,
+        "interleave {interleave}: 1 or 2"
+    );
+    ("INTERLEAVE", interleave as f64)
+}
+
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
