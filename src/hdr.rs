@@ -110,18 +110,31 @@ impl HdrImage {
                 scene.to_toml().as_bytes(),
             )),
         );
-        let image = Image::new(
-            attributes,
-            Layer::new(
-                size,
-                layer,
-                Encoding::SMALL_LOSSLESS,
-                AnyChannels::sort(channels),
-            ),
-        );
-        image.write().to_buffered(to).map_err(|e| match e {
-            exr::error::Error::Io(e) => e,
-            e => std::io::Error::other(e),
-        })
+        write_exr(attributes, size, layer, channels, to)
     }
+}
+
+/// Writes one part of float32 and uint32 `channels` (sorted by name, as OpenEXR stores them) of
+/// `size`, ZIP-compressed (lossless, 16 rows a block), with `attributes` and `layer`: the one
+/// EXR writer of `--hdr` and of `render --tile`'s partials ([`crate::tile`]).
+pub fn write_exr(
+    attributes: ImageAttributes,
+    size: (usize, usize),
+    layer: LayerAttributes,
+    channels: SmallVec<[AnyChannel<FlatSamples>; 4]>,
+    to: impl Write + Seek,
+) -> std::io::Result<()> {
+    let image = Image::new(
+        attributes,
+        Layer::new(
+            size,
+            layer,
+            Encoding::SMALL_LOSSLESS,
+            AnyChannels::sort(channels),
+        ),
+    );
+    image.write().to_buffered(to).map_err(|e| match e {
+        exr::error::Error::Io(e) => e,
+        e => std::io::Error::other(e),
+    })
 }

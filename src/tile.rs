@@ -39,10 +39,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
-use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, ImageAttributes, Layer, LayerAttributes,
-    SmallVec, Vec2, WritableImage,
-};
+use exr::prelude::{AnyChannel, FlatSamples, ImageAttributes, LayerAttributes, SmallVec, Vec2};
 
 use crate::display::Display;
 use crate::error::{Error, FlagError, Result};
@@ -221,19 +218,13 @@ fn write_exr(
         set(GPU_SECONDS, AttributeValue::F64(s));
     }
     set(ESTIMATES, text(&band.estimates.to_string()));
-    let image = Image::new(
+    crate::hdr::write_exr(
         attributes,
-        Layer::new(
-            (width, band.height as usize),
-            layer,
-            Encoding::SMALL_LOSSLESS,
-            AnyChannels::sort(channels),
-        ),
-    );
-    image.write().to_buffered(to).map_err(|e| match e {
-        exr::error::Error::Io(e) => e,
-        e => std::io::Error::other(e),
-    })
+        (width, band.height as usize),
+        layer,
+        channels,
+        to,
+    )
 }
 
 /// One part as `merge` read it.
