@@ -13,6 +13,7 @@ mod heat_texture;
 mod hypersphere;
 pub mod input;
 pub mod julia2d_texture;
+mod denoise_worker;
 mod kernel_texture;
 mod menu;
 mod panels;
