@@ -16,8 +16,8 @@ use crate::denoise::Denoiser;
 use crate::display::ToneMap;
 use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{
-    Camera, Cut, Denoise, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading, ShadingModel,
-    Sky, Slice, Sun, View, View2d,
+    Camera, Cut, Denoise, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading,
+    ShadingModel, Sky, Slice, Sun, View, View2d,
 };
 
 /// The side panel: what the view shows, then the groups of controls.
@@ -372,9 +372,7 @@ fn denoiser_switch(ui: &mut egui::Ui, denoise: &mut Denoiser) {
 fn denoising(ui: &mut egui::Ui, d: &mut Denoise) {
     ui.label("Applied to the kept mean at once, no new trace:");
     ui.add(key_slider_u32(&mut d.iterations, "denoise.iterations").text("denoiser passes"));
-    ui.add(
-        key_slider(&mut d.sigma_luminance, "denoise.sigma_luminance").text("sigma luminance"),
-    );
+    ui.add(key_slider(&mut d.sigma_luminance, "denoise.sigma_luminance").text("sigma luminance"));
     ui.add(key_slider(&mut d.sigma_normal, "denoise.sigma_normal").text("sigma normal"));
     ui.add(key_slider(&mut d.sigma_depth, "denoise.sigma_depth").text("sigma depth"));
 }

@@ -43,9 +43,9 @@ use super::precision_switch::{Either, PrecisionSwitch};
 use crate::cpu::path::PathParams;
 use crate::denoise::Denoiser;
 use crate::display::{Display, ToneMap};
+use crate::frame::Frame;
 use crate::gpu::kernel::Band;
 use crate::gpu::path::{GpuPathParams, GpuPathTracer};
-use crate::frame::Frame;
 use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, Readback, WORKGROUP_SIZE};
 use crate::params::TraceParams;
 use crate::precision::Precision;
@@ -695,14 +695,20 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let shape = (rb.size[0] as usize, rb.size[1] as usize, rb.row_stride as usize);
+            let shape = (
+                rb.size[0] as usize,
+                rb.size[1] as usize,
+                rb.row_stride as usize,
+            );
             let items = (rb.row_stride as u64 * rb.size[1] as u64) as usize;
             let (accumulated, rest) = view.split_at(items * rb.layout.accumulated as usize);
             let (aovs, depth) = rest.split_at(items * rb.layout.aovs as usize);
             // Mapped ranges are aligned to 8 bytes at least, and so is each section.
             let radiance = unpad::<[f32; 4], _>(accumulated, shape, |a| [a[0], a[1], a[2]]);
             let frame = (rb.layout.aovs > 0).then(|| {
-                let aov = |k: usize| unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]]);
+                let aov = |k: usize| {
+                    unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]])
+                };
                 // As decode_frame makes a render's: a miss (a negative depth) is NaN.
                 let depth = unpad::<F, _>(depth, shape, |&d: &F| match d.to_f64() {
                     d if d < 0.0 => f32::NAN,
@@ -763,7 +769,9 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 Err(e) => {
                     // Shown as the mean itself, and the error said in the status line.
                     self.stats.denoise_error = Some(e);
-                    kept.frame.as_ref().map_or_else(Vec::new, |f| f.linear().to_vec())
+                    kept.frame
+                        .as_ref()
+                        .map_or_else(Vec::new, |f| f.linear().to_vec())
                 }
             };
             kept.denoised = Some((done.key.params, linear));
@@ -999,7 +1007,13 @@ fn copy_mean(
     ];
     let mut offset = 0;
     for (output, per_item) in sections.into_iter().filter(|(_, b)| *b > 0) {
-        encoder.copy_buffer_to_buffer(&target.outputs[output], 0, &buffer, offset, items * per_item);
+        encoder.copy_buffer_to_buffer(
+            &target.outputs[output],
+            0,
+            &buffer,
+            offset,
+            items * per_item,
+        );
         offset += items * per_item;
     }
     buffer
@@ -1087,7 +1101,11 @@ impl SliceTexture {
                 self.path_shown = true;
                 let build = |view: &SliceView<f32>| {
                     let path64 = ViewKernel::Path(kernels.path64()?);
-                    Ok(SliceView::new(path64, view.renderer.clone(), kernels.clone()))
+                    Ok(SliceView::new(
+                        path64,
+                        view.renderer.clone(),
+                        kernels.clone(),
+                    ))
                 };
                 match views.pick(scene, Picture::SHADED, build) {
                     Either::F32(view) => view.update(scene, size, interacting),
@@ -1098,7 +1116,11 @@ impl SliceTexture {
         }
         let build = |view: &SliceView<f32>| {
             let tracer64 = ViewKernel::Phong(kernels.tracer64()?);
-            Ok(SliceView::new(tracer64, view.renderer.clone(), kernels.clone()))
+            Ok(SliceView::new(
+                tracer64,
+                view.renderer.clone(),
+                kernels.clone(),
+            ))
         };
         match self.views.pick(scene, Picture::SHADED, build) {
             Either::F32(view) => view.update(scene, size, interacting),

@@ -101,14 +101,16 @@ impl StatusLine {
                     ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
                 }
                 if let Some(noise) = s.noise.filter(|_| s.refined) {
-                    ui.label(format!("noise {:.1}%", 100.0 * noise)).on_hover_text(
-                        "the mean over the pixels that hit of the standard error of each \
+                    ui.label(format!("noise {:.1}%", 100.0 * noise))
+                        .on_hover_text(
+                            "the mean over the pixels that hit of the standard error of each \
                          pixel's mean luminance, relative to that mean",
-                    );
+                        );
                 }
                 if let Some(error) = &s.denoise_error {
                     let colour = ui.visuals().error_fg_color;
-                    ui.colored_label(colour, "not denoised").on_hover_text(error);
+                    ui.colored_label(colour, "not denoised")
+                        .on_hover_text(error);
                 } else if let Some(samples) = s.denoised_samples {
                     ui.label(format!(
                         "denoised {samples} ({:.0} ms {})",
