@@ -1074,3 +1074,194 @@ fn a_deep_path_view_runs_the_f64_path_tracer() {
         &qjulia::compare::CONTRACT_TOLERANCE,
     );
 }
+
+/// What `qjulia render` makes of the view's scene in either model, decided as the explorer's
+/// exports decide it, on the view's device (depth zeroed: the screen has none).
+fn rendered_any(harness: &Harness<'static, ExplorerApp>) -> Frame {
+    let scene = harness.state().view_scene();
+    let picture = qjulia::Picture::SHADED;
+    let plan = harness
+        .state()
+        .planner()
+        .plan(&scene, picture.into(), &mut |_| {})
+        .unwrap();
+    assert_eq!(plan.renderer.backend_name(), "gpu");
+    let (mut frame, _) = plan.renderer.render_frame(&scene, picture).unwrap();
+    frame.depth.iter_mut().for_each(|d| *d = 0.0);
+    frame.depth_f64.clear();
+    frame
+}
+
+/// Issue 20: with the denoiser on, the idle view shows the denoised running mean, which once it
+/// has the view's samples is what `qjulia render` writes of the same scene and samples, byte
+/// for byte; the status line has its noise figure; a `[denoise]` key from the panel denoises
+/// the kept mean again, with no new trace, and the view is then the render with that key.
+#[test]
+fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
+    let mut scene = path_scene();
+    scene.image.denoise = qjulia::denoise::Denoiser::Atrous;
+    let Some(mut harness) = harness_of("explorer denoised path", scene, PATH_WINDOW) else {
+        return;
+    };
+    settle(&mut harness);
+    let view = harness.state().slice_texture().unwrap();
+    assert!(view.path_traced());
+    let kept = view.kept_radiance().expect("the mean kept");
+    assert_eq!(kept.samples, 3);
+    let frame = kept.frame.as_ref().expect("the mean's AOVs kept");
+    assert_eq!(frame.luminance_m2.len(), frame.pixel_count());
+    let stats = view.stats();
+    assert_eq!(stats.denoised_samples, Some(3), "the view is not denoised");
+    assert_eq!(stats.denoise_error, None);
+    let noise = stats.noise.expect("a noise figure");
+    assert!(noise > 0.0 && noise.is_finite(), "noise {noise}");
+    let noise_again = qjulia::denoise::frame_noise(frame, 3).unwrap();
+    assert_eq!(noise, noise_again);
+    let expected = rendered_any(&harness);
+    assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");
+    assert!(
+        kept.radiance == expected.noisy,
+        "the view's mean is not the render's"
+    );
+    let shown = shown_view(&mut harness);
+    common::assert_agree("explorer_denoised_path", &expected, &shown, &EXACT);
+    // The denoiser did something: the mean's own display differs.
+    let display = qjulia::display::Display::of(&harness.state().view_scene());
+    let noisy = Frame {
+        colour: display.pack_all(&expected.noisy),
+        ..expected.clone()
+    };
+    assert!(
+        changed_fraction(&noisy, &shown) > 0.2,
+        "the denoised view looks like the mean"
+    );
+
+    // A [denoise] key from the panel: denoised again, no trace.
+    let view = harness.state().slice_texture().unwrap();
+    let (dispatches, encodes) = (view.dispatches(), view.encodes());
+    harness
+        .get_by_role_and_label(egui::Role::Slider, "sigma luminance")
+        .set_value_accesskit(0.25);
+    harness.step();
+    settle(&mut harness);
+    assert_eq!(harness.state().scene.denoise.sigma_luminance, 0.25);
+    let view = harness.state().slice_texture().unwrap();
+    assert_eq!(
+        view.dispatches(),
+        dispatches,
+        "a [denoise] key traced again"
+    );
+    assert!(view.encodes() > encodes, "the mean was not denoised again");
+    let sharper = shown_view(&mut harness);
+    assert!(
+        changed_fraction(&shown, &sharper) > 0.05,
+        "sigma luminance left the view unchanged"
+    );
+    common::assert_agree(
+        "explorer_denoised_path_sigma",
+        &rendered_any(&harness),
+        &sharper,
+        &EXACT,
+    );
+
+    // Exposure on a denoised view: encoded again, neither traced nor denoised again.
+    let encodes = harness.state().slice_texture().unwrap().encodes();
+    harness.state_mut().scene.image.exposure = 1.0;
+    harness.step();
+    harness.step();
+    assert!(harness.state().view_refined());
+    let view = harness.state().slice_texture().unwrap();
+    assert_eq!(view.dispatches(), dispatches);
+    assert_eq!(view.encodes(), encodes + 1);
+    common::assert_agree(
+        "explorer_denoised_path_exposure",
+        &rendered_any(&harness),
+        &shown_view(&mut harness),
+        &EXACT,
+    );
+}
+
+/// Issue 20: the panel's denoiser switch works in phong mode too: the view then shows the
+/// denoised mean, `qjulia render`'s bytes of the same scene and samples; switched off, the
+/// tracer's own mean again.
+#[test]
+fn the_denoiser_switch_denoises_the_phong_view_as_render_does() {
+    let Some(mut harness) = harness_of(
+        "explorer denoised phong",
+        common::scene(&["fractal.max_iterations=8"]),
+        PATH_WINDOW,
+    ) else {
+        return;
+    };
+    settle(&mut harness);
+    let plain = shown_view(&mut harness);
+    assert!(harness.query_by_label("Denoising").is_none());
+    harness.get_by_label("atrous").click();
+    settle(&mut harness);
+    assert_eq!(
+        harness.state().scene.image.denoise,
+        qjulia::denoise::Denoiser::Atrous
+    );
+    harness.get_by_label("Denoising");
+    let view = harness.state().slice_texture().unwrap();
+    assert!(!view.path_traced());
+    assert_eq!(view.stats().denoised_samples, Some(3));
+    assert!(view.stats().noise.is_some_and(|n| n > 0.0));
+    let expected = rendered_any(&harness);
+    assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");
+    let denoised = shown_view(&mut harness);
+    common::assert_agree("explorer_denoised_phong", &expected, &denoised, &EXACT);
+    assert!(
+        changed_fraction(&plain, &denoised) > 0.05,
+        "the denoised phong view looks like the plain one"
+    );
+
+    harness.get_by_label("none").click();
+    settle(&mut harness);
+    let view = harness.state().slice_texture().unwrap();
+    assert_eq!(view.stats().denoised_samples, None);
+    common::assert_agree(
+        "explorer_denoiser_off",
+        &headless(&harness),
+        &shown_view(&mut harness),
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+}
+
+/// Issue 20: the export of a denoised view, phong and path traced, writes the bytes of
+/// `qjulia render` with the denoiser.
+#[test]
+fn a_denoised_export_writes_the_bytes_of_qjulia_render() {
+    let mut scene = qjulia::scene::presets::find("path-traced").unwrap().scene();
+    scene.image.width = 64;
+    scene.image.height = 48;
+    scene.image.samples = 4;
+    scene.image.denoise = qjulia::denoise::Denoiser::Atrous;
+    scene.denoise.iterations = 3;
+    let Some(mut harness) = harness_of("explorer denoised export", scene.clone(), PATH_WINDOW)
+    else {
+        return;
+    };
+    harness.step();
+    let args = [
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--set",
+        "image.samples=4",
+        "--set",
+        "image.denoise=atrous",
+        "--set",
+        "denoise.iterations=3",
+    ];
+    let mut path = vec!["--preset", "path-traced"];
+    path.extend_from_slice(&args);
+    assert_export_is_render(&mut harness, "explorer_denoised_path_export", &path);
+
+    let mut phong = vec!["--preset", "path-traced", "--set", "shading.model=phong"];
+    phong.extend_from_slice(&args);
+    harness.state_mut().scene.shading.model = qjulia::scene::ShadingModel::Phong;
+    harness.step();
+    assert_export_is_render(&mut harness, "explorer_denoised_phong_export", &phong);
+}

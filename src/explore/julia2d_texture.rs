@@ -129,7 +129,7 @@ impl<F: GpuReal> Julia2dView<F> {
             self.julia.kernel(),
             &self.renderer,
             ("view2d", &self.uniform),
-            size,
+            (size, false),
             old.map(|t| t.texture_id),
         ));
     }

@@ -14,6 +14,8 @@ pub struct KernelTarget {
     pub width: u32,
     pub height: u32,
     pub row_stride: u32,
+    /// Whether the AOVs output is whole (else a placeholder): the denoised view reads it.
+    pub aovs: bool,
     pub outputs: Vec<wgpu::Buffer>,
     pub texture: wgpu::Texture,
     pub texture_id: egui::TextureId,
@@ -22,17 +24,21 @@ pub struct KernelTarget {
 
 impl KernelTarget {
     /// Output buffers and a texture of `size`, bound with `uniform`; `old` is the id of the
-    /// texture this one replaces (kept, so that egui's references stay valid).
+    /// texture this one replaces (kept, so that egui's references stay valid). With `aovs` the
+    /// tracer's AOVs output is whole, else a placeholder, as every other on-demand output is.
     pub fn new(
         kernel: &Kernel,
         renderer: &egui::mutex::RwLock<egui_wgpu::Renderer>,
         (label, uniform): (&str, &wgpu::Buffer),
-        size: [u32; 2],
+        (size, aovs): ([u32; 2], bool),
         old: Option<egui::TextureId>,
     ) -> Self {
         let row_stride = size[0].next_multiple_of(ROW_ALIGN);
-        // Nothing is read back from these: an on-demand output (the AOVs) is a placeholder.
-        let outputs = kernel.output_buffers(row_stride as u64 * size[1] as u64, label, &[]);
+        let mut read = vec![false; kernel.spec().outputs.len()];
+        if let Some(slot) = read.get_mut(crate::gpu::AOVS_OUTPUT) {
+            *slot = aovs;
+        }
+        let outputs = kernel.output_buffers(row_stride as u64 * size[1] as u64, label, &read);
         let device = &kernel.context().device;
         let (texture, texture_id) = native_texture(device, renderer, label, size, old);
         let bind_group = kernel.bind_group(uniform, &outputs);
@@ -40,6 +46,7 @@ impl KernelTarget {
             width: size[0],
             height: size[1],
             row_stride,
+            aovs,
             outputs,
             texture,
             texture_id,

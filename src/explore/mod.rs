@@ -1,12 +1,14 @@
 //! `qjulia explore`: the desktop explorer, an eframe/egui app on winit whose view is drawn by
 //! the same GPU tracer as `qjulia render`, on the same device as the UI. The app and its frame
 //! loop are `app`'s; what the user edits is `state`'s, the panels' `menu`, `panels`, `status`,
-//! `viewport` and `timeline::panel`, the jobs `export` and `timeline::job`.
+//! `viewport` and `timeline::panel`, the jobs `export` and `timeline::job`, the view's
+//! denoiser thread `denoise_worker`.
 
 pub mod app;
 pub mod c_loop;
 pub mod camera;
 pub mod command;
+mod denoise_worker;
 pub mod export;
 pub mod file_dialog;
 mod heat_texture;

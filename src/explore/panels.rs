@@ -3,18 +3,21 @@
 //! Each group is a function of what it edits; what reaches further (a new algebra, Play) it
 //! returns as a [`Command`]. The shading model switch (Phong or path traced) sits at the top of
 //! the 3D view's controls; in path mode the "Path tracing" group shows the path tracer's keys
-//! and the Phong-only keys are greyed out.
+//! and the Phong-only keys are greyed out. The denoiser switch (none or à-trous) sits under it,
+//! in either model, and the "Denoising" group holds the `[denoise]` keys, which the view applies
+//! to the mean it keeps without tracing again.
 
 use super::c_loop::CLoop;
 use super::command::Command;
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
 use super::input::slider;
 use super::state::{ExplorerState, Mode, SliceRotation};
+use crate::denoise::Denoiser;
 use crate::display::ToneMap;
 use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{
-    Camera, Cut, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading, ShadingModel,
-    Sky, Slice, Sun, View, View2d,
+    Camera, Cut, Denoise, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading,
+    ShadingModel, Sky, Slice, Sun, View, View2d,
 };
 
 /// The side panel: what the view shows, then the groups of controls.
@@ -41,6 +44,7 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
                     ui.selectable_value(model, ShadingModel::Phong, "Phong");
                     ui.selectable_value(model, ShadingModel::Path, "Path traced");
                 });
+                denoiser_switch(ui, &mut s.scene.image.denoise);
             }
             Mode::Julia2d => {
                 egui::CollapsingHeader::new("2D view")
@@ -72,6 +76,11 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
             egui::CollapsingHeader::new("Path tracing")
                 .default_open(true)
                 .show(ui, |ui| path_tracing(ui, &mut s.scene));
+        }
+        if s.mode == Mode::Slice3d && s.scene.image.denoise != Denoiser::None {
+            egui::CollapsingHeader::new("Denoising")
+                .default_open(true)
+                .show(ui, |ui| denoising(ui, &mut s.scene.denoise));
         }
         egui::CollapsingHeader::new("Cut").show(ui, |ui| cut(ui, &mut s.scene.cut));
         egui::CollapsingHeader::new("Image").show(ui, |ui| {
@@ -345,6 +354,27 @@ fn path_tracing(ui: &mut egui::Ui, scene: &mut Scene) {
     sun(ui, &mut scene.sun);
     ui.separator();
     paths(ui, &mut scene.path);
+}
+
+/// `image.denoise`: the denoiser the view and the exports run, in either model.
+fn denoiser_switch(ui: &mut egui::Ui, denoise: &mut Denoiser) {
+    ui.horizontal(|ui| {
+        ui.label("Denoiser");
+        for denoiser in Denoiser::ALL {
+            ui.selectable_value(denoise, denoiser, denoiser.name());
+        }
+    })
+    .response
+    .on_hover_text("the idle view shows the denoised running mean (docs/book/denoise.md)");
+}
+
+/// The `[denoise]` keys: the view denoises the mean it keeps again, with no new trace.
+fn denoising(ui: &mut egui::Ui, d: &mut Denoise) {
+    ui.label("Applied to the kept mean at once, no new trace:");
+    ui.add(key_slider_u32(&mut d.iterations, "denoise.iterations").text("denoiser passes"));
+    ui.add(key_slider(&mut d.sigma_luminance, "denoise.sigma_luminance").text("sigma luminance"));
+    ui.add(key_slider(&mut d.sigma_normal, "denoise.sigma_normal").text("sigma normal"));
+    ui.add(key_slider(&mut d.sigma_depth, "denoise.sigma_depth").text("sigma depth"));
 }
 
 /// `image.exposure` and `image.tone_map`.

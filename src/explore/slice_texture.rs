@@ -19,23 +19,38 @@
 //! which costs a frame per sample and keeps every pass's image, and no more, in memory. The
 //! simpler alternative, a GPU display pass, would make f32 bytes that could differ from the
 //! PNG's in the last bit of rounding.
+//!
+//! With a denoiser (`image.denoise`, either model) the idle view's passes also compute the AOVs
+//! (the tracers' AOVS override) and the last tile of each pass copies them and the depth back
+//! with the mean (phong mode's colour then goes through the host as path mode's does): the view
+//! keeps that frame and its noise figure ([`crate::denoise::frame_noise`]), hands it to a
+//! thread of its own ([`DenoiseWorker`], the same [`crate::denoise::denoise`] on the same device
+//! as `qjulia render`) and shows the denoised running mean once it is back, so that the view
+//! and `qjulia render` give the same bytes of the same scene and samples. The passes do not
+//! wait for the denoiser: it takes the newest mean whenever it is free. A change of the
+//! `[denoise]` keys denoises the kept mean again, without a trace; the switch itself traces
+//! again (the AOVs and M2 start at sample 0). The preview (one sample, while things move) is
+//! not denoised.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::denoise_worker::{DenoiseKey, DenoiseWorker, Request};
 use super::kernel_texture::KernelTarget;
 use super::precision_switch::{Either, PrecisionSwitch};
 use crate::cpu::path::PathParams;
+use crate::denoise::Denoiser;
 use crate::display::{Display, ToneMap};
+use crate::frame::Frame;
 use crate::gpu::kernel::Band;
 use crate::gpu::path::{GpuPathParams, GpuPathTracer};
-use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, WORKGROUP_SIZE};
+use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, Readback, WORKGROUP_SIZE};
 use crate::params::TraceParams;
 use crate::precision::Precision;
 use crate::render::Picture;
-use crate::scene::{Scene, View};
+use crate::scene::{Denoise, Scene, View};
 use crate::stats::{Summary, SummaryBuilder};
 
 /// Frames per second to hold while the view changes.
@@ -84,6 +99,15 @@ pub struct TextureStats {
     pub samples: u32,
     /// Path mode: seconds the host took to encode the radiance shown (the display transform).
     pub encode_seconds: f64,
+    /// With a denoiser: the estimated noise of the last running mean read back
+    /// ([`crate::denoise::frame_noise`]), None below 2 samples.
+    pub noise: Option<f64>,
+    /// With a denoiser: the samples in the denoised mean shown, its wall seconds and where it
+    /// ran, or why it failed.
+    pub denoised_samples: Option<u32>,
+    pub denoise_seconds: f64,
+    pub denoise_backend: &'static str,
+    pub denoise_error: Option<String>,
 }
 
 /// The kernel a view runs: the tracer (Phong shading, and the step views' depth and steps) or
@@ -119,6 +143,9 @@ struct Job<F: GpuReal> {
     path_uniform: Vec<u8>,
     /// The sample this pass adds to the running mean (0: the first image).
     sample: u32,
+    /// Whether its passes compute the AOVs and read them back with the mean (the denoised
+    /// view).
+    aovs: bool,
     next_row: u32,
     started: Instant,
     /// Completion times of its tiles, filled in by the queue's callbacks.
@@ -135,10 +162,13 @@ struct StepsReadback {
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
-/// Path mode: an asynchronous readback of the accumulator after a pass.
+/// An asynchronous readback of the running mean after a pass: in path mode the accumulator,
+/// with a denoiser the AOVs and the depth.
 struct RadianceReadback {
-    /// `accumulated` (vec4<f32> a pixel), rows `row_stride` pixels apart.
+    /// What [`copy_mean`] copies, each rows `row_stride` pixels apart: `accumulated` (path mode,
+    /// vec4<f32> a pixel), then with `aovs` the AOVs (three vec4<f32>) and the depth (an `F`).
     buffer: wgpu::Buffer,
+    layout: MeanLayout,
     quality: Quality,
     size: [u32; 2],
     row_stride: u32,
@@ -147,26 +177,64 @@ struct RadianceReadback {
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
-/// Path mode: the radiance of the image shown, kept to encode again when the display
-/// transform changes.
+/// The running mean of the image shown (path mode, or with a denoiser), kept to encode again
+/// when the display transform changes and to denoise again when the `[denoise]` keys do.
 pub struct KeptRadiance {
-    /// The mean linear radiance, row after row.
+    /// Path mode: the mean linear radiance, row after row (empty in phong mode).
     pub radiance: Vec<[f32; 3]>,
+    /// With a denoiser: the mean with its AOVs and depth, as the denoiser reads it.
+    pub frame: Option<Arc<Frame>>,
+    /// With a denoiser: its denoised linear image, and the keys it was made with.
+    pub denoised: Option<(Denoise, Vec<[f32; 3]>)>,
     pub size: [u32; 2],
     /// Samples in the mean.
     pub samples: u32,
     quality: Quality,
-    /// The display transform the texture holds it in (None: not written yet).
-    encoded: Option<Display>,
+    /// Counts the means read back: the denoiser's results say which they are of.
+    generation: u64,
+    /// How the texture holds it (None: not written yet).
+    encoded: Option<Encoding>,
+}
+
+/// How a kept mean is in the texture: through which display transform, denoised with which
+/// keys (None: not denoised).
+#[derive(Clone, Debug, PartialEq)]
+struct Encoding {
+    display: Display,
+    denoise: Option<Denoise>,
+}
+
+/// Where the sections of a mean's readback are: bytes per pixel of each, 0 where left out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MeanLayout {
+    accumulated: u64,
+    aovs: u64,
+    depth: u64,
 }
 
 /// The scene as the tracers see it: the display transform (`image.exposure`, `image.tone_map`)
 /// left out, since only the host's encoding of path mode's radiance uses it.
+/// The `[denoise]` table is left out too (the host runs the denoiser); the switch,
+/// `image.denoise`, stays: it decides whether the tracers compute the AOVs.
 fn traced_scene(scene: &Scene) -> Scene {
     let mut scene = scene.clone();
     scene.image.exposure = 0.0;
     scene.image.tone_map = ToneMap::None;
+    scene.denoise = Denoise::default();
     scene
+}
+
+/// Whether the view denoises `scene`: a denoiser is on and the view is the shaded picture.
+fn denoises(scene: &Scene) -> bool {
+    scene.image.denoise != Denoiser::None && scene.image.view == View::Shaded
+}
+
+/// How the view is to show a mean of `scene` (`frame`: whether it has the AOVs).
+fn encoding_of(scene: &Scene, frame: bool) -> Encoding {
+    Encoding {
+        display: Display::of(scene),
+        denoise: (frame && denoises(scene)).then(|| scene.denoise.clone()),
+    }
 }
 
 /// The view in one precision: its tracer, targets and render in progress.
@@ -192,8 +260,12 @@ pub struct SliceView<F: GpuReal = f32> {
     stats: TextureStats,
     readback: Option<StepsReadback>,
     /// Path mode: the display transform asked for, the accumulator's readback in flight and
-    /// the radiance shown.
+    /// the radiance shown; with a denoiser, the scene asked for (its display transform and
+    /// `[denoise]` keys) and the denoiser's thread.
     display: Display,
+    asked: Scene,
+    worker: DenoiseWorker,
+    generation: u64,
     radiance_readback: Option<RadianceReadback>,
     /// The last readback's buffer, unmapped, for the next.
     spare_readback: Option<wgpu::Buffer>,
@@ -204,9 +276,11 @@ pub struct SliceView<F: GpuReal = f32> {
 }
 
 impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
+    /// The view on `kernel`, drawing through `renderer`, denoising on `kernels`' device.
     pub fn new(
         kernel: ViewKernel<F>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+        kernels: Arc<GpuKernels>,
     ) -> Self {
         let uniform = kernel.kernel().uniform_buffer("view params");
         // About lavapipe on 2 cores; corrected after the first render.
@@ -228,6 +302,9 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             stats: TextureStats::default(),
             readback: None,
             display: Display::default(),
+            asked: Scene::default(),
+            worker: DenoiseWorker::new(kernels),
+            generation: 0,
             radiance_readback: None,
             spare_readback: None,
             kept: None,
@@ -275,17 +352,27 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             || self.in_flight.load(Ordering::Acquire) > 0
             || self.readback.is_some()
             || self.radiance_readback.is_some()
+            || self.worker.busy()
+            || self.kept.as_ref().is_some_and(|k| self.to_encode(k))
             || preview_last
+    }
+
+    /// Whether `kept` is still to be written as asked (and can be: phong mode's mean needs the
+    /// denoiser).
+    fn to_encode(&self, kept: &KeptRadiance) -> bool {
+        let wanted = encoding_of(&self.asked, kept.frame.is_some());
+        let can = self.kernel.is_path() || wanted.denoise.is_some();
+        can && kept.encoded.as_ref() != Some(&wanted)
     }
 
     /// Whether the shown image is the full-resolution render of exactly this scene and size
     /// (in path mode: in its display transform).
     pub fn is_refined(&self, scene: &Scene, size: [u32; 2]) -> bool {
-        let displayed = !self.kernel.is_path()
+        let displayed = !(self.kernel.is_path() || denoises(scene))
             || self
                 .kept
                 .as_ref()
-                .is_some_and(|k| k.encoded == Some(Display::of(scene)));
+                .is_some_and(|k| k.encoded == Some(encoding_of(scene, k.frame.is_some())));
         let scene = traced_scene(scene);
         displayed
             && self.job.is_none()
@@ -303,16 +390,15 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
         self.kernel.context().device.poll(wgpu::PollType::Poll).ok();
         self.learn_cost();
+        self.asked = scene.clone();
+        self.display = Display::of(scene);
         self.collect_radiance();
+        self.collect_denoised();
         self.finish_job();
         self.collect_readback();
-        // Path mode: a new display transform encodes the radiance shown again, at once.
-        self.display = Display::of(scene);
-        if self
-            .kept
-            .as_ref()
-            .is_some_and(|k| k.encoded != Some(self.display))
-        {
+        // Path mode: a new display transform encodes the radiance shown again, at once; with a
+        // denoiser, new keys denoise the mean shown again (and it is shown once denoised).
+        if self.kept.as_ref().is_some_and(|k| self.to_encode(k)) {
             self.show_kept();
         }
         let scene = &traced_scene(scene);
@@ -326,6 +412,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // preview always finishes: on a device so slow that even the smallest preview
             // takes more than a frame's budget, a scene that changes every frame (Play) would
             // otherwise never show one.
+            self.worker.drop_queued();
             if let Some(job) = self.job.as_ref().filter(|j| j.quality == Quality::Full) {
                 let rows = self.targets[job.quality as usize]
                     .as_ref()
@@ -395,19 +482,29 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // A preview is one sample; the full image adds its samples pass by pass.
             scene.image.samples = 1;
         }
-        self.ensure_target(quality, size);
+        // The idle view's passes make the AOVs where a denoiser is on.
+        let aovs = quality == Quality::Full && denoises(&scene);
+        let readback = match aovs {
+            true => Readback::Hdr,
+            false => Readback::All,
+        };
+        if !self.kernel.is_path() && !aovs {
+            // Phong mode's mean goes straight to the texture: nothing kept to show.
+            self.kept = None;
+        }
+        self.ensure_target(quality, size, aovs);
         let params = TraceParams::<F>::new(&scene);
         let (pipeline, path_uniform) = match &self.kernel {
             ViewKernel::Phong(tracer) => {
                 // The step views show the steps alone: no shading needed.
                 let shade = scene.image.view == View::Shaded;
                 let variant = tracer.variant_for(&params, shade);
-                (tracer.pipeline(variant), Vec::new())
+                (tracer.pipeline_reading(variant, readback), Vec::new())
             }
             ViewKernel::Path(tracer) => {
                 let path = GpuPathParams::new(&PathParams::<F>::new(&scene));
                 let bytes = bytemuck::bytes_of(&path).to_vec();
-                (tracer.pipeline(&params), bytes)
+                (tracer.pipeline_reading(&params, readback), bytes)
             }
         };
         let Ok(pipeline) = pipeline else {
@@ -419,6 +516,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             params,
             path_uniform,
             sample: 0,
+            aovs,
             next_row: 0,
             started: Instant::now(),
             pending: Arc::new(AtomicU32::new(0)),
@@ -468,16 +566,22 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 None,
             );
             let last_tile = job.next_row + rows == target.height;
-            // The tracer's colour goes straight into the texture; the path tracer's radiance
-            // comes back to the host after the pass's last tile.
-            let radiance = match self.kernel.is_path() {
+            // The tracer's colour goes straight into the texture; the path tracer's radiance,
+            // and with a denoiser the mean and its AOVs, come back to the host after the pass's
+            // last tile.
+            let layout = MeanLayout {
+                accumulated: if self.kernel.is_path() { 16 } else { 0 },
+                aovs: if job.aovs { 48 } else { 0 },
+                depth: if job.aovs { size_of::<F>() as u64 } else { 0 },
+            };
+            let radiance = match layout.accumulated + layout.aovs > 0 {
                 false => {
                     target.copy_rows(&mut encoder, job.next_row, rows);
                     None
                 }
                 true if last_tile => {
                     let spare = self.spare_readback.take();
-                    Some(copy_radiance(device, &mut encoder, target, spare))
+                    Some(copy_mean(device, &mut encoder, target, spare, layout))
                 }
                 true => None,
             };
@@ -496,6 +600,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 });
                 self.radiance_readback = Some(RadianceReadback {
                     buffer,
+                    layout,
                     quality: job.quality,
                     size: [target.width, target.height],
                     row_stride: target.row_stride,
@@ -534,7 +639,10 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let job = self.job.take().expect("checked above");
         let done = job.last_done.lock().unwrap().unwrap_or_else(Instant::now);
         let seconds = done.duration_since(job.started).as_secs_f64();
-        self.shown = Some(job.quality);
+        // A denoised pass is shown once the denoiser has it (show_kept).
+        if !job.aovs {
+            self.shown = Some(job.quality);
+        }
         self.stats.samples = job.sample + 1;
         // More samples for the same scene: the next pass adds one to the running mean.
         let current = match (&self.wanted, &self.last_start) {
@@ -565,13 +673,17 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             refined: job.quality == Quality::Full,
             since_change_seconds: done.duration_since(self.changed_at).as_secs_f64(),
             samples: 1,
-            encode_seconds: self.stats.encode_seconds,
+            // Said again once this scene's mean is read back and denoised.
+            noise: None,
+            denoised_samples: None,
+            ..std::mem::take(&mut self.stats)
         };
         self.start_readback(job.quality);
     }
 
-    /// Path mode: once the accumulator of a pass is in host memory, keeps its radiance and
-    /// shows it.
+    /// Once the mean of a pass is in host memory (path mode's radiance; with a denoiser the
+    /// mean with its AOVs and depth, and its noise figure), keeps it and shows it (with a
+    /// denoiser: asks for it to be denoised).
     fn collect_radiance(&mut self) {
         let Some(rb) = &self.radiance_readback else {
             return;
@@ -583,31 +695,93 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            use rayon::prelude::*;
-            // Mapped ranges are aligned to 8 bytes at least: a vec4<f32> needs 4.
-            let accumulated: &[[f32; 4]] = bytemuck::cast_slice(&view);
-            let (w, stride) = (rb.size[0] as usize, rb.row_stride as usize);
-            let radiance = accumulated
-                .par_chunks(stride)
-                .take(rb.size[1] as usize)
-                .flat_map_iter(|row| row[..w].iter().map(|a| [a[0], a[1], a[2]]))
-                .collect();
+            let shape = (
+                rb.size[0] as usize,
+                rb.size[1] as usize,
+                rb.row_stride as usize,
+            );
+            let items = (rb.row_stride as u64 * rb.size[1] as u64) as usize;
+            let (accumulated, rest) = view.split_at(items * rb.layout.accumulated as usize);
+            let (aovs, depth) = rest.split_at(items * rb.layout.aovs as usize);
+            // Mapped ranges are aligned to 8 bytes at least, and so is each section.
+            let radiance = unpad::<[f32; 4], _>(accumulated, shape, |a| [a[0], a[1], a[2]]);
+            let frame = (rb.layout.aovs > 0).then(|| {
+                let aov = |k: usize| {
+                    unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]])
+                };
+                // As decode_frame makes a render's: a miss (a negative depth) is NaN.
+                let depth = unpad::<F, _>(depth, shape, |&d: &F| match d.to_f64() {
+                    d if d < 0.0 => f32::NAN,
+                    d => d as f32,
+                });
+                let mut frame = Frame::empty(rb.size[0]);
+                frame.height = rb.size[1];
+                frame.radiance = radiance.clone();
+                // Phong mode's linear mean is the AOVs' colour (unclamped).
+                if radiance.is_empty() {
+                    frame.unclamped = aov(0);
+                }
+                frame.albedo = aov(1);
+                frame.normal = aov(2);
+                frame.luminance_m2 = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[1][3]);
+                frame.depth = depth;
+                Arc::new(frame)
+            });
             drop(view);
             rb.buffer.unmap();
             self.spare_readback = Some(rb.buffer);
+            self.stats.noise = frame
+                .as_ref()
+                .and_then(|f| crate::denoise::frame_noise(f, rb.samples));
+            self.generation += 1;
             self.kept = Some(KeptRadiance {
                 radiance,
+                frame,
+                denoised: None,
                 size: rb.size,
                 samples: rb.samples,
                 quality: rb.quality,
+                generation: self.generation,
                 encoded: None,
             });
             self.show_kept();
         }
     }
 
-    /// Path mode: the kept radiance through the display transform into its target's texture
-    /// (dropped if that target has since changed size), and shown.
+    /// With a denoiser: takes what the denoiser's thread finished, for the kept mean if it is
+    /// of it.
+    fn collect_denoised(&mut self) {
+        while let Some(done) = self.worker.poll() {
+            let Some(kept) = self
+                .kept
+                .as_mut()
+                .filter(|k| k.generation == done.key.generation)
+            else {
+                continue;
+            };
+            let linear = match done.linear {
+                Ok(linear) => {
+                    self.stats.denoise_error = None;
+                    self.stats.denoise_seconds = done.seconds;
+                    self.stats.denoise_backend = done.backend;
+                    linear
+                }
+                Err(e) => {
+                    // Shown as the mean itself, and the error said in the status line.
+                    self.stats.denoise_error = Some(e);
+                    kept.frame
+                        .as_ref()
+                        .map_or_else(Vec::new, |f| f.linear().to_vec())
+                }
+            };
+            kept.denoised = Some((done.key.params, linear));
+        }
+    }
+
+    /// The kept mean into its target's texture (dropped if that target has since changed
+    /// size), and shown: path mode's radiance through the display transform; with a denoiser
+    /// its denoised image (path mode: through the display transform; phong mode: packed as the
+    /// tracer packs its mean), or, until the denoiser has it, a request for it.
     fn show_kept(&mut self) {
         let Some(kept) = &mut self.kept else { return };
         let target = self.targets[kept.quality as usize]
@@ -617,14 +791,40 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             self.kept = None;
             return;
         };
+        let path = self.kernel.is_path();
+        let encoding = encoding_of(&self.asked, kept.frame.is_some());
         let start = Instant::now();
-        let colour = self.display.pack_all(&kept.radiance);
+        let colour = match (&encoding.denoise, &kept.frame) {
+            (Some(params), Some(frame)) => match &kept.denoised {
+                Some((made, linear)) if made == params => match path {
+                    true => self.display.pack_all(linear),
+                    false => crate::denoise::pack_phong(linear),
+                },
+                _ => {
+                    let mut scene = self.asked.clone();
+                    scene.image.samples = kept.samples;
+                    self.worker.request(Request {
+                        key: DenoiseKey {
+                            generation: kept.generation,
+                            params: params.clone(),
+                        },
+                        frame: frame.clone(),
+                        scene,
+                    });
+                    return;
+                }
+            },
+            _ if path => self.display.pack_all(&kept.radiance),
+            // Phong mode's mean without the denoiser is the tracer's own, in the texture.
+            _ => return,
+        };
         self.stats.encode_seconds = start.elapsed().as_secs_f64();
         target.write_colour(&self.kernel.context().queue, &colour);
-        kept.encoded = Some(self.display);
+        self.stats.denoised_samples = encoding.denoise.is_some().then_some(kept.samples);
+        kept.encoded = Some(encoding);
         self.encodes += 1;
         self.shown = Some(kept.quality);
-        self.stats.samples = kept.samples;
+        self.stats.samples = self.stats.samples.max(kept.samples);
     }
 
     fn start_readback(&mut self, quality: Quality) {
@@ -698,11 +898,12 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     }
 
     /// Makes sure the target for `quality` has this size, re-creating it if not.
-    fn ensure_target(&mut self, quality: Quality, size: [u32; 2]) {
+    /// (`aovs`: with the AOVs output whole).
+    fn ensure_target(&mut self, quality: Quality, size: [u32; 2], aovs: bool) {
         let slot = quality as usize;
         if self.targets[slot]
             .as_ref()
-            .is_some_and(|t| [t.width, t.height] == size)
+            .is_some_and(|t| [t.width, t.height] == size && t.aovs == aovs)
         {
             return;
         }
@@ -717,7 +918,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             self.kernel.kernel(),
             &self.renderer,
             ("view", &self.uniform),
-            size,
+            (size, aovs),
             old.map(|t| t.texture_id),
         ));
     }
@@ -779,26 +980,59 @@ impl TileTimer {
     }
 }
 
-/// Path mode: records the copy of a target's accumulator (its whole image) into a buffer the
-/// host can map: `spare` where it has the size, else a new one.
-fn copy_radiance(
+/// Records the copy of a target's mean (its whole image, the sections of `layout`: path mode's
+/// accumulator; with a denoiser the AOVs and the depth) into a buffer the host can map: `spare`
+/// where it has the size, else a new one.
+fn copy_mean(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     target: &KernelTarget,
     spare: Option<wgpu::Buffer>,
+    layout: MeanLayout,
 ) -> wgpu::Buffer {
-    let accumulated = &target.outputs[crate::gpu::ACCUMULATED_OUTPUT];
-    let bytes = target.row_stride as u64 * target.height as u64 * 16;
+    let items = target.row_stride as u64 * target.height as u64;
+    let bytes = items * (layout.accumulated + layout.aovs + layout.depth);
     let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
         device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("radiance readback"),
+            label: Some("mean readback"),
             size: bytes,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         })
     });
-    encoder.copy_buffer_to_buffer(accumulated, 0, &buffer, 0, bytes);
+    let sections = [
+        (crate::gpu::ACCUMULATED_OUTPUT, layout.accumulated),
+        (crate::gpu::AOVS_OUTPUT, layout.aovs),
+        (crate::gpu::DEPTH_OUTPUT, layout.depth),
+    ];
+    let mut offset = 0;
+    for (output, per_item) in sections.into_iter().filter(|(_, b)| *b > 0) {
+        encoder.copy_buffer_to_buffer(
+            &target.outputs[output],
+            0,
+            &buffer,
+            offset,
+            items * per_item,
+        );
+        offset += items * per_item;
+    }
     buffer
+}
+
+/// The `w` x `h` pixels of an image whose rows are `stride` items of `T` apart, each made into
+/// an `R` by `f`, row after row (in parallel).
+fn unpad<T: bytemuck::Pod + Sync, R: Send>(
+    bytes: &[u8],
+    (w, h, stride): (usize, usize, usize),
+    f: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    use rayon::prelude::*;
+    let items: &[T] = bytemuck::cast_slice(bytes);
+    items
+        .par_chunks(stride.max(1))
+        .take(h)
+        .flat_map_iter(|row| row[..w].iter().map(&f))
+        .collect()
 }
 
 /// A view in f32 and, by itself, f64.
@@ -835,7 +1069,11 @@ impl SliceTexture {
         kernels: Arc<GpuKernels>,
         renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     ) -> crate::Result<Self> {
-        let view = SliceView::new(ViewKernel::Phong(kernels.tracer()?), renderer);
+        let view = SliceView::new(
+            ViewKernel::Phong(kernels.tracer()?),
+            renderer,
+            kernels.clone(),
+        );
         Ok(Self {
             kernels,
             views: PrecisionSwitch::new(view),
@@ -856,14 +1094,18 @@ impl SliceTexture {
             let renderer = self.views.f32_view().renderer.clone();
             let slot = self.path_views.get_or_insert_with(|| {
                 let tracer = kernels.path().map_err(|e| e.to_string())?;
-                let view = SliceView::new(ViewKernel::Path(tracer), renderer);
+                let view = SliceView::new(ViewKernel::Path(tracer), renderer, kernels.clone());
                 Ok(PrecisionSwitch::new(view))
             });
             if let Ok(views) = slot {
                 self.path_shown = true;
                 let build = |view: &SliceView<f32>| {
                     let path64 = ViewKernel::Path(kernels.path64()?);
-                    Ok(SliceView::new(path64, view.renderer.clone()))
+                    Ok(SliceView::new(
+                        path64,
+                        view.renderer.clone(),
+                        kernels.clone(),
+                    ))
                 };
                 match views.pick(scene, Picture::SHADED, build) {
                     Either::F32(view) => view.update(scene, size, interacting),
@@ -874,7 +1116,11 @@ impl SliceTexture {
         }
         let build = |view: &SliceView<f32>| {
             let tracer64 = ViewKernel::Phong(kernels.tracer64()?);
-            Ok(SliceView::new(tracer64, view.renderer.clone()))
+            Ok(SliceView::new(
+                tracer64,
+                view.renderer.clone(),
+                kernels.clone(),
+            ))
         };
         match self.views.pick(scene, Picture::SHADED, build) {
             Either::F32(view) => view.update(scene, size, interacting),

@@ -100,6 +100,24 @@ impl StatusLine {
                 if s.refined {
                     ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
                 }
+                if let Some(noise) = s.noise.filter(|_| s.refined) {
+                    ui.label(format!("noise {:.1}%", 100.0 * noise))
+                        .on_hover_text(
+                            "the mean over the pixels that hit of the standard error of each \
+                         pixel's mean luminance, relative to that mean",
+                        );
+                }
+                if let Some(error) = &s.denoise_error {
+                    let colour = ui.visuals().error_fg_color;
+                    ui.colored_label(colour, "not denoised")
+                        .on_hover_text(error);
+                } else if let Some(samples) = s.denoised_samples {
+                    ui.label(format!(
+                        "denoised {samples} ({:.0} ms {})",
+                        s.denoise_seconds * 1e3,
+                        s.denoise_backend
+                    ));
+                }
                 match s.summary {
                     Some(sum) => ui.label(format!(
                         "steps mean {:.1} max {}",

@@ -334,7 +334,8 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
 
 /// Where the colour, depth and steps are among the image kernels' outputs.
 const COLOUR_OUTPUT: usize = 0;
-const DEPTH_OUTPUT: usize = 1;
+/// (The depth's index is public: the explorer's denoised view reads it back.)
+pub const DEPTH_OUTPUT: usize = 1;
 const STEPS_OUTPUT: usize = 2;
 
 /// Where the tracer's estimates are among its outputs (after the image's three); the
@@ -343,7 +344,9 @@ const STEPS_OUTPUT: usize = 2;
 const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
 /// Where the running mean of the samples (`accumulated`) is among the tracer's outputs.
 pub const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
-const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
+/// Where the AOVs (three `vec4<f32>` a pixel, trace.wgsl's `store_aovs`) are among the
+/// tracer's outputs.
+pub const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
 
 /// [`IMAGE_OUTPUTS`] of an f64 kernel: the depth is f64.
 pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [

@@ -175,7 +175,19 @@ impl<F: GpuReal> GpuPathTracer<F> {
     /// The pipeline [`Self::render_bands`] runs `params` on: its path variant's (generic where
     /// specialisation is off), with the device's constants.
     pub fn pipeline(&self, params: &TraceParams<F>) -> Result<wgpu::ComputePipeline> {
-        self.kernel.pipeline(&self.constants(params))
+        self.pipeline_reading(params, Readback::All)
+    }
+
+    /// As [`Self::pipeline`], computing what `readback` reads: with [`Readback::Hdr`] the
+    /// AOVs too (the explorer's denoised view).
+    pub fn pipeline_reading(
+        &self,
+        params: &TraceParams<F>,
+        readback: Readback,
+    ) -> Result<wgpu::ComputePipeline> {
+        let mut constants = self.constants(params);
+        constants.extend_from_slice(readback.constants());
+        self.kernel.pipeline(&constants)
     }
 
     /// The override constants of a scene's pipeline: its path variant's (none where

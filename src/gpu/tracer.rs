@@ -121,7 +121,19 @@ impl<F: GpuReal> GpuTracer<F> {
 
     /// The pipeline of a variant (None: generic), built on first use and cached.
     pub fn pipeline(&self, variant: Option<Variant>) -> Result<wgpu::ComputePipeline> {
-        self.kernel.pipeline(&self.with_device_constants(variant))
+        self.pipeline_reading(variant, Readback::All)
+    }
+
+    /// As [`Self::pipeline`], computing what `readback` reads: with [`Readback::Hdr`] the
+    /// AOVs too (the explorer's denoised view).
+    pub fn pipeline_reading(
+        &self,
+        variant: Option<Variant>,
+        readback: Readback,
+    ) -> Result<wgpu::ComputePipeline> {
+        let mut constants = self.with_device_constants(variant);
+        constants.extend_from_slice(readback.constants());
+        self.kernel.pipeline(&constants)
     }
 
     /// A variant's constants (None: generic), the interleaving and the device's.
