@@ -120,12 +120,16 @@ impl Frame {
             self.pixel_count(),
             "a denoised image of the frame's size"
         );
-        let slot = match self.radiance.is_empty() {
+        self.noisy = std::mem::replace(self.linear_mut(), linear);
+        self.colour = colour;
+    }
+
+    /// [`Self::linear`], to change.
+    fn linear_mut(&mut self) -> &mut Vec<[f32; 3]> {
+        match self.radiance.is_empty() {
             true => &mut self.unclamped,
             false => &mut self.radiance,
-        };
-        self.noisy = std::mem::replace(slot, linear);
-        self.colour = colour;
+        }
     }
 
     /// Whether each pixel's primary ray hit the set.

@@ -55,19 +55,29 @@ pub struct RenderStats {
     pub render_seconds: f64,
     /// GPU time from timestamp queries; None where unsupported (and on the CPU).
     pub gpu_seconds: Option<f64>,
-    /// The denoiser's wall seconds (`image.denoise`), where it ran: the preparation and the
-    /// passes, not in `render_seconds`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub denoise_seconds: Option<f64>,
-    /// The denoiser's passes' GPU time, where they ran on a GPU with timestamps.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub denoise_gpu_seconds: Option<f64>,
-    /// Where the denoiser ran, "gpu" or "cpu" (a GPU whose buffers cannot hold the image
-    /// leaves it to the CPU).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub denoise_backend: Option<String>,
+    /// The denoiser's figures, where it ran (`image.denoise`); nothing where it did not.
+    #[serde(flatten)]
+    pub denoise: Option<DenoiseStats>,
     #[serde(flatten)]
     pub summary: Summary,
+}
+
+/// What the denoiser cost (`--stats`' `denoise_*` keys).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DenoiseStats {
+    /// Wall seconds: the preparation and the passes, not in `render_seconds`.
+    #[serde(rename = "denoise_seconds")]
+    pub seconds: f64,
+    /// The passes' GPU time, where they ran on a GPU with timestamps.
+    #[serde(
+        rename = "denoise_gpu_seconds",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub gpu_seconds: Option<f64>,
+    /// Where the denoiser ran, "gpu" or "cpu" (a GPU whose buffers cannot hold the image
+    /// leaves it to the CPU).
+    #[serde(rename = "denoise_backend")]
+    pub backend: String,
 }
 
 /// A [`Summary`] accumulated over bands of whole rows, top to bottom, so that a streamed render

@@ -465,9 +465,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
         height,
         render_seconds,
         gpu_seconds,
-        denoise_seconds: None,
-        denoise_gpu_seconds: None,
-        denoise_backend: None,
+        denoise: None,
         summary: Summary::of(&whole),
     };
     Ok((scene, whole, stats))

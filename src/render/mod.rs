@@ -129,9 +129,11 @@ impl Renderer {
             false => crate::denoise::pack_phong(&denoised.linear),
         };
         frame.set_denoised(denoised.linear, colour);
-        stats.denoise_seconds = Some(denoised.seconds);
-        stats.denoise_gpu_seconds = denoised.gpu_seconds;
-        stats.denoise_backend = Some(denoised.backend.into());
+        stats.denoise = Some(crate::stats::DenoiseStats {
+            seconds: denoised.seconds,
+            gpu_seconds: denoised.gpu_seconds,
+            backend: denoised.backend.into(),
+        });
         Ok(())
     }
 
@@ -284,9 +286,7 @@ impl Renderer {
             height,
             render_seconds,
             gpu_seconds,
-            denoise_seconds: None,
-            denoise_gpu_seconds: None,
-            denoise_backend: None,
+            denoise: None,
             summary,
         }
     }

@@ -253,7 +253,7 @@ pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
             Ok(())
         },
     )?;
-    let denoise = stats.denoise_gpu_seconds.or(stats.denoise_seconds);
+    let denoise = stats.denoise.map(|d| d.gpu_seconds.unwrap_or(d.seconds));
     let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0);
     Ok((frame, seconds))
 }
