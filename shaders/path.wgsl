@@ -294,7 +294,8 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
 // m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
-// sample 0 gives the depth and the steps.
+// sample 0 gives the depth and the steps. Adaptively (trace.wgsl's `adaptive`) a pixel stops
+// after the sample that leaves it done, and a later dispatch leaves it at once.
 @compute @workgroup_size(8, 8, 1)
 fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -308,8 +309,15 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var mean = vec3<f32>(0.0);
     var made = 0u;
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`).
+    var state = 0.0;
     if params.sample_start > 0u {
-        mean = accumulated[index].xyz;
+        let held = accumulated[index];
+        if adaptive() && held.w < 0.0 {
+            return;
+        }
+        mean = held.xyz;
+        state = held.w;
         made = out_estimates[index];
         if AOVS {
             aovs = load_aovs(index);
@@ -335,6 +343,7 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             first = trace_primary(camera);
         }
         let r = trace_path(i, j, k, camera, first);
+        let before = mean;
         mean += (r.radiance - mean) / f32(k + 1u);
         if k == 0u {
             out_depth[index] = select(-1.0, r.depth, r.hit);
@@ -343,8 +352,16 @@ fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if AOVS {
             aovs = add_aovs(aovs, k, r.radiance, r.hit, r.albedo, r.normal);
         }
+        if adaptive() {
+            let after = sample_luminance(mean);
+            state = max(add_m2(state, sample_luminance(r.radiance), sample_luminance(before), after), 0.0);
+            if sampling_done(state, k + 1u, after) {
+                state = -f32(k + 1u);
+                break;
+            }
+        }
     }
-    accumulated[index] = vec4<f32>(mean, 0.0);
+    accumulated[index] = vec4<f32>(mean, state);
     if AOVS {
         store_aovs(index, aovs);
     }

@@ -58,6 +58,9 @@ struct Params {
     aperture: Real,
     focus_distance: Real,
     blade_rotation: Real,
+    // Adaptive sampling: a pixel stops once its noise (pixel_noise) is at most noise_target (0:
+    // off), and not before min(min_samples, samples) samples nor before 2.
+    noise_target: Real,
     max_iterations: u32,
     max_steps: u32,
     width: u32,
@@ -73,6 +76,7 @@ struct Params {
     cut: u32,
     // The aperture's blades: 0 round, 3..16 a regular polygon.
     blades: u32,
+    min_samples: u32,
     // This dispatch's: the band of rows, where it lands (row_stride, out_row: see the outputs
     // below), and the samples it adds, [sample_start, sample_end).
     row_offset: u32,
@@ -1109,15 +1113,22 @@ fn sample_luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
+// Welford's rule: the sum of squared deviations from the mean m2 of luminances, with one more
+// luminance l, given the mean's luminance before it (before) and after (after),
+// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)).
+fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
+    return m2 + (l - before) * (l - after);
+}
+
 // Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 by Welford's rule,
-// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)); where it hit, its albedo and normal to
-// the running means over the hits, by the same rule with the hits counted so far.
+// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 (add_m2); where it
+// hit, its albedo and normal to the running means over the hits, by the same rule with the hits
+// counted so far.
 fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>) -> Aovs {
     var out = a;
     out.colour = a.colour + (colour - a.colour) / f32(k + 1u);
     let l = sample_luminance(colour);
-    out.m2 = a.m2 + (l - sample_luminance(a.colour)) * (l - sample_luminance(out.colour));
+    out.m2 = add_m2(a.m2, l, sample_luminance(a.colour), sample_luminance(out.colour));
     if hit {
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
@@ -1147,6 +1158,44 @@ fn store_aovs(index: u32, a: Aovs) {
     out_aovs[3u * index] = vec4<f32>(a.colour, a.hits);
     out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, a.m2);
     out_aovs[3u * index + 2u] = vec4<f32>(a.normal, 0.0);
+}
+
+// Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"). Each
+// pixel decides alone, after each of its samples, whether it is done: no neighbour counts, so
+// any split of the image into bands, tiles or dispatches gives the same pixels. The
+// accumulator's fourth float is its state: while it samples, the M2 (add_m2) of the luminances
+// of the values it averages (phong mode's clamped colours, path mode's radiance), at least 0;
+// once it is done, minus the samples it took. A later dispatch leaves a done pixel at once.
+override ADAPTIVE: bool = true;
+
+// A pixel's noise is taken relative to its mean luminance or to this, whichever is larger (the
+// floor for dark pixels, in linear luminance: 1 is phong mode's white).
+const NOISE_LUMINANCE_FLOOR: f32 = 0.01;
+
+// Whether this pipeline samples adaptively.
+fn adaptive() -> bool {
+    if SPECIALISED {
+        return ADAPTIVE;
+    }
+    return params.noise_target > 0.0 && params.samples > 1u;
+}
+
+// A pixel's noise after n >= 2 samples whose luminances' M2 is m2: the standard error of its
+// mean luminance, sqrt(m2 / (n (n - 1))), relative to that mean (at least the floor).
+fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
+    let k = f32(n);
+    let variance = max(m2 / (k * (k - 1.0)), 0.0);
+    return sqrt(variance) / max(abs(mean_luminance), NOISE_LUMINANCE_FLOOR);
+}
+
+// Whether a pixel that has taken n samples is done: all of them, or at least
+// max(min(min_samples, samples), 2) with its noise at most the target.
+fn sampling_done(m2: f32, n: u32, mean_luminance: f32) -> bool {
+    if n >= params.samples {
+        return true;
+    }
+    let floor = max(min(params.min_samples, params.samples), 2u);
+    return n >= floor && pixel_noise(m2, n, mean_luminance) <= f32(params.noise_target);
 }
 
 // Whether this pipeline traces a cone per block first.
@@ -1202,8 +1251,15 @@ fn main(
     var mean = vec3<Real>(0.0);
     var made = 0u;
     var aovs = no_aovs;
+    // The accumulator's fourth float: adaptive sampling's state (0 without it).
+    var state = 0.0;
     if params.sample_start > 0u {
-        mean = vec3<Real>(accumulated[index].xyz);
+        let held = accumulated[index];
+        if adaptive() && held.w < 0.0 {
+            return;
+        }
+        mean = vec3<Real>(held.xyz);
+        state = held.w;
         made = out_estimates[index];
         if AOVS {
             aovs = load_aovs(index);
@@ -1229,6 +1285,7 @@ fn main(
         }
         let pixel = shade_pixel(ray, trace);
         let c = clamp(pixel.colour, vec3<Real>(0.0), vec3<Real>(1.0));
+        let before = mean;
         mean += (c - mean) / Real(k + 1u);
         if k == 0u {
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
@@ -1237,8 +1294,17 @@ fn main(
         if AOVS {
             aovs = add_pixel_aovs(aovs, k, pixel);
         }
+        if adaptive() {
+            let l = sample_luminance(vec3<f32>(c));
+            let after = sample_luminance(vec3<f32>(mean));
+            state = max(add_m2(state, l, sample_luminance(vec3<f32>(before)), after), 0.0);
+            if sampling_done(state, k + 1u, after) {
+                state = -f32(k + 1u);
+                break;
+            }
+        }
     }
-    accumulated[index] = vec4<f32>(vec3<f32>(mean), 0.0);
+    accumulated[index] = vec4<f32>(vec3<f32>(mean), state);
     if AOVS {
         store_aovs(index, aovs);
     }

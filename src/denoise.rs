@@ -98,20 +98,15 @@ pub fn mean_variance(m2: f32, samples: u32) -> f32 {
     (m2 / (n * (n - 1.0))).max(0.0)
 }
 
-/// The noise measure's floor for dark pixels, in linear luminance (1 is phong mode's white): a
-/// pixel's standard error is taken relative to its mean luminance or to this, whichever is
-/// larger, so that a black pixel's noise is not a division by zero.
-pub const NOISE_LUMINANCE_FLOOR: f32 = 0.01;
+pub use crate::cpu::trace::NOISE_LUMINANCE_FLOOR;
 
 /// A pixel's noise: the standard error of its mean luminance, `sqrt(M2 / (n (n - 1)))` at `n`
 /// samples ([`mean_variance`]), relative to that mean, the mean taken as at least
-/// [`NOISE_LUMINANCE_FLOOR`]. None below 2 samples (there is no M2). The explorer's status line
-/// shows its mean over a frame ([`frame_noise`]); adaptive sampling's noise target is to be in
-/// this measure.
+/// [`NOISE_LUMINANCE_FLOOR`]: the tracers' own measure ([`crate::cpu::trace::pixel_noise`],
+/// adaptive sampling's). None below 2 samples (there is no M2). The explorer's status line
+/// shows its mean over a frame ([`frame_noise`]).
 pub fn relative_noise(m2: f32, samples: u32, mean_luminance: f32) -> Option<f32> {
-    (samples >= 2).then(|| {
-        mean_variance(m2, samples).sqrt() / mean_luminance.abs().max(NOISE_LUMINANCE_FLOOR)
-    })
+    (samples >= 2).then(|| crate::cpu::trace::pixel_noise(m2, samples, mean_luminance))
 }
 
 /// A frame's estimated noise: the mean of [`relative_noise`] over the pixels whose sample 0
@@ -128,7 +123,8 @@ pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
         .filter(|&k| frame.depth.get(k).is_some_and(|d| !d.is_nan()))
         .map(|k| {
             let l = luminance(vec3(linear[k]));
-            let noise = relative_noise(frame.luminance_m2[k], samples, l).unwrap_or(0.0);
+            let n = frame.samples_of(k, samples);
+            let noise = relative_noise(frame.luminance_m2[k], n, l).unwrap_or(0.0);
             (noise as f64, 1u64)
         })
         .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
@@ -164,7 +160,8 @@ fn spatial_variance(luma: &[f32], hit: &[bool], (w, h): (usize, usize), i: usize
 }
 
 /// A whole frame (rendered with its AOVs, [`crate::Readback::Hdr`]) of `samples` samples a
-/// pixel, ready for the passes.
+/// pixel (`image.samples`; [`Frame::samples`] where adaptive sampling took fewer), ready for the
+/// passes.
 pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
     let pixels = frame.pixel_count();
     let linear = frame.linear();
@@ -179,10 +176,13 @@ pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
     let albedo: Vec<[f32; 3]> = frame.albedo.par_iter().map(|&a| demodulation(a)).collect();
     let hit: Vec<bool> = frame.depth.par_iter().map(|d| !d.is_nan()).collect();
     let variance: Vec<f32> = if samples >= 2 {
+        // Each pixel's own count: adaptive sampling stops pixels at different ones (at 2 or
+        // more).
         frame
             .luminance_m2
             .par_iter()
-            .map(|&m2| mean_variance(m2, samples))
+            .enumerate()
+            .map(|(k, &m2)| mean_variance(m2, frame.samples_of(k, samples)))
             .collect()
     } else {
         let luma: Vec<f32> = linear.par_iter().map(|&c| luminance(vec3(c))).collect();

@@ -38,6 +38,11 @@ pub struct Frame {
     /// Where the frame was denoised (`image.denoise`): the linear mean before the denoiser
     /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
     pub noisy: Vec<[f32; 3]>,
+    /// The samples each pixel took: `image.samples`, or fewer where adaptive sampling
+    /// (`path.noise_target`) stopped it. The renderer fills it for every slice it renders
+    /// ([`crate::Renderer::render_rows`]); empty elsewhere (the 2D view), and in a frame a
+    /// kernel returns before the renderer has it, where no pixel stopped early.
+    pub samples: Vec<u32>,
     /// Values that came out NaN or infinite on the way (colour, depth; the depth map's miss
     /// marker aside). Must be 0: the stability suite checks it.
     pub non_finite: u64,
@@ -62,6 +67,7 @@ impl Frame {
             normal: Vec::new(),
             luminance_m2: Vec::new(),
             noisy: Vec::new(),
+            samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }
@@ -85,6 +91,7 @@ impl Frame {
         self.normal.extend_from_slice(&band.normal);
         self.luminance_m2.extend_from_slice(&band.luminance_m2);
         self.noisy.extend_from_slice(&band.noisy);
+        self.samples.extend_from_slice(&band.samples);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
     }
@@ -129,6 +136,19 @@ impl Frame {
         match self.radiance.is_empty() {
             true => &mut self.unclamped,
             false => &mut self.radiance,
+        }
+    }
+
+    /// The samples pixel `k` took: [`Self::samples`]' where the frame has them, else
+    /// `uniform` (every pixel's).
+    pub fn samples_of(&self, k: usize, uniform: u32) -> u32 {
+        self.samples.get(k).copied().unwrap_or(uniform)
+    }
+
+    /// Fills [`Self::samples`] with `uniform` where it is empty (no pixel stopped early).
+    pub fn fill_samples(&mut self, uniform: u32) {
+        if self.samples.is_empty() {
+            self.samples = vec![uniform; self.pixel_count()];
         }
     }
 

@@ -104,6 +104,19 @@ pub fn divergence_view(steps: &[u32], width: u32, height: u32) -> HeatMap {
     )
 }
 
+/// The `samples` view: the samples each pixel took ([`Frame::samples`]), from the fewest to the
+/// most in this image: where adaptive sampling (`path.noise_target`) spent its samples. Every
+/// pixel is shown.
+pub fn samples_view(samples: &[u32], width: u32, height: u32) -> HeatMap {
+    heat_map(
+        samples,
+        width,
+        height,
+        "samples per pixel (log scale)",
+        |_| true,
+    )
+}
+
 /// Values mapped from their smallest to their largest (over the pixels `shown`) onto the colour
 /// map by [`scale`]; black where not shown.
 fn heat_map(
@@ -142,18 +155,29 @@ fn heat_map(
     }
 }
 
-/// The heat map of a step view (None for the shaded view).
-pub fn heat_map_of(view: View, steps: &[u32], width: u32, height: u32) -> Option<HeatMap> {
+/// The heat map of a work view (None for the shaded view, and for the samples view without
+/// the samples, `samples` empty), of a frame's steps or samples ([`Frame::steps`],
+/// [`Frame::samples`]).
+pub fn heat_map_of(
+    view: View,
+    steps: &[u32],
+    samples: &[u32],
+    width: u32,
+    height: u32,
+) -> Option<HeatMap> {
     match view {
         View::Shaded => None,
         View::Steps => Some(steps_view(steps, width, height)),
         View::Divergence => Some(divergence_view(steps, width, height)),
+        View::Samples if samples.is_empty() => None,
+        View::Samples => Some(samples_view(samples, width, height)),
     }
 }
 
 /// The picture a view shows of a frame, without legend: the shaded colour, or a heat map.
 pub fn view_rgb(frame: &Frame, view: View) -> (Vec<u8>, Option<Legend>) {
-    match heat_map_of(view, &frame.steps, frame.width, frame.height) {
+    let (steps, samples) = (&frame.steps, &frame.samples);
+    match heat_map_of(view, steps, samples, frame.width, frame.height) {
         None => (frame.rgb8(), None),
         Some(map) => (map.rgb, Some(map.legend)),
     }
@@ -414,6 +438,7 @@ mod tests {
             normal: Vec::new(),
             luminance_m2: Vec::new(),
             noisy: Vec::new(),
+            samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
         };

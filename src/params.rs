@@ -71,6 +71,9 @@ uniform! {
         focus_distance: Real = F::lit(scene.focus_distance()),
         /// `camera.blade_rotation` in radians.
         blade_rotation: Real = F::lit(scene.camera.blade_rotation.to_radians()),
+        /// Adaptive sampling's target (`path.noise_target`): a pixel stops once its noise
+        /// (`pixel_noise`) is at most this; 0 is off.
+        noise_target: Real = F::lit(scene.path.noise_target),
         max_iterations: u32 = f.max_iterations,
         max_steps: u32 = f.max_steps,
         width: u32 = scene.image.width,
@@ -87,6 +90,9 @@ uniform! {
         cut: bool = scene.cut.enabled,
         /// The aperture's blades (`camera.blades`): 0 round, 3..16 a regular polygon.
         blades: u32 = scene.camera.blades,
+        /// Adaptive sampling's floor (`path.min_samples`): no pixel stops before
+        /// min(min_samples, samples) samples, nor before 2.
+        min_samples: u32 = scene.path.min_samples,
     }
     per_dispatch(p, row_offset, row_count) {
         /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).

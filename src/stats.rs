@@ -26,6 +26,10 @@ pub struct Summary {
     /// Every distance estimate made: all samples, all rays (primary, shadow, occlusion). In the
     /// 2D view, every iteration.
     pub estimates_total: u64,
+    /// Samples taken, over every pixel: width x height x `image.samples`, or fewer where
+    /// adaptive sampling (`path.noise_target`) stopped pixels early ([`Frame::samples`]; one a
+    /// pixel where a frame has no counts, as the 2D view).
+    pub samples_total: u64,
 }
 
 impl Summary {
@@ -89,6 +93,7 @@ pub struct SummaryBuilder {
     steps: u64,
     steps_max: u32,
     estimates: u64,
+    samples: u64,
     blocks: BlockWork,
 }
 
@@ -100,6 +105,7 @@ impl SummaryBuilder {
             steps: 0,
             steps_max: 0,
             estimates: 0,
+            samples: 0,
             blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
         }
     }
@@ -108,6 +114,10 @@ impl SummaryBuilder {
     pub fn add(&mut self, band: &Frame) {
         self.add_arrays(&band.depth, &band.steps);
         self.estimates += band.estimates;
+        self.samples += match band.samples.is_empty() {
+            true => band.pixel_count() as u64,
+            false => band.samples.par_iter().map(|&n| n as u64).sum::<u64>(),
+        };
     }
 
     /// Adds whole rows given as their depth (NaN: no hit) and steps. The sums run in parallel
@@ -131,6 +141,7 @@ impl SummaryBuilder {
             tile_efficiency,
             wasted_steps_mean,
             estimates_total: self.estimates,
+            samples_total: self.samples,
         }
     }
 }
@@ -273,6 +284,7 @@ mod tests {
             normal: Vec::new(),
             luminance_m2: Vec::new(),
             noisy: Vec::new(),
+            samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
         }

@@ -18,11 +18,11 @@
 //! | `colour8` | uint32 | the 8-bit colour the tracer made, 0xFFBBGGRR (phong mode's PNG pixels: the mean of the clamped samples, rounded on the device; path mode's is the display transform of `R`, `G`, `B`, which `merge` makes again) |
 //! | `steps` | uint32 | primary-ray steps (for `--stats` and the heat-map views) |
 //! | `luminance.M2` | float32 | the sum of the squared deviations of the samples' luminances from their mean (Welford's M2, the AOVs' fourth float of the albedo): the denoiser's variance |
-//! | `samples` | uint32 | samples each pixel took (`image.samples` everywhere today; adaptive sampling will vary it) |
+//! | `samples` | uint32 | samples each pixel took: `image.samples`, or fewer where adaptive sampling (`path.noise_target`) stopped it; each pixel decides alone, so a tile's counts are the whole render's |
 //!
 //! The accumulators keep a running mean in float32 (m_k = m_(k-1) + (x_k - m_(k-1)) / (k + 1)),
 //! not a sum, so the mean itself goes in float32 channels with nothing lost; a sum, where one is
-//! wanted (adaptive sampling combining two runs), is mean x `samples`. No float64 is needed.
+//! wanted (runs combined), is mean x `samples`. No float64 is needed.
 //! `merge` runs the denoiser (`image.denoise`) over the whole frame, as `render` does, from
 //! these channels alone. A reader must ignore channels it does not know.
 //!
@@ -183,7 +183,10 @@ fn write_exr(
     }
     floats.push(band.depth.clone());
     floats.push(band.luminance_m2.clone());
-    let samples = vec![scene.image.samples.max(1); pixels];
+    let samples = match band.samples.len() == pixels {
+        true => band.samples.clone(),
+        false => vec![scene.image.samples.max(1); pixels],
+    };
     let uints = [band.colour.clone(), band.steps.clone(), samples];
     let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = FLOAT_CHANNELS
         .iter()
@@ -366,7 +369,14 @@ fn read_part(path: &Path) -> Result<Part> {
     frame.luminance_m2 = float("luminance.M2")?.to_vec();
     frame.colour = uint("colour8")?.to_vec();
     frame.steps = uint("steps")?.to_vec();
-    uint("samples")?;
+    frame.samples = uint("samples")?.to_vec();
+    let most = scene.image.samples.max(1);
+    if let Some(n) = frame.samples.iter().find(|&&n| n == 0 || n > most) {
+        return Err(bad(
+            path,
+            format!("its samples channel holds {n}, outside 1..={most} (image.samples)"),
+        ));
+    }
     match path_traced {
         true => frame.radiance = linear,
         false => frame.unclamped = linear,

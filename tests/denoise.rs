@@ -18,23 +18,7 @@ use qjulia::scene::PathSampler;
 use qjulia::scene::presets::find;
 use qjulia::{Backend, Frame, Picture, Planner, PrecisionChoice, Readback, Scene};
 
-/// The tests' GPU kernels, or None where GPU tests are skipped.
-fn kernels(test: &str) -> Option<Arc<GpuKernels>> {
-    let tracer = common::gpu(test)?;
-    static KERNELS: OnceLock<Arc<GpuKernels>> = OnceLock::new();
-    Some(
-        KERNELS
-            .get_or_init(|| Arc::new(GpuKernels::new(tracer.context().clone())))
-            .clone(),
-    )
-}
-
-fn gpu_renderer(kernels: &Arc<GpuKernels>, scene: &Scene) -> qjulia::Renderer {
-    Planner::on_device(kernels.clone(), Backend::Gpu, PrecisionChoice::F32)
-        .plan(scene, Picture::SHADED.into(), &mut |_| {})
-        .expect("a GPU plan")
-        .renderer
-}
+use common::{gpu_renderer, kernels, path_traced, render_hdr};
 
 /// A uniform number in [-1, 1) of pixel k (a fixed integer hash, so the noise is the same on
 /// every run).
@@ -225,28 +209,6 @@ fn edges_in_the_albedo_and_the_normal_survive() {
             }
         }
     }
-}
-
-/// The whole of a render with its AOVs.
-fn render_hdr(renderer: &qjulia::Renderer, scene: &Scene) -> Frame {
-    let mut frame = Frame::empty(scene.image.width);
-    renderer
-        .render_with(scene, Picture::SHADED, Readback::Hdr, &mut |band| {
-            frame.append(band);
-            Ok(())
-        })
-        .expect("a render");
-    frame
-}
-
-/// The path-traced preset at `size` x `size` and `samples`, changed by `change`.
-fn path_traced(size: u32, samples: u32, change: impl Fn(&mut Scene)) -> Scene {
-    let mut scene = find("path-traced").expect("the path-traced preset").scene();
-    scene.image.width = size;
-    scene.image.height = size;
-    scene.image.samples = samples;
-    change(&mut scene);
-    scene
 }
 
 fn random_sampler(scene: &mut Scene) {

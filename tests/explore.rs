@@ -96,6 +96,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         normal: Vec::new(),
         luminance_m2: Vec::new(),
         noisy: Vec::new(),
+        samples: Vec::new(),
         non_finite: 0,
         estimates: 0,
     }
@@ -308,8 +309,8 @@ fn step_views_show_the_heat_map_of_the_steps() {
             .render_outputs(&TraceParams::<f32>::new(&scene), false)
             .unwrap()
             .frame;
-        let map =
-            qjulia::heatmap::heat_map_of(view, &frame.steps, frame.width, frame.height).unwrap();
+        let map = qjulia::heatmap::heat_map_of(view, &frame.steps, &[], frame.width, frame.height)
+            .unwrap();
         assert_eq!(harness.state().heat_legend(), Some(&map.legend));
         // Above the legend strip at the bottom, the screen holds the heat map.
         let rows = frame.height - qjulia::heatmap::LEGEND_HEIGHT - 4;
@@ -331,6 +332,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 normal: Vec::new(),
                 luminance_m2: Vec::new(),
                 noisy: Vec::new(),
+                samples: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
             }

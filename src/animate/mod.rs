@@ -256,6 +256,7 @@ pub fn run(
     let (picture, readback) = match (job.base.image.view, job.hdr) {
         (_, true) => (Picture::SHADED, Readback::Hdr),
         (View::Shaded, false) => (Picture::SHADED, Readback::Colour),
+        (View::Samples, false) => (Picture::SHADED, Readback::All),
         _ => (Picture::Slice { shade: false }, Readback::All),
     };
     let renderers: Vec<Renderer> = to_render

@@ -37,7 +37,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // A heat map needs depth and steps only; without a PNG, so do the .npy outputs. The EXR
     // needs the shaded picture and its AOVs (depth and steps are the same either way).
     let picture = Picture::Slice {
-        shade: (paths.png.is_some() && !heat_map) || paths.hdr.is_some(),
+        shade: (paths.png.is_some() && scene.image.view.needs_shading()) || paths.hdr.is_some(),
     };
     let readback = match paths.hdr {
         Some(_) => Readback::Hdr,
@@ -217,7 +217,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         return Err(qjulia::Error::from(qjulia::error::FlagError::new("--hdr", message)).into());
     }
     let picture = Picture::Slice {
-        shade: base.image.view == View::Shaded || args.hdr,
+        shade: base.image.view.needs_shading() || args.hdr,
     };
     let bar = indicatif::ProgressBar::new(range.len() as u64);
     bar.set_style(

@@ -314,6 +314,7 @@ pub enum ViewArg {
     Shaded,
     Steps,
     Divergence,
+    Samples,
 }
 
 impl ViewArg {
@@ -322,6 +323,7 @@ impl ViewArg {
             ViewArg::Shaded => View::Shaded,
             ViewArg::Steps => View::Steps,
             ViewArg::Divergence => View::Divergence,
+            ViewArg::Samples => View::Samples,
         }
     }
 }

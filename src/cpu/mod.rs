@@ -98,6 +98,7 @@ pub fn render_rows<F: Real>(
         f64: is_f64::<F>(),
         radiance: false,
         aovs,
+        samples: params.adaptive(),
     };
     fill_rows(params.width, rows, keep, |j| {
         // Each row computes its blocks' cones again: the CPU has no shared workgroup memory to
@@ -118,6 +119,9 @@ pub fn render_rows<F: Real>(
             let mut non_finite = 0;
             let mut made = trace::Aovs::default();
             let mut mean = Vec3::zero();
+            // Adaptive sampling's state, as the kernel keeps it: the M2 of the clamped colours'
+            // luminances, and the samples taken.
+            let (mut state, mut taken) = (0.0f32, samples);
             // As the kernel's `main` with INTERLEAVE 2: samples k and k + 1 traced as a pair at
             // k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left traced alone.
             let mut second = None;
@@ -139,11 +143,22 @@ pub fn render_rows<F: Real>(
                     made = params.add_pixel_aovs(made, k, &pixel);
                 }
                 // The running mean, as the kernel keeps it: exact where all samples agree.
+                let (before, c) = (mean, clamp(pixel.colour));
                 mean = match k {
-                    0 => clamp(pixel.colour),
-                    _ => mean + (clamp(pixel.colour) - mean) / F::lit((k + 1) as f64),
+                    0 => c,
+                    _ => mean + (c - mean) / F::lit((k + 1) as f64),
                 };
                 first.get_or_insert(pixel);
+                if params.adaptive() {
+                    let l = trace::sample_luminance(c.to_f32());
+                    let after = trace::sample_luminance(mean.to_f32());
+                    let before = trace::sample_luminance(before.to_f32());
+                    state = trace::add_m2(state, l, before, after).max(0.0);
+                    if params.sampling_done(state, k + 1, after) {
+                        taken = k + 1;
+                        break;
+                    }
+                }
             }
             let first = first.expect("at least one sample");
             let colour = if params.samples <= 1 {
@@ -163,6 +178,7 @@ pub fn render_rows<F: Real>(
                 estimates: ESTIMATES.get() - before,
                 radiance: [0.0; 3],
                 aovs: made,
+                samples: taken,
             }
         }
     })
@@ -191,6 +207,8 @@ pub struct PixelOut {
     pub radiance: [f32; 3],
     /// The AOVs (kept where [`fill_rows`] is asked to).
     pub aovs: trace::Aovs,
+    /// The samples the pixel took (kept where [`fill_rows`] is asked to).
+    pub samples: u32,
 }
 
 /// What [`fill_rows`] keeps beyond colour, depth and steps.
@@ -203,6 +221,8 @@ pub struct Keep {
     /// Each pixel's AOVs: [`Frame::unclamped`] (phong mode: where the radiance is not kept),
     /// [`Frame::albedo`] and [`Frame::normal`].
     pub aovs: bool,
+    /// Each pixel's samples ([`Frame::samples`]: adaptive sampling).
+    pub samples: bool,
 }
 
 /// Whether `F` is f64: its frames keep their depth in f64 too ([`Frame::depth_f64`]).
@@ -225,6 +245,7 @@ where
     let mut steps = vec![0u32; w * h];
     let mut radiance = vec![[0f32; 3]; if keep.radiance { w * h } else { 0 }];
     let mut aovs = vec![trace::Aovs::default(); if keep.aovs { w * h } else { 0 }];
+    let mut samples = vec![0u32; if keep.samples { w * h } else { 0 }];
     let non_finite = AtomicU64::new(0);
     let estimates = AtomicU64::new(0);
     // A row of radiance (of AOVs) where it is kept; none (an empty slice) where not.
@@ -236,14 +257,16 @@ where
     }
     let mut radiance_rows = rows_of(&mut radiance, keep.radiance, (w, h));
     let mut aov_rows = rows_of(&mut aovs, keep.aovs, (w, h));
+    let mut sample_rows = rows_of(&mut samples, keep.samples, (w, h));
     colour
         .par_chunks_mut(w)
         .zip(depth.par_chunks_mut(w))
         .zip(steps.par_chunks_mut(w))
         .zip(radiance_rows.par_iter_mut().zip(aov_rows.par_iter_mut()))
+        .zip(sample_rows.par_iter_mut())
         .enumerate()
         .for_each(
-            |(r, (((colour_row, depth_row), steps_row), (radiance_row, aov_row)))| {
+            |(r, ((((colour_row, depth_row), steps_row), (radiance_row, aov_row)), sample_row))| {
                 let pixel = row(rows.start + r as u32);
                 let (mut bad, mut made) = (0, 0);
                 for i in 0..w {
@@ -256,6 +279,9 @@ where
                     }
                     if let Some(slot) = aov_row.get_mut(i) {
                         *slot = out.aovs;
+                    }
+                    if let Some(slot) = sample_row.get_mut(i) {
+                        *slot = out.samples;
                     }
                     bad += out.non_finite;
                     made += out.estimates;
@@ -290,6 +316,7 @@ where
         normal: aov(|a| a.normal),
         luminance_m2: aovs.par_iter().map(|a| a.m2).collect(),
         noisy: Vec::new(),
+        samples,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
     }

@@ -13,7 +13,7 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, Primary, Trace, add_aovs};
+use super::trace::{Aovs, Primary, Trace, add_aovs, add_m2, sample_luminance};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -455,6 +455,7 @@ pub fn render_path_rows<F: Real>(
         f64: super::is_f64::<F>(),
         radiance: true,
         aovs,
+        samples: params.adaptive(),
     };
     super::fill_rows(params.width, rows, keep, |j| {
         move |i| {
@@ -466,6 +467,9 @@ pub fn render_path_rows<F: Real>(
             // a pair at k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left
             // traced alone.
             let samples = params.samples.max(1);
+            // Adaptive sampling's state, as `path_main` keeps it: the M2 of the radiance's
+            // luminances, and the samples taken.
+            let (mut state, mut taken) = (0.0f32, samples);
             let mut second = None;
             for k in 0..samples {
                 let camera = params.path_camera_ray(path, i, j, k);
@@ -480,12 +484,23 @@ pub fn render_path_rows<F: Real>(
                     None => params.trace_primary(&camera),
                 };
                 let r = params.trace_path_from(path, (i, j, k), &camera, traced);
+                let before = mean;
                 mean += (r.radiance - mean) / F::lit((k + 1) as f64);
                 if aovs {
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
                     made = add_aovs(made, k, radiance, r.hit, albedo, r.normal.to_f32());
                 }
+                let l = sample_luminance(r.radiance.to_f32());
                 first.get_or_insert(r);
+                if params.adaptive() {
+                    let after = sample_luminance(mean.to_f32());
+                    let before = sample_luminance(before.to_f32());
+                    state = add_m2(state, l, before, after).max(0.0);
+                    if params.sampling_done(state, k + 1, after) {
+                        taken = k + 1;
+                        break;
+                    }
+                }
             }
             let first = first.expect("at least one sample");
             let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);
@@ -501,6 +516,7 @@ pub fn render_path_rows<F: Real>(
                 estimates: super::ESTIMATES.get() - before,
                 radiance,
                 aovs: made,
+                samples: taken,
             }
         }
     })

@@ -1102,10 +1102,17 @@ pub fn sample_luminance(c: Vec3<f32>) -> f32 {
     super::bsdf::luminance(c)
 }
 
+/// Welford's rule: the sum of squared deviations from the mean `m2` of luminances, with one
+/// more luminance `l`, given the mean's luminance before it (`before`) and after (`after`),
+/// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)).
+pub fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
+    m2 + (l - before) * (l - after)
+}
+
 /// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 by Welford's rule,
-/// M2_k = M2_(k-1) + (l_k - L(m_(k-1))) (l_k - L(m_k)); where it hit, its albedo and normal to
-/// the running means over the hits, by the same rule with the hits counted so far.
+/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 ([`add_m2`]); where
+/// it hit, its albedo and normal to the running means over the hits, by the same rule with the
+/// hits counted so far.
 pub fn add_aovs(
     a: Aovs,
     k: u32,
@@ -1117,7 +1124,12 @@ pub fn add_aovs(
     let mut out = a;
     out.colour = a.colour + (colour - a.colour) / (k + 1) as f32;
     let l = sample_luminance(colour);
-    out.m2 = a.m2 + (l - sample_luminance(a.colour)) * (l - sample_luminance(out.colour));
+    out.m2 = add_m2(
+        a.m2,
+        l,
+        sample_luminance(a.colour),
+        sample_luminance(out.colour),
+    );
     if hit {
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
@@ -1137,6 +1149,39 @@ impl<F: Real> TraceParams<F> {
         }
         let (colour, normal) = (pixel.colour.to_f32(), pixel.normal.to_f32());
         add_aovs(a, k, colour, pixel.hit, albedo, normal)
+    }
+
+    /// Whether this render samples adaptively (the shader's `adaptive`: `noise_target` > 0 with
+    /// samples > 1; the book's chapter "Adaptive sampling"). Each pixel decides alone, after
+    /// each of its samples, whether it is done, so any split of the image gives the same pixels.
+    pub fn adaptive(&self) -> bool {
+        self.noise_target > F::zero() && self.samples > 1
+    }
+}
+
+/// A pixel's noise is taken relative to its mean luminance or to this, whichever is larger (the
+/// floor for dark pixels, in linear luminance: 1 is phong mode's white), so that a black
+/// pixel's noise is not a division by zero.
+pub const NOISE_LUMINANCE_FLOOR: f32 = 0.01;
+
+/// A pixel's noise after n >= 2 samples whose luminances' M2 is `m2`: the standard error of
+/// its mean luminance, sqrt(m2 / (n (n - 1))), relative to that mean (at least
+/// [`NOISE_LUMINANCE_FLOOR`]).
+pub fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
+    let k = n as f32;
+    let variance = (m2 / (k * (k - 1.0))).max(0.0);
+    variance.sqrt() / mean_luminance.abs().max(NOISE_LUMINANCE_FLOOR)
+}
+
+impl<F: Real> TraceParams<F> {
+    /// Whether a pixel that has taken `n` samples is done: all of them, or at least
+    /// max(min(min_samples, samples), 2) with its noise ([`pixel_noise`]) at most the target.
+    pub fn sampling_done(&self, m2: f32, n: u32, mean_luminance: f32) -> bool {
+        if n >= self.samples {
+            return true;
+        }
+        let floor = self.min_samples.min(self.samples).max(2);
+        n >= floor && pixel_noise(m2, n, mean_luminance) <= self.noise_target.to_f64() as f32
     }
 }
 

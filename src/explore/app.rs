@@ -27,8 +27,8 @@ use super::viewport::{ViewOptions, Viewport};
 use super::{input, menu, panels};
 use crate::heatmap::Legend;
 use crate::render::{Picture, Planner};
+use crate::scene::Scene;
 use crate::scene::presets::PRESETS;
-use crate::scene::{Scene, View};
 
 pub use super::state::{DEFAULT_PREVIEW_SAMPLES, Mode};
 
@@ -261,7 +261,7 @@ impl ExplorerApp {
         let scene = self.state.scene.clone();
         let picture = match self.state.mode {
             Mode::Slice3d => Picture::Slice {
-                shade: scene.image.view == View::Shaded,
+                shade: scene.image.view.needs_shading(),
             },
             Mode::Julia2d => Picture::Julia2d,
         };

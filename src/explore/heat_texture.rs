@@ -42,7 +42,7 @@ impl HeatTexture {
         if slot.as_ref().is_some_and(|h| h.is_for(view, generation)) {
             return;
         }
-        let Some(map) = crate::heatmap::heat_map_of(view, steps, size[0], size[1]) else {
+        let Some(map) = crate::heatmap::heat_map_of(view, steps, &[], size[0], size[1]) else {
             return;
         };
         let HeatMap { rgb, legend, .. } = map;

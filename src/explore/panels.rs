@@ -5,7 +5,7 @@
 //! the 3D view's controls; in path mode the "Path tracing" group shows the path tracer's keys
 //! and the Phong-only keys are greyed out. The denoiser switch (none or à-trous) sits under it,
 //! in either model, and the "Denoising" group holds the `[denoise]` keys, which the view applies
-//! to the mean it keeps without tracing again.
+//! to the mean it keeps without tracing again; adaptive sampling's noise target follows it.
 
 use super::c_loop::CLoop;
 use super::command::Command;
@@ -45,6 +45,7 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
                     ui.selectable_value(model, ShadingModel::Path, "Path traced");
                 });
                 denoiser_switch(ui, &mut s.scene.image.denoise);
+                adaptive_sampling(ui, &mut s.scene.path);
             }
             Mode::Julia2d => {
                 egui::CollapsingHeader::new("2D view")
@@ -366,6 +367,19 @@ fn denoiser_switch(ui: &mut egui::Ui, denoise: &mut Denoiser) {
     })
     .response
     .on_hover_text("the idle view shows the denoised running mean (docs/book/denoise.md)");
+}
+
+/// Adaptive sampling, in either model: `path.noise_target` (0: off) and, while it is on,
+/// `path.min_samples`.
+fn adaptive_sampling(ui: &mut egui::Ui, path: &mut Path) {
+    ui.add(key_slider(&mut path.noise_target, "path.noise_target").text("noise target (0 = off)"))
+        .on_hover_text(
+            "adaptive sampling: a pixel stops once the standard error of its mean luminance, \
+             relative to it, is at most this (docs/book/adaptive.md)",
+        );
+    if path.noise_target > 0.0 {
+        ui.add(key_slider_u32(&mut path.min_samples, "path.min_samples").text("min samples"));
+    }
 }
 
 /// The `[denoise]` keys: the view denoises the mean it keeps again, with no new trace.

@@ -112,6 +112,7 @@ impl<F: GpuReal> GpuJulia2d<F> {
             constants,
             (size, 1),
             &read,
+            Default::default(),
             &uniform,
             0..size.1,
             sink,

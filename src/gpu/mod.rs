@@ -394,22 +394,40 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     },
 ];
 
+/// What a frame keeps of the tracer's accumulator (`accumulated`, a `vec4<f32>` a pixel),
+/// which then comes back: its rgb as the mean linear radiance (the path kernel's; phong mode's
+/// is the clamped colours' mean, whose packed colour comes back instead), its fourth float as
+/// the samples each pixel took (adaptive sampling's state once a pixel is done: minus its
+/// samples). Nothing by default (the 2D view has no accumulator).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Accumulated {
+    pub radiance: bool,
+    pub samples: bool,
+}
+
 /// Runs an image kernel over a `width` x `height` image with these override constants and
 /// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`] of the
-/// outputs `read` asks for (by index; [`image_readback`] gives a [`Readback`]'s).
+/// outputs `read` asks for (by index; [`image_readback`] gives a [`Readback`]'s) and of the
+/// accumulator what `kept` says.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn render_image_bands(
     kernel: &Kernel,
     constants: &[(&'static str, f64)],
     ((width, height), dispatches): ((u32, u32), u32),
     read: &[bool],
+    kept: Accumulated,
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     rows: std::ops::Range<u32>,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
+    let mut read = read.to_vec();
+    if kept.radiance || kept.samples {
+        read[ACCUMULATED_OUTPUT] = true;
+    }
     let run = kernel::Run {
         constants,
         size: (width, height),
-        read,
+        read: &read,
         dispatches_per_band: dispatches,
         params: uniform,
     };
@@ -419,7 +437,7 @@ pub(crate) fn render_image_bands(
     let start = rows.start / multiple * multiple;
     let keep = rows.clone();
     let decode =
-        |out: BandOutput<'_>| decode_frame(width, &crop_band(&out, &keep, &mut Vec::new()));
+        |out: BandOutput<'_>| decode_frame(width, &crop_band(&out, &keep, &mut Vec::new()), kept);
     kernel.run_rows(&run, start..rows.end, decode, sink)
 }
 
@@ -481,7 +499,7 @@ pub(crate) fn stream_frames(
     let mut frame: Option<(Frame, std::time::Instant, Option<f64>)> = None;
     kernel.run_stream(
         steps,
-        |step, out| decode_frame(step.width, &out),
+        |step, out| decode_frame(step.width, &out, Accumulated::default()),
         |step, done| {
             let (whole, submitted, gpu) =
                 frame.get_or_insert_with(|| (Frame::empty(step.width), done.submitted, Some(0.0)));
@@ -503,8 +521,9 @@ pub(crate) fn stream_frames(
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
 /// and depths that came out NaN or infinite are counted. The estimates are the kernel's fourth
 /// output where it has one (the tracer), else the steps (the 2D view's iterations). Outputs not
-/// read back stay empty. The arrays are converted in parallel: at 3840x2160 each is 33 MB.
-pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
+/// read back stay empty, and of the accumulator what `kept` says. The arrays are converted in
+/// parallel: at 3840x2160 each is 33 MB.
+pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated) -> Frame {
     use rayon::prelude::*;
     // An output not read back is an empty array of its type.
     fn output<'a, T: bytemuck::Pod>(band: &BandOutput<'a>, k: usize) -> &'a [T] {
@@ -540,8 +559,10 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
         [] => steps,
         counts => counts,
     };
-    // The accumulator where it was read back (path mode): the mean linear radiance.
+    // The accumulator where it was read back: path mode's mean linear radiance, adaptive
+    // sampling's samples (a done pixel's fourth float is minus its samples).
     let accumulated: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
+    let radiance: &[[f32; 4]] = if kept.radiance { accumulated } else { &[] };
     // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo and M2,
     // normal). The colour is phong mode's linear mean; path mode's is the accumulator's.
     let aovs: &[[[f32; 4]; 3]] = output(band, AOVS_OUTPUT);
@@ -568,8 +589,8 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
             .map(|&d| if d < 0.0 { f64::NAN } else { d })
             .collect(),
         steps: steps.par_iter().copied().collect(),
-        radiance: accumulated.par_iter().map(|a| [a[0], a[1], a[2]]).collect(),
-        unclamped: if accumulated.is_empty() {
+        radiance: radiance.par_iter().map(|a| [a[0], a[1], a[2]]).collect(),
+        unclamped: if radiance.is_empty() {
             aov(0)
         } else {
             Vec::new()
@@ -578,8 +599,12 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>) -> Frame {
         normal: aov(2),
         luminance_m2: aovs.par_iter().map(|a| a[1][3]).collect(),
         noisy: Vec::new(),
+        samples: match kept.samples {
+            true => accumulated.par_iter().map(|a| (-a[3]) as u32).collect(),
+            false => Vec::new(),
+        },
         non_finite: depths.par_iter().filter(|d| !d.is_finite()).count() as u64
-            + accumulated
+            + radiance
                 .par_iter()
                 .map(|a| a[..3].iter().filter(|c| !c.is_finite()).count() as u64)
                 .sum::<u64>(),

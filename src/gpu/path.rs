@@ -13,8 +13,8 @@ use super::params::{GpuParams, GpuParams64};
 use super::shaders::{PATH_MODULE, PATH64_MODULE};
 use super::variant::Variant;
 use super::{
-    ACCUMULATED_OUTPUT, GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS,
-    image_readback, render_image_bands,
+    Accumulated, GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback,
+    render_image_bands,
 };
 use crate::algebra::{Real, Vec3};
 use crate::cpu::path::PathParams;
@@ -242,9 +242,12 @@ impl<F: GpuReal> GpuPathTracer<F> {
                 .pack_uniforms(&trace, bytemuck::bytes_of(&second))
         };
         // What the tracer reads for `readback` (the colour, 0 here, gives the frame its
-        // shape), and the accumulator: the radiance.
-        let mut read = image_readback(&self.kernel, readback);
-        read[ACCUMULATED_OUTPUT] = true;
+        // shape), and the accumulator: the radiance, and with adaptive sampling the samples.
+        let read = image_readback(&self.kernel, readback);
+        let kept = Accumulated {
+            radiance: true,
+            samples: params.adaptive(),
+        };
         let mut constants = self.constants(params);
         constants.extend_from_slice(readback.constants());
         render_image_bands(
@@ -255,6 +258,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
                 samples.div_ceil(per_dispatch),
             ),
             &read,
+            kept,
             &uniform,
             rows,
             sink,

@@ -8,8 +8,8 @@ use super::params::{GpuParams, GpuParams64};
 use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
 use super::variant::Variant;
 use super::{
-    GpuContext, GpuReal, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
-    stream_frames,
+    Accumulated, GpuContext, GpuReal, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback,
+    render_image_bands, stream_frames,
 };
 use crate::error::Result;
 use crate::frame::Frame;
@@ -203,7 +203,21 @@ impl<F: GpuReal> GpuTracer<F> {
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
         let read = image_readback(&self.kernel, readback);
-        render_image_bands(&self.kernel, &constants, shape, &read, &uniform, rows, sink)
+        // With adaptive sampling the accumulator comes back for the samples each pixel took.
+        let kept = Accumulated {
+            radiance: false,
+            samples: params.adaptive(),
+        };
+        render_image_bands(
+            &self.kernel,
+            &constants,
+            shape,
+            &read,
+            kept,
+            &uniform,
+            rows,
+            sink,
+        )
     }
 
     /// Renders many frames one after another, each handed whole to `sink` with its times, in

@@ -75,6 +75,8 @@ pub struct Variant {
     pub cut: bool,
     /// The thin lens: camera.aperture > 0 with image.samples > 1 (sample 0 is the pinhole's).
     pub lens: bool,
+    /// Adaptive sampling: path.noise_target > 0 with image.samples > 1.
+    pub adaptive: bool,
 }
 
 impl Variant {
@@ -103,6 +105,7 @@ impl Variant {
             orbit_trap: shade && p.colouring == crate::scene::Colouring::OrbitTrap,
             cut: p.cut,
             lens: p.samples > 1 && p.aperture > F::zero(),
+            adaptive: p.samples > 1 && p.noise_target > F::zero(),
         }
     }
 
@@ -141,6 +144,7 @@ impl Variant {
             ("ORBIT_TRAP", b(self.orbit_trap)),
             ("CUT", b(self.cut)),
             ("LENS", b(self.lens)),
+            ("ADAPTIVE", b(self.adaptive)),
         ]
     }
 
@@ -168,6 +172,7 @@ impl Variant {
                     orbit_trap: false,
                     cut: false,
                     lens: false,
+                    adaptive: false,
                 });
             }
         }
@@ -177,13 +182,14 @@ impl Variant {
     /// The variants the tests validate: every base variant with none of the picture's
     /// features, with each one alone, and with all of them.
     pub fn all() -> Vec<Variant> {
-        let features: [fn(&mut Variant); 6] = [
+        let features: [fn(&mut Variant); 7] = [
             |v| v.samples = true,
             |v| v.soft_shadows = true,
             |v| v.occlusion = true,
             |v| v.orbit_trap = true,
             |v| v.cut = true,
             |v| v.lens = true,
+            |v| v.adaptive = true,
         ];
         let mut out = Vec::new();
         for base in Variant::all_base() {

@@ -167,11 +167,18 @@ impl Renderer {
             );
         }
         let mut summary = SummaryBuilder::new(scene.image.width);
-        let mut counted = |band: &Frame| {
-            if readback.maps() {
-                summary.add(band);
+        // A slice's bands say the samples each pixel took (the kernels return them where
+        // adaptive sampling stopped some pixels early).
+        let slice = picture != Picture::Julia2d;
+        let samples = scene.image.samples.max(1);
+        let mut counted = |mut band: Frame| {
+            if slice {
+                band.fill_samples(samples);
             }
-            sink(band)
+            if readback.maps() {
+                summary.add(&band);
+            }
+            sink(&band)
         };
         if picture.path_traced(scene) {
             return self
@@ -180,7 +187,7 @@ impl Renderer {
         }
         let (render_seconds, gpu_seconds) = match &self.gpu {
             Some(kernels) => {
-                let mut owned = |band: Frame| counted(&band);
+                let owned = &mut counted;
                 let times = match (picture, self.precision) {
                     (Picture::Slice { shade }, Precision::F32) => {
                         kernels.tracer()?.render_band_rows(
@@ -188,7 +195,7 @@ impl Renderer {
                             shade,
                             readback,
                             rows,
-                            &mut owned,
+                            owned,
                         )?
                     }
                     (Picture::Slice { shade }, Precision::F64) => {
@@ -197,18 +204,18 @@ impl Renderer {
                             shade,
                             readback,
                             rows,
-                            &mut owned,
+                            owned,
                         )?
                     }
                     (Picture::Julia2d, Precision::F32) => kernels.julia2d()?.render_bands(
                         &Julia2dParams::<f32>::new(scene),
                         readback,
-                        &mut owned,
+                        owned,
                     )?,
                     (Picture::Julia2d, Precision::F64) => kernels.julia2d64()?.render_bands(
                         &Julia2dParams::<f64>::new(scene),
                         readback,
-                        &mut owned,
+                        owned,
                     )?,
                 };
                 (times.seconds, times.gpu_seconds)
@@ -233,12 +240,12 @@ impl Renderer {
         scene: &Scene,
         readback: Readback,
         rows: std::ops::Range<u32>,
-        sink: &mut dyn FnMut(&Frame) -> Result<()>,
+        sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<(f64, Option<f64>)> {
         let display = Display::of(scene);
         let mut displayed = |mut band: Frame| {
             display.show(&mut band);
-            sink(&band)
+            sink(band)
         };
         match (&self.gpu, self.precision) {
             (Some(kernels), Precision::F32) => {
@@ -303,13 +310,16 @@ impl Renderer {
         readback: Readback,
         sink: &mut dyn FnMut(Frame, RenderStats) -> Result<()>,
     ) -> Result<()> {
-        // Path-traced and denoised frames go one by one (the choice of model and of denoiser
-        // is not animated: the first frame's is every frame's).
+        // Path-traced, denoised and adaptively sampled frames go one by one (the choice of
+        // model, of denoiser and of adaptive sampling is not animated: the first frame's is
+        // every frame's).
         let mut scenes = scenes.peekable();
         let one_by_one = scenes.peek().is_some_and(|s| {
             picture.path_traced(s)
                 || (picture == Picture::SHADED && s.image.denoise != Denoiser::None)
+                || s.adaptive()
         });
+        let samples = scenes.peek().map_or(1, |s| s.image.samples.max(1));
         let (Some(kernels), Picture::Slice { shade }, false) = (&self.gpu, picture, one_by_one)
         else {
             for scene in scenes {
@@ -322,7 +332,8 @@ impl Renderer {
             }
             return Ok(());
         };
-        let mut sink = |frame: Frame, times: crate::gpu::kernel::RunTimes| {
+        let mut sink = |mut frame: Frame, times: crate::gpu::kernel::RunTimes| {
+            frame.fill_samples(samples);
             let summary = match readback.maps() {
                 true => crate::stats::Summary::of(&frame),
                 false => SummaryBuilder::new(frame.width).finish(),
@@ -394,22 +405,18 @@ fn render_cpu<F: Real>(
     picture: Picture,
     aovs: bool,
     rows: std::ops::Range<u32>,
-    sink: &mut dyn FnMut(&Frame) -> Result<()>,
+    sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<f64> {
     match picture {
         Picture::Slice { shade } => {
             let p = TraceParams::<F>::new(scene);
-            cpu_bands(
-                p.width,
-                rows,
-                &|rows| cpu::render_rows(&p, shade, aovs, rows),
-                &mut |band| sink(&band),
-            )
+            let rows_of = |rows| cpu::render_rows(&p, shade, aovs, rows);
+            cpu_bands(p.width, rows, &rows_of, sink)
         }
         Picture::Julia2d => {
             let p = Julia2dParams::<F>::new(scene);
             let rows = |rows| cpu::julia2d::render_rows(&p, rows);
-            cpu_bands(p.width, 0..p.height, &rows, &mut |band| sink(&band))
+            cpu_bands(p.width, 0..p.height, &rows, sink)
         }
     }
 }

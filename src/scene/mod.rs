@@ -156,17 +156,28 @@ pub enum View {
     /// Wasted steps per pixel in 8x8 tiles (the tile's most steps minus the pixel's), as a
     /// heat map with a legend.
     Divergence,
+    /// The samples each pixel took (adaptive sampling, `path.noise_target`) as a heat map, with
+    /// a legend.
+    Samples,
 }
 
 impl View {
-    pub const ALL: [View; 3] = [View::Shaded, View::Steps, View::Divergence];
+    pub const ALL: [View; 4] = [View::Shaded, View::Steps, View::Divergence, View::Samples];
 
     pub fn name(self) -> &'static str {
         match self {
             View::Shaded => "shaded",
             View::Steps => "steps",
             View::Divergence => "divergence",
+            View::Samples => "samples",
         }
+    }
+
+    /// Whether the view is made of the shaded picture: the shaded view, and the samples view
+    /// (adaptive sampling stops a pixel by its shaded colour's noise). The steps views need
+    /// depth and steps alone.
+    pub fn needs_shading(self) -> bool {
+        matches!(self, View::Shaded | View::Samples)
     }
 }
 
@@ -411,8 +422,9 @@ scene_schema! {
                 "dielectric F0 = 0.08 x specular, {range}";
         }
 
-        /// Path mode: the paths (docs/book/path.md).
-        path: Path "path mode: the paths" {
+        /// Path mode: the paths (docs/book/path.md); adaptive sampling, in either model
+        /// (docs/book/adaptive.md).
+        path: Path "path mode: the paths; adaptive sampling in either model" {
             /// Scattering events at the surface: 1 is direct light only.
             bounces: u32 = 3, integer(1, 16), slider(1, 16),
                 "scattering events at the surface ({range}; 1 = direct light only)";
@@ -422,6 +434,16 @@ scene_schema! {
                 "a contribution after the first event is clamped to this, {range} (0 = off)";
             sampler: PathSampler = PathSampler::Sobol, choice(),
                 "\"sobol\" (Owen-scrambled, the same bits on every backend) or \"random\"";
+            /// Adaptive sampling, in either model (docs/book/adaptive.md): a pixel stops taking
+            /// samples once the standard error of its mean luminance, relative to that mean
+            /// (at least `NOISE_LUMINANCE_FLOOR`), is at most this (0: off, every pixel takes
+            /// `image.samples`).
+            noise_target: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.5),
+                "adaptive sampling, either model: a pixel stops once its mean's relative standard error is at most this, {range} (0 = off)";
+            /// No pixel stops before min(min_samples, image.samples) samples (and 2: one sample
+            /// has no variance).
+            min_samples: u32 = 16, integer(1, 4096), slider(1, 1024, log),
+                "adaptive sampling's floor: min(min_samples, image.samples) samples, {range}";
         }
 
         image: Image "" {
@@ -433,7 +455,7 @@ scene_schema! {
                 "rays per pixel, averaged ({range}; 1 = the seed)";
             /// What `render` draws: the shaded picture, or a heat map of the work per pixel.
             view: View = View::Shaded, choice(),
-                "what render's PNG shows: \"shaded\", \"steps\" or \"divergence\" (--view)";
+                "what render's PNG shows: \"shaded\", \"steps\", \"divergence\" or \"samples\" (--view)";
             /// Path mode: the linear image is multiplied by 2^exposure before the tone map.
             exposure: f64 = 0.0, float(Range::ANY), slider(-8.0, 8.0),
                 "path mode: stops (x 2^exposure) before the tone map";
@@ -557,6 +579,12 @@ impl Scene {
         let eye = glam::DVec3::from_array(self.camera.eye);
         let target = glam::DVec3::from_array(self.camera.target);
         (target - eye).length()
+    }
+
+    /// Whether pixels are sampled adaptively (`path.noise_target` > 0 with `image.samples` >
+    /// 1: a pixel stops once its noise is at most the target; docs/book/adaptive.md).
+    pub fn adaptive(&self) -> bool {
+        self.path.noise_target > 0.0 && self.image.samples > 1
     }
 
     /// A pixel's footprint per unit of distance along the ray: 2 tan(fov/2) / height.

@@ -38,6 +38,65 @@ pub fn gpu(test: &str) -> Option<&'static GpuTracer> {
     }
 }
 
+/// The tests' GPU kernels (every kernel on the shared tracer's device), or None where GPU
+/// tests are skipped.
+pub fn kernels(test: &str) -> Option<std::sync::Arc<qjulia::gpu::GpuKernels>> {
+    let tracer = gpu(test)?;
+    static KERNELS: OnceLock<std::sync::Arc<qjulia::gpu::GpuKernels>> = OnceLock::new();
+    Some(
+        KERNELS
+            .get_or_init(|| {
+                std::sync::Arc::new(qjulia::gpu::GpuKernels::new(tracer.context().clone()))
+            })
+            .clone(),
+    )
+}
+
+/// The GPU renderer in f32 for `scene` on `kernels`, as `--backend gpu --precision f32` plans
+/// it.
+pub fn gpu_renderer(
+    kernels: &std::sync::Arc<qjulia::gpu::GpuKernels>,
+    scene: &Scene,
+) -> qjulia::Renderer {
+    qjulia::Planner::on_device(
+        kernels.clone(),
+        qjulia::Backend::Gpu,
+        qjulia::PrecisionChoice::F32,
+    )
+    .plan(scene, qjulia::Picture::SHADED.into(), &mut |_| {})
+    .expect("a GPU plan")
+    .renderer
+}
+
+/// The whole shaded picture of `scene` by `renderer`, with its AOVs (`Readback::Hdr`).
+pub fn render_hdr(renderer: &qjulia::Renderer, scene: &Scene) -> Frame {
+    let mut frame = Frame::empty(scene.image.width);
+    renderer
+        .render_with(
+            scene,
+            qjulia::Picture::SHADED,
+            qjulia::Readback::Hdr,
+            &mut |band| {
+                frame.append(band);
+                Ok(())
+            },
+        )
+        .expect("a render");
+    frame
+}
+
+/// The path-traced preset at `size` x `size` and `samples`, changed by `change`.
+pub fn path_traced(size: u32, samples: u32, change: impl Fn(&mut Scene)) -> Scene {
+    let mut scene = qjulia::scene::presets::find("path-traced")
+        .expect("the path-traced preset")
+        .scene();
+    scene.image.width = size;
+    scene.image.height = size;
+    scene.image.samples = samples;
+    change(&mut scene);
+    scene
+}
+
 /// A validated scene: the defaults with these `--set KEY=VALUE` overrides.
 pub fn scene(sets: &[&str]) -> Scene {
     let mut loader = SceneLoader::new();

@@ -1,0 +1,250 @@
+//! Adaptive sampling (`path.noise_target`, `path.min_samples`): with the target off nothing
+//! changes, and an adaptive render whose pixels all take every sample is the plain one bit for
+//! bit; no pixel takes fewer than min(min_samples, samples) (nor 2) or more than the samples;
+//! the GPU and the CPU twin stop the same pixels; at equal `samples_total` the adaptive image is
+//! closer to a converged reference than the uniform one; any split into dispatches and bands
+//! gives the same bytes; and through the binary, `--view samples` and `samples_total`.
+
+mod common;
+
+use qjulia::compare::CONTRACT_TOLERANCE;
+use qjulia::report::monte_carlo::rmse;
+use qjulia::scene::PathSampler;
+use qjulia::{Frame, Precision, Renderer, Scene};
+
+use common::{cpu_renderer, gpu_renderer, kernels, path_traced, render_hdr};
+
+/// A phong scene with something to average (soft shadows, orbit-trap colour) at `samples`.
+fn phong(samples: u32, sets: &[&str]) -> Scene {
+    let samples = format!("image.samples={samples}");
+    let mut all = vec![
+        "image.width=48",
+        "image.height=40",
+        samples.as_str(),
+        "light.radius=0.4",
+        "shading.colouring=\"orbit_trap\"",
+    ];
+    all.extend_from_slice(sets);
+    common::scene(&all)
+}
+
+/// The path-traced preset, small, at `samples`, with these changes.
+fn path(samples: u32, change: impl Fn(&mut Scene)) -> Scene {
+    let mut scene = path_traced(40, samples, change);
+    scene.image.height = 36;
+    scene
+}
+
+/// The renderers the tests compare: the GPU's (where GPU tests run) and the CPU twin's.
+fn renderers(test: &str, scene: &Scene) -> Vec<(&'static str, Renderer)> {
+    let mut out = vec![("cpu", cpu_renderer(scene, Precision::F32))];
+    if let Some(kernels) = kernels(test) {
+        out.push(("gpu", gpu_renderer(&kernels, scene)));
+    }
+    out
+}
+
+/// The fields in which two frames differ, by name (none: the same bit for bit, NaN depths
+/// included), `samples` left out where `samples` is false.
+fn differences(a: &Frame, b: &Frame, samples: bool) -> Vec<&'static str> {
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let triples = |v: &[[f32; 3]]| bits(v.as_flattened());
+    let fields = [
+        ("size", (a.width, a.height) == (b.width, b.height)),
+        ("colour", a.colour == b.colour),
+        ("depth", bits(&a.depth) == bits(&b.depth)),
+        ("steps", a.steps == b.steps),
+        ("radiance", triples(&a.radiance) == triples(&b.radiance)),
+        ("unclamped", triples(&a.unclamped) == triples(&b.unclamped)),
+        ("albedo", triples(&a.albedo) == triples(&b.albedo)),
+        ("normal", triples(&a.normal) == triples(&b.normal)),
+        (
+            "luminance_m2",
+            bits(&a.luminance_m2) == bits(&b.luminance_m2),
+        ),
+        ("samples", !samples || a.samples == b.samples),
+        ("estimates", a.estimates == b.estimates),
+        ("non_finite", a.non_finite == b.non_finite),
+    ];
+    fields
+        .into_iter()
+        .filter(|(_, same)| !same)
+        .map(|(name, _)| name)
+        .collect()
+}
+
+#[test]
+fn with_the_target_off_nothing_changes_bit_for_bit() {
+    for (model, off, inert, never_stops) in [
+        (
+            "phong",
+            phong(12, &[]),
+            phong(12, &["path.min_samples=3"]),
+            phong(12, &["path.noise_target=1e-30", "path.min_samples=12"]),
+        ),
+        (
+            "path",
+            path(12, |_| {}),
+            path(12, |s| s.path.min_samples = 3),
+            path(12, |s| {
+                s.path.noise_target = 1e-30;
+                s.path.min_samples = 12;
+            }),
+        ),
+    ] {
+        for (backend, renderer) in renderers("adaptive off", &off) {
+            let context = format!("{model} on the {backend}");
+            let plain = render_hdr(&renderer, &off);
+            let pixels = plain.pixel_count();
+            assert_eq!(plain.samples, vec![12; pixels], "{context}: the counts");
+            // min_samples alone does nothing.
+            let changed = differences(&render_hdr(&renderer, &inert), &plain, true);
+            assert!(
+                changed.is_empty(),
+                "{context}: min_samples changes {changed:?}"
+            );
+            // Adaptive, with a floor of every sample: the same pixels bit for bit, the machinery
+            // and all.
+            assert!(never_stops.adaptive());
+            let adaptive = render_hdr(&renderer, &never_stops);
+            assert_eq!(adaptive.samples, plain.samples, "{context}: the counts");
+            let changed = differences(&adaptive, &plain, false);
+            assert!(
+                changed.is_empty(),
+                "{context}: an adaptive render whose pixels take every sample differs in \
+                 {changed:?}"
+            );
+        }
+    }
+}
+
+/// How many of the pixels took each count from 0 to `samples`.
+fn histogram(samples: &[u32], most: u32) -> Vec<usize> {
+    let mut h = vec![0; most as usize + 1];
+    for &n in samples {
+        h[n as usize] += 1;
+    }
+    h
+}
+
+#[test]
+fn no_pixel_takes_fewer_than_the_floor_or_more_than_the_samples() {
+    let cases = [
+        // (scene, the floor: max(min(min_samples, samples), 2))
+        (
+            "phong, floor 5",
+            phong(24, &["path.noise_target=0.02", "path.min_samples=5"]),
+            5,
+        ),
+        (
+            "path, floor 5",
+            path(24, |s| {
+                s.path.noise_target = 0.05;
+                s.path.min_samples = 5;
+            }),
+            5,
+        ),
+        (
+            "path, min_samples 1: floor 2",
+            path(24, |s| {
+                s.path.noise_target = 0.05;
+                s.path.min_samples = 1;
+            }),
+            2,
+        ),
+        (
+            "path, min_samples above the samples: every pixel takes them all",
+            path(24, |s| {
+                s.path.noise_target = 0.05;
+                s.path.min_samples = 40;
+            }),
+            24,
+        ),
+    ];
+    for (name, scene, floor) in cases {
+        let mut counts = Vec::new();
+        for (backend, renderer) in renderers("adaptive floor", &scene) {
+            let frame = render_hdr(&renderer, &scene);
+            let h = histogram(&frame.samples, 24);
+            eprintln!("{name} on the {backend}: pixels by samples taken {h:?}");
+            assert_eq!(frame.samples.len(), frame.pixel_count());
+            let (fewest, most) = (
+                *frame.samples.iter().min().unwrap(),
+                *frame.samples.iter().max().unwrap(),
+            );
+            assert!(
+                fewest >= floor && most <= 24,
+                "{name} on the {backend}: samples {fewest}..={most}, outside {floor}..=24"
+            );
+            if floor < 24 {
+                // The target is met somewhere and not everywhere.
+                assert!(
+                    fewest < 24 && h[24] > 0,
+                    "{name} on the {backend}: no pixel stopped early, or every pixel did: {h:?}"
+                );
+            }
+            counts.push((backend, frame));
+        }
+        // The GPU stops the same pixels as the CPU twin (f32 on both; a pixel whose noise
+        // lands within rounding of the target may go either way), and their pictures agree
+        // within CONTRACT_TOLERANCE.
+        if let [(_, cpu), (_, gpu)] = &counts[..] {
+            let same = (0..cpu.pixel_count())
+                .filter(|&k| cpu.samples[k] == gpu.samples[k])
+                .collect::<Vec<_>>();
+            let share = same.len() as f64 / cpu.pixel_count() as f64;
+            eprintln!(
+                "{name}: the GPU and the CPU agree on {:.2}% of counts",
+                100.0 * share
+            );
+            assert!(
+                share >= 0.97,
+                "{name}: the counts agree on {share:.4} of the pixels"
+            );
+            let what = format!("adaptive {name}").replace([' ', ',', ':'], "-");
+            common::assert_agree(&what, cpu, gpu, &CONTRACT_TOLERANCE);
+        }
+    }
+}
+
+fn random_sampler(scene: &mut Scene) {
+    scene.path.sampler = PathSampler::Random;
+}
+
+/// On the path-traced preset at 64x64 (flat sky and fractal detail), adaptive sampling spends
+/// fewer samples than uniform sampling of as many samples per pixel as its mean (rounded up),
+/// and lands closer to a converged reference (1,024 samples of the `random` sampler).
+#[test]
+fn at_equal_samples_total_adaptive_beats_uniform() {
+    let Some(kernels) = kernels("adaptive RMSE") else {
+        return;
+    };
+    let size = 64;
+    let pixels = (size * size) as u64;
+    let reference_scene = path_traced(size, 1024, random_sampler);
+    let renderer = gpu_renderer(&kernels, &reference_scene);
+    let reference = render_hdr(&renderer, &reference_scene).radiance;
+    let adaptive_scene = path_traced(size, 256, |s| {
+        s.path.noise_target = 0.08;
+        s.path.min_samples = 16;
+    });
+    let adaptive = render_hdr(&renderer, &adaptive_scene);
+    let total: u64 = adaptive.samples.iter().map(|&n| n as u64).sum();
+    let per_pixel = total.div_ceil(pixels) as u32;
+    let uniform = render_hdr(&renderer, &path_traced(size, per_pixel, |_| {}));
+    let uniform_total = per_pixel as u64 * pixels;
+    let (a, u) = (
+        rmse(&adaptive.radiance, &reference),
+        rmse(&uniform.radiance, &reference),
+    );
+    eprintln!(
+        "path-traced {size}x{size} against 1024 random samples: adaptive (target 0.08, 16..256) \
+         {total} samples, RMSE {a:.5}; uniform {per_pixel} a pixel, {uniform_total} samples, \
+         RMSE {u:.5}"
+    );
+    assert!(total <= uniform_total);
+    assert!(
+        a < u,
+        "adaptive RMSE {a:.5} at {total} samples, uniform {u:.5} at {uniform_total}"
+    );
+}
