@@ -3,9 +3,13 @@
 //! bit; no pixel takes fewer than min(min_samples, samples) (nor 2) or more than the samples;
 //! the GPU and the CPU twin stop the same pixels; at equal `samples_total` the adaptive image is
 //! closer to a converged reference than the uniform one; any split into dispatches and bands
-//! gives the same bytes; and through the binary, `--view samples` and `samples_total`.
+//! gives the same bytes; and through the binary, `--view samples` and `samples_total`. (Tiles
+//! with adaptive sampling: tests/tiles.rs; its keys' bad values: tests/bad_input.rs.)
 
 mod common;
+
+use std::path::Path;
+use std::process::Command;
 
 use qjulia::compare::CONTRACT_TOLERANCE;
 use qjulia::report::monte_carlo::rmse;
@@ -247,4 +251,179 @@ fn at_equal_samples_total_adaptive_beats_uniform() {
         a < u,
         "adaptive RMSE {a:.5} at {total} samples, uniform {u:.5} at {uniform_total}"
     );
+}
+
+/// Runs qjulia in `dir` with `args`, with `QJULIA_BAND_PIXELS` at `band_pixels` where given.
+fn run(dir: &Path, args: &[&str], band_pixels: Option<&str>) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_qjulia"));
+    command.args(args).current_dir(dir);
+    if let Some(pixels) = band_pixels {
+        command.env("QJULIA_BAND_PIXELS", pixels);
+    }
+    let out = command.output().expect("run qjulia");
+    assert!(
+        out.status.success(),
+        "qjulia {args:?}: {}",
+        common::stderr(&out)
+    );
+}
+
+/// `samples_total` of a `--stats` file.
+fn samples_total(path: &Path) -> u64 {
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    v["samples_total"].as_u64().expect("samples_total")
+}
+
+/// Bands of one row of 40 pixels and one sample a dispatch (`QJULIA_BAND_PIXELS=64`) give the
+/// bytes of the default bands (the whole image, up to 8 samples a dispatch): a pixel's stop
+/// depends on its own samples alone, and a done pixel stays done across dispatches.
+#[test]
+fn any_split_into_dispatches_and_bands_gives_the_same_bytes() {
+    let mut cases = vec![(
+        "cpu-phong",
+        vec![
+            "--backend",
+            "cpu",
+            "--set",
+            "image.samples=12",
+            "--set",
+            "light.radius=0.4",
+        ],
+    )];
+    if common::gpu("adaptive dispatch splits").is_some() {
+        cases.push((
+            "gpu-path",
+            vec![
+                "--backend",
+                "gpu",
+                "--preset",
+                "path-traced",
+                "--set",
+                "image.samples=20",
+            ],
+        ));
+        cases.push((
+            "gpu-phong",
+            vec![
+                "--backend",
+                "gpu",
+                "--set",
+                "image.samples=20",
+                "--set",
+                "light.radius=0.4",
+            ],
+        ));
+    }
+    for (name, scene) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let adaptive = [
+            "--set",
+            "path.noise_target=0.05",
+            "--set",
+            "path.min_samples=3",
+        ];
+        let size = ["--width", "40", "--height", "36"];
+        let args = |out: &'static str, stats: &'static str| {
+            [
+                &["render"][..],
+                &scene,
+                &adaptive,
+                &size,
+                &["-o", out, "--stats", stats],
+            ]
+            .concat()
+        };
+        run(d, &args("whole.png", "whole.json"), None);
+        run(d, &args("split.png", "split.json"), Some("64"));
+        common::assert_same_file(
+            &format!("adaptive-split-{name}"),
+            &d.join("whole.png"),
+            &d.join("split.png"),
+        );
+        let total = samples_total(&d.join("whole.json"));
+        assert_eq!(total, samples_total(&d.join("split.json")), "{name}");
+        let most = if name == "cpu-phong" { 12 } else { 20 };
+        assert!(
+            total < 40 * 36 * most,
+            "{name}: no pixel stopped early ({total} samples)"
+        );
+    }
+}
+
+/// `--view samples` draws the counts the tile carries (the same render, whole, as `--tile 0/1`)
+/// as `heatmap::samples_view` draws them, with the legend below; `samples_total` is their sum,
+/// and with the target off, width x height x samples.
+#[test]
+fn the_samples_view_and_samples_total() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = [
+        "--preset",
+        "path-traced",
+        "--width",
+        "40",
+        "--height",
+        "36",
+        "--set",
+        "image.samples=24",
+    ];
+    let on = [&scene[..], &["--set", "path.noise_target=0.05"]].concat();
+    run(
+        d,
+        &[
+            &["render"][..],
+            &on,
+            &[
+                "--view",
+                "samples",
+                "-o",
+                "view.png",
+                "--stats",
+                "view.json",
+            ],
+        ]
+        .concat(),
+        None,
+    );
+    run(
+        d,
+        &[
+            &["render"][..],
+            &on,
+            &["--tile", "0/1", "--hdr", "part.exr"],
+        ]
+        .concat(),
+        None,
+    );
+    let (_, frame, stats) = qjulia::tile::merge(&[d.join("part.exr")]).expect("the part");
+    let total: u64 = frame.samples.iter().map(|&n| n as u64).sum();
+    assert_eq!(stats.summary.samples_total, total);
+    assert_eq!(samples_total(&d.join("view.json")), total);
+    assert!(total < 40 * 36 * 24, "no pixel stopped early");
+    let map = qjulia::heatmap::samples_view(&frame.samples, 40, 36);
+    assert!(
+        map.legend.min >= 16 && map.legend.max == 24,
+        "{:?}",
+        map.legend
+    );
+    let ([w, h], rgb) = qjulia::output::read_png_rgb(&d.join("view.png")).unwrap();
+    assert_eq!([w, h], [40, 36 + qjulia::heatmap::LEGEND_HEIGHT]);
+    assert!(
+        rgb[..map.rgb.len()] == map.rgb[..],
+        "the view is not the heat map of the counts"
+    );
+    // Off: every pixel takes every sample.
+    run(
+        d,
+        &[
+            &["render"][..],
+            &scene,
+            &["-o", "off.png", "--stats", "off.json"],
+        ]
+        .concat(),
+        None,
+    );
+    assert_eq!(samples_total(&d.join("off.json")), 40 * 36 * 24);
 }

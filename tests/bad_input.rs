@@ -144,6 +144,10 @@ fn the_binary_refuses_bad_scenes_cleanly() {
         ("shading.ambient=-0.5", "shading.ambient"),
         ("shading.colouring=\"plaid\"", "shading.colouring"),
         ("shading.trap_scale=0", "shading.trap_scale"),
+        ("path.noise_target=-0.1", "path.noise_target"),
+        ("path.noise_target=nan", "path.noise_target"),
+        ("path.min_samples=0", "path.min_samples"),
+        ("path.min_samples=5000", "path.min_samples"),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in cases {

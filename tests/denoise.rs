@@ -6,17 +6,13 @@
 
 mod common;
 
-use std::sync::{Arc, OnceLock};
-
 use qjulia::compare::CONTRACT_TOLERANCE;
 use qjulia::cpu::denoise::DenoiseParams;
 use qjulia::denoise::{self, Denoiser, Prepared};
 use qjulia::display::Display;
-use qjulia::gpu::GpuKernels;
 use qjulia::report::monte_carlo::{TRIM, rmse, rmse_trimmed};
 use qjulia::scene::PathSampler;
-use qjulia::scene::presets::find;
-use qjulia::{Backend, Frame, Picture, Planner, PrecisionChoice, Readback, Scene};
+use qjulia::{Frame, Picture, Readback, Scene};
 
 use common::{gpu_renderer, kernels, path_traced, render_hdr};
 

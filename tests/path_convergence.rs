@@ -35,6 +35,7 @@ fn curve(
             let (frame, seconds) = render(planner, &scene).expect("a CPU render");
             Point {
                 samples,
+                taken: samples as f64,
                 rmse: rmse(&frame.radiance, reference),
                 trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
                 seconds,

@@ -285,8 +285,8 @@ fn every_specialised_variant_validates() {
     use qjulia::gpu::Variant;
     use qjulia::gpu::shaders::TRACE64_MODULE;
     let variants = Variant::all();
-    // 576 base variants, each with none, each one and all six of the picture's features.
-    assert_eq!(variants.len(), 576 * 8);
+    // 576 base variants, each with none, each one and all seven of the picture's features.
+    assert_eq!(variants.len(), 576 * 9);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
         validate_variants(&source, "main", &variants, &mut |_, _| {});
     }
@@ -301,7 +301,7 @@ fn the_aov_pipelines_validate() {
     let base = Variant::all_base()[0];
     let all = *Variant::all()
         .iter()
-        .find(|v| v.samples && v.lens && v.cut)
+        .find(|v| v.samples && v.lens && v.cut && v.adaptive)
         .unwrap();
     for (source, entry) in [
         (TRACE_MODULE, "main"),

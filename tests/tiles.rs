@@ -176,6 +176,42 @@ fn denoised_tiles_merge_to_one_render() {
     assert_tiles_merge_to_one_render("path-cpu-denoised", &cpu, &[3]);
 }
 
+/// With adaptive sampling: each pixel stops on its own samples alone, so the tiles' counts are
+/// the whole render's (no halo), and the merge, denoiser and all, is one render.
+#[test]
+fn adaptive_tiles_merge_to_one_render() {
+    let adaptive = [
+        "--set",
+        "path.noise_target=0.05",
+        "--set",
+        "path.min_samples=3",
+    ];
+    if common::gpu("adaptive tiles").is_some() {
+        let path = [
+            &["--backend", "gpu", "--set", "shading.model=\"path\""][..],
+            &["--set", "image.samples=12"],
+            &adaptive,
+            &["--set", "image.denoise=\"atrous\""],
+        ]
+        .concat();
+        assert_tiles_merge_to_one_render("path-gpu-adaptive", &path, &[2, 7]);
+        let phong = [
+            &["--backend", "gpu", "--set", "image.samples=12"][..],
+            &["--set", "light.radius=0.3"],
+            &adaptive,
+        ]
+        .concat();
+        assert_tiles_merge_to_one_render("phong-gpu-adaptive", &phong, &[3]);
+    }
+    let cpu = [
+        &["--backend", "cpu", "--set", "shading.model=\"path\""][..],
+        &["--set", "image.samples=6"],
+        &adaptive,
+    ]
+    .concat();
+    assert_tiles_merge_to_one_render("path-cpu-adaptive", &cpu, &[3]);
+}
+
 #[test]
 fn tiles_merge_to_one_cpu_render_in_both_models_and_precisions() {
     let phong = [

@@ -7,6 +7,9 @@
 //! Each scene also has a denoised curve (`image.denoise = "atrous"`, Sobol', 3 bounces), whose
 //! seconds include the denoiser's, and the page measures the denoiser's bias: its error at the
 //! most samples, on edge pixels and on flat ones ([`edge_mask`]), against plain averaging's.
+//! And an adaptive curve (`path.noise_target` = [`ADAPTIVE_TARGET`], `image.samples` the
+//! point's: the most a pixel may take), alone and denoised; its points are placed at the mean
+//! samples its pixels took ([`Point::taken`]).
 //!
 //! The reference is rendered with the `random` sampler (the plain hash), so that the Sobol'
 //! curves are measured against an independent estimate. A `random` curve's first samples are
@@ -29,6 +32,9 @@ pub const SAMPLES: [u32; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 256];
 /// dominated by sample 0, the pixel centre, which every sampler shares).
 pub const FIT_FROM: u32 = 4;
 
+/// The adaptive curves' `path.noise_target` (with the default `path.min_samples`, 16).
+pub const ADAPTIVE_TARGET: f64 = 0.02;
+
 /// One curve: what is varied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Case {
@@ -37,12 +43,19 @@ pub struct Case {
     pub bounces: u32,
     /// Whether the denoiser runs (`image.denoise = "atrous"` at the scene's `[denoise]`).
     pub denoise: bool,
+    /// Whether pixels stop at [`ADAPTIVE_TARGET`] (`path.noise_target`).
+    pub adaptive: bool,
 }
 
 /// One measured point of a curve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
+    /// `image.samples`: every pixel's samples, or with adaptive sampling the most a pixel
+    /// takes.
     pub samples: u32,
+    /// The mean samples a pixel took (`samples_total` over the pixels): `samples`, or fewer
+    /// with adaptive sampling.
+    pub taken: f64,
     /// Root mean square error of the linear RGB (every channel of every pixel) against the
     /// reference.
     pub rmse: f64,
@@ -95,24 +108,32 @@ pub fn scenes(size: u32) -> Vec<(&'static str, Scene)> {
     out
 }
 
-/// The cases: every scene with both samplers at 3 bounces and with Sobol' denoised, and the
-/// path-traced preset with Sobol' at 1 and 5 bounces.
+/// The cases: every scene with both samplers at 3 bounces, and with Sobol' denoised, adaptive,
+/// and both; the path-traced preset with Sobol' at 1 and 5 bounces.
 pub fn cases() -> Vec<Case> {
     let mut out = Vec::new();
-    let case = |scene_name, sampler, bounces, denoise| Case {
+    let case = |scene_name, sampler, bounces, (denoise, adaptive)| Case {
         scene_name,
         sampler,
         bounces,
         denoise,
+        adaptive,
     };
     for scene_name in ["path-traced", "path-gallery", "rough metal"] {
         for sampler in PathSampler::ALL {
-            out.push(case(scene_name, sampler, 3, false));
+            out.push(case(scene_name, sampler, 3, (false, false)));
         }
-        out.push(case(scene_name, PathSampler::Sobol, 3, true));
+        for kind in [(true, false), (false, true), (true, true)] {
+            out.push(case(scene_name, PathSampler::Sobol, 3, kind));
+        }
     }
     for bounces in [1, 5] {
-        out.push(case("path-traced", PathSampler::Sobol, bounces, false));
+        out.push(case(
+            "path-traced",
+            PathSampler::Sobol,
+            bounces,
+            (false, false),
+        ));
     }
     out
 }
@@ -239,6 +260,16 @@ pub fn curve_slope(points: &[Point]) -> f64 {
     fit_slope(&fit)
 }
 
+/// The mean samples a pixel of `frame` took ([`Frame::samples`]; `samples` each where it has
+/// none).
+pub fn mean_taken(frame: &Frame, samples: u32) -> f64 {
+    let pixels = frame.pixel_count().max(1);
+    let total: u64 = (0..pixels)
+        .map(|k| frame.samples_of(k, samples) as u64)
+        .sum();
+    total as f64 / pixels as f64
+}
+
 /// A path-traced render of `scene` through `planner`: the frame and its seconds.
 pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
     let plan = planner.plan(scene, Picture::SHADED.into(), &mut |_| {})?;
@@ -267,11 +298,15 @@ pub fn case_scene(scene: &Scene, sampler: PathSampler, bounces: u32, samples: u3
     s
 }
 
-/// A case's scene at `samples`: [`case_scene`], with the denoiser where the case has it.
+/// A case's scene at `samples`: [`case_scene`], with the denoiser and adaptive sampling where
+/// the case has them.
 fn scene_of(base: &Scene, case: &Case, samples: u32) -> Scene {
     let mut s = case_scene(base, case.sampler, case.bounces, samples);
     if case.denoise {
         s.image.denoise = crate::denoise::Denoiser::Atrous;
+    }
+    if case.adaptive {
+        s.path.noise_target = ADAPTIVE_TARGET;
     }
     s
 }
@@ -339,6 +374,7 @@ pub fn run(
             let (frame, seconds) = render(planner, &scene)?;
             points.push(Point {
                 samples,
+                taken: mean_taken(&frame, samples),
                 rmse: rmse(&frame.radiance, reference),
                 trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
                 seconds,
@@ -371,16 +407,24 @@ pub fn run(
 
 /// The curves as CSV: one row per point.
 pub fn csv(curves: &[Curve]) -> String {
-    let mut out = String::from("scene,sampler,bounces,denoise,samples,rmse,rmse_trimmed,seconds\n");
+    let mut out = String::from(
+        "scene,sampler,bounces,denoise,noise_target,samples,taken,rmse,rmse_trimmed,seconds\n",
+    );
     for c in curves {
         for p in &c.points {
             out.push_str(&format!(
-                "{},{},{},{},{},{:.6e},{:.6e},{:.6}\n",
+                "{},{},{},{},{},{},{:.3},{:.6e},{:.6e},{:.6}\n",
                 c.case.scene_name,
                 c.case.sampler.name(),
                 c.case.bounces,
                 if c.case.denoise { "atrous" } else { "none" },
+                if c.case.adaptive {
+                    ADAPTIVE_TARGET
+                } else {
+                    0.0
+                },
                 p.samples,
+                p.taken,
                 p.rmse,
                 p.trimmed,
                 p.seconds
@@ -390,11 +434,12 @@ pub fn csv(curves: &[Curve]) -> String {
     out
 }
 
-/// A curve's label: scene, sampler, bounces and the denoiser.
+/// A curve's label: scene, sampler, bounces, adaptive sampling and the denoiser.
 fn label(c: &Case) -> String {
+    let adaptive = if c.adaptive { " adaptive" } else { "" };
     let denoised = if c.denoise { " denoised" } else { "" };
     format!(
-        "{} {} {}b{denoised}",
+        "{} {} {}b{adaptive}{denoised}",
         c.scene_name,
         c.sampler.name(),
         c.bounces
@@ -447,13 +492,16 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
                 && c.case.sampler == sampler
                 && c.case.bounces == bounces
                 && !c.case.denoise
+                && !c.case.adaptive
         })
     };
-    let denoised = |scene: &str| {
-        curves
-            .iter()
-            .find(|c| c.case.scene_name == scene && c.case.denoise)
+    // The Sobol' curve of `scene` with the denoiser and adaptive sampling as asked.
+    let kind = |scene: &str, denoise: bool, adaptive: bool| {
+        curves.iter().find(|c| {
+            c.case.scene_name == scene && c.case.denoise == denoise && c.case.adaptive == adaptive
+        })
     };
+    let denoised = |scene: &str| kind(scene, true, false);
     for scene in ["path-traced", "path-gallery", "rough metal"] {
         let (Some(s), Some(r)) = (
             find(scene, PathSampler::Sobol, 3),
@@ -483,10 +531,12 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
     }
     let most = SAMPLES[SAMPLES.len() - 1];
     for scene in ["path-traced", "path-gallery", "rough metal"] {
-        let (Some(plain), Some(random), Some(d)) = (
+        let (Some(plain), Some(random), Some(d), Some(a), Some(ad)) = (
             find(scene, PathSampler::Sobol, 3),
             find(scene, PathSampler::Random, 3),
             denoised(scene),
+            kind(scene, false, true),
+            kind(scene, true, true),
         ) else {
             continue;
         };
@@ -500,6 +550,8 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
                 ("Sobol'", seconds_to(plain, target, error)),
                 ("random", seconds_to(random, target, error)),
                 ("Sobol' denoised", seconds_to(d, target, error)),
+                ("Sobol' adaptive", seconds_to(a, target, error)),
+                ("Sobol' adaptive denoised", seconds_to(ad, target, error)),
             ];
             let seconds = |s: Option<f64>| s.map_or("never".into(), |s| format!("{s:.3} s"));
             let cheapest = ways
@@ -507,12 +559,11 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
                 .filter_map(|(name, s)| s.map(|s| (name, s)))
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .map_or("none of them".to_string(), |(name, _)| name.to_string());
-            format!(
-                "Sobol' {}, random {}, Sobol' denoised {}: the cheapest is {cheapest}",
-                seconds(ways[0].1),
-                seconds(ways[1].1),
-                seconds(ways[2].1)
-            )
+            let each: Vec<String> = ways
+                .iter()
+                .map(|(name, s)| format!("{name} {}", seconds(*s)))
+                .collect();
+            format!("{}: the cheapest is {cheapest}", each.join(", "))
         };
         md.push_str(&format!(
             "- **{scene}, the denoiser** (Sobol', 3 bounces): at 16 samples RMSE {:.4} against \
@@ -534,6 +585,27 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
             d.split.flat,
             plain.split.edge,
             plain.split.flat,
+        ));
+        let (Some(p256), Some(a256), Some(a64)) = (at(plain, most), at(a, most), at(a, 64)) else {
+            continue;
+        };
+        md.push_str(&format!(
+            "- **{scene}, adaptive sampling** (Sobol', 3 bounces, noise target \
+             {ADAPTIVE_TARGET}): allowed {most} samples a pixel, its pixels took {:.1} on \
+             average ({:.0}%), in {:.3} s against plain's {:.3} s, for RMSE {:.4} against {:.4} \
+             (trimmed {:.4} against {:.4}); allowed 64, they took {:.1}, RMSE {:.4} against \
+             {:.4}.\n",
+            a256.taken,
+            100.0 * a256.taken / most as f64,
+            a256.seconds,
+            p256.seconds,
+            a256.rmse,
+            p256.rmse,
+            a256.trimmed,
+            p256.trimmed,
+            a64.taken,
+            a64.rmse,
+            p64.rmse,
         ));
     }
     let bounce_curves: Vec<&Curve> = [1, 3, 5]
@@ -577,7 +649,7 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
         let panels = root.split_evenly((1, 2));
         type Axis = (&'static str, fn(&Point) -> f64);
         let x_of: [Axis; 2] = [
-            ("samples per pixel (log)", |p| p.samples as f64),
+            ("samples per pixel (log)", |p| p.taken),
             ("seconds per image (log)", |p| p.seconds.max(1e-5)),
         ];
         for (panel, (x_desc, x)) in panels.iter().zip(x_of) {
@@ -679,6 +751,7 @@ mod tests {
     fn the_seconds_to_an_error_interpolate_log_log() {
         let point = |samples, rmse, seconds| Point {
             samples,
+            taken: samples as f64,
             rmse,
             trimmed: rmse,
             seconds,

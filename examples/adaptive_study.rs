@@ -1,0 +1,192 @@
+//! Adaptive sampling's figures (issue 20), on the GPU:
+//!
+//! - `lanes [SIZE] [SAMPLES] [TARGET]`: renders the path-traced preset adaptively and, from the
+//!   samples each pixel took, counts the SIMD lanes each sample index keeps busy with the
+//!   kernels' early-out (a group of W lanes runs while any of its pixels is live) against
+//!   compaction within each 8x8 workgroup (its live pixels packed into the first lanes) and
+//!   against the live pixels alone, for W = 8 (lavapipe) and 32 (a GPU's warp).
+//! - `rmse [SIZE] [REF]`: the time (GPU seconds, the denoiser's included) to the RMSE of 1,024
+//!   plain Sobol' samples against a reference of REF samples of the `random` sampler, for plain
+//!   Sobol', adaptive sampling (1,024 at most, the noise target swept down), the denoiser
+//!   (samples swept up) and both.
+//!
+//! Run as:
+//!
+//!     cargo run --release --example adaptive_study -- lanes 128 256 0.05
+//!     cargo run --release --example adaptive_study -- rmse 128 4096
+
+use std::sync::Arc;
+
+use qjulia::denoise::Denoiser;
+use qjulia::gpu::{GpuContext, GpuKernels};
+use qjulia::report::monte_carlo::{TRIM, rmse, rmse_trimmed};
+use qjulia::scene::PathSampler;
+use qjulia::scene::presets::find;
+use qjulia::stats::RenderStats;
+use qjulia::{Backend, Frame, Picture, Planner, PrecisionChoice, Readback, Renderer, Scene};
+
+fn main() -> qjulia::Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |k: usize, d: f64| args.get(k).and_then(|a| a.parse().ok()).unwrap_or(d);
+    let kernels = Arc::new(GpuKernels::new(GpuContext::new()?));
+    let renderer = Planner::on_device(kernels, Backend::Gpu, PrecisionChoice::F32)
+        .plan(&preset(8, 1), Picture::SHADED.into(), &mut |_| {})?
+        .renderer;
+    match args.first().map(String::as_str) {
+        Some("lanes") => lanes(
+            &renderer,
+            arg(1, 128.0) as u32,
+            arg(2, 256.0) as u32,
+            arg(3, 0.05),
+        ),
+        Some("rmse") => time_to_rmse(&renderer, arg(1, 128.0) as u32, arg(2, 4096.0) as u32),
+        _ => {
+            eprintln!("usage: adaptive_study lanes [SIZE] [SAMPLES] [TARGET] | rmse [SIZE] [REF]");
+            Ok(())
+        }
+    }
+}
+
+/// The path-traced preset at `size` x `size` and `samples`.
+fn preset(size: u32, samples: u32) -> Scene {
+    let mut s = find("path-traced").expect("the preset").scene();
+    s.image.width = size;
+    s.image.height = size;
+    s.image.samples = samples;
+    s
+}
+
+/// The whole frame of `scene` with its AOVs, its stats, and its seconds: GPU time where the
+/// device has timestamps, the denoiser's added.
+fn render(renderer: &Renderer, scene: &Scene) -> qjulia::Result<(Frame, RenderStats, f64)> {
+    let mut frame = Frame::empty(scene.image.width);
+    let stats = renderer.render_with(scene, Picture::SHADED, Readback::Hdr, &mut |band| {
+        frame.append(band);
+        Ok(())
+    })?;
+    let denoise = stats
+        .denoise
+        .as_ref()
+        .map_or(0.0, |d| d.gpu_seconds.unwrap_or(d.seconds));
+    let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise;
+    Ok((frame, stats, seconds))
+}
+
+fn lanes(renderer: &Renderer, size: u32, samples: u32, target: f64) -> qjulia::Result<()> {
+    let mut scene = preset(size, samples);
+    scene.path.noise_target = target;
+    let (frame, stats, seconds) = render(renderer, &scene)?;
+    let (w, h) = (size as usize, size as usize);
+    let total = stats.summary.samples_total;
+    println!(
+        "path-traced {size}x{size}, at most {samples} samples, target {target}: {total} samples \
+         ({:.1}% of {}), {seconds:.3} s",
+        100.0 * total as f64 / (w * h) as f64 / samples as f64,
+        w * h * samples as usize
+    );
+    for width in [8usize, 32] {
+        // Lane-samples paid: the early-out runs a group of `width` lanes (consecutive
+        // invocations of an 8x8 workgroup, row by row) at sample k while any of its pixels is
+        // live; compaction packs a workgroup's live pixels into its first lanes.
+        let (mut early, mut compact, mut live) = (0u64, 0u64, 0u64);
+        for k in 0..samples {
+            for by in (0..h).step_by(8) {
+                for bx in (0..w).step_by(8) {
+                    let mut in_group = [0u64; 64];
+                    let mut count = 0;
+                    for l in 0..64 {
+                        let (x, y) = (bx + l % 8, by + l / 8);
+                        if x < w && y < h && frame.samples[y * w + x] > k {
+                            in_group[l / width] += 1;
+                            count += 1;
+                        }
+                    }
+                    early += in_group.iter().filter(|&&n| n > 0).count() as u64 * width as u64;
+                    compact += (count as u64).div_ceil(width as u64) * width as u64;
+                    live += count as u64;
+                }
+            }
+        }
+        println!(
+            "{width} lanes: early-out pays {early} lane-samples, compaction within the \
+             workgroup {compact} ({:.3}x), the live pixels alone {live} ({:.3}x)",
+            compact as f64 / early as f64,
+            live as f64 / early as f64
+        );
+    }
+    Ok(())
+}
+
+fn time_to_rmse(renderer: &Renderer, size: u32, reference_samples: u32) -> qjulia::Result<()> {
+    let mut reference_scene = preset(size, reference_samples);
+    reference_scene.path.sampler = PathSampler::Random;
+    let (reference, _, reference_seconds) = render(renderer, &reference_scene)?;
+    let reference = reference.radiance;
+    println!("reference: {reference_samples} random samples, {reference_seconds:.2} s");
+    let measure = |scene: &Scene| -> qjulia::Result<(f64, f64, f64, u64)> {
+        let (frame, stats, seconds) = render(renderer, scene)?;
+        let error = rmse(&frame.radiance, &reference);
+        let trimmed = rmse_trimmed(&frame.radiance, &reference, TRIM);
+        Ok((error, trimmed, seconds, stats.summary.samples_total))
+    };
+    let (goal, goal_trimmed, plain_seconds, _) = measure(&preset(size, 1024))?;
+    println!(
+        "plain Sobol', 1024 samples: RMSE {goal:.5} (trimmed {goal_trimmed:.5}), \
+         {plain_seconds:.2} s"
+    );
+    // Each way's ladder, cheapest first; its time is that of the first rung at the goal.
+    let targets = [
+        0.2, 0.14, 0.1, 0.07, 0.05, 0.035, 0.025, 0.018, 0.0125, 0.009, 0.0064,
+    ];
+    let ladder_samples = [16, 32, 64, 128, 256, 512, 1024];
+    type Rung = (String, Scene);
+    let adaptive = |denoise: bool| -> Vec<Rung> {
+        targets
+            .iter()
+            .map(|&t| {
+                let mut s = preset(size, 1024);
+                s.path.noise_target = t;
+                if denoise {
+                    s.image.denoise = Denoiser::Atrous;
+                }
+                (format!("target {t}"), s)
+            })
+            .collect()
+    };
+    let denoised: Vec<Rung> = ladder_samples
+        .iter()
+        .map(|&n| {
+            let mut s = preset(size, n);
+            s.image.denoise = Denoiser::Atrous;
+            (format!("{n} samples"), s)
+        })
+        .collect();
+    for (way, ladder) in [
+        ("adaptive", adaptive(false)),
+        ("denoised", denoised),
+        ("adaptive + denoised", adaptive(true)),
+    ] {
+        let mut reached = None;
+        for (rung, scene) in &ladder {
+            let (error, trimmed, seconds, total) = measure(scene)?;
+            println!(
+                "  {way}, {rung}: RMSE {error:.5} (trimmed {trimmed:.5}), {seconds:.3} s, \
+                 {:.1} samples a pixel",
+                total as f64 / (size * size) as f64
+            );
+            if error <= goal {
+                reached = Some((rung.clone(), seconds));
+                break;
+            }
+        }
+        match reached {
+            Some((rung, seconds)) => println!(
+                "{way}: reaches {goal:.5} at {rung} in {seconds:.3} s: {:.1}x less time than \
+                 plain",
+                plain_seconds / seconds
+            ),
+            None => println!("{way}: does not reach {goal:.5} on its ladder"),
+        }
+    }
+    Ok(())
+}
