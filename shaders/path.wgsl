@@ -295,11 +295,18 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
 // m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
 // sample 0 gives the depth and the steps. Adaptively (trace.wgsl's `adaptive`) a pixel stops
-// after the sample that leaves it done, and a later dispatch leaves it at once.
+// after the sample that leaves it done, and a later dispatch leaves it at once, or with
+// COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
-fn path_main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    let row = gid.y;
+fn path_main(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    // With compaction (trace.wgsl's COMPACT) the block's live pixels, packed.
+    let pixel = compacted_pixel(gid, wid, lid);
+    let i = pixel.x;
+    let row = pixel.y;
     if i >= params.width || row >= params.row_count {
         return;
     }

@@ -127,6 +127,12 @@ override AOVS: bool = false;
 // of the device's, which the host always sets (src/gpu/variant.rs: 2 for main, 1 for path_main,
 // by measurement on lavapipe, or QJULIA_INTERLEAVE).
 override INTERLEAVE: u32 = 2u;
+// Compaction (adaptive sampling): with COMPACT, each later dispatch packs its workgroup's live
+// pixels (those not yet done) into the workgroup's first invocations (compacted_pixel), so that
+// the done ones leave whole SIMD groups idle instead of a lane in each; without it, a done
+// pixel's invocation returns at once (the early-out) wherever it lies. The same pixels bit for
+// bit either way. A choice of the device's, as INTERLEAVE is (src/gpu/variant.rs).
+override COMPACT: bool = true;
 
 // params.colouring: the diffuse colour (the seed), or the orbit's closest approach to the trap.
 const COLOURING_FLAT: u32 = 0u;
@@ -1198,6 +1204,33 @@ fn sampling_done(m2: f32, n: u32, mean_luminance: f32) -> bool {
     return n >= floor && pixel_noise(m2, n, mean_luminance) <= f32(params.noise_target);
 }
 
+// The workgroup's live pixels (compacted_pixel): how many, and each one's local index.
+var<workgroup> live_count: atomic<u32>;
+var<workgroup> live_lanes: array<u32, 64>;
+
+// The pixel, as (column, row of the band), that invocation `lid` of workgroup `wid` samples:
+// its own (gid.xy), or with COMPACT in a later dispatch of adaptive sampling the lid-th live
+// pixel of its 8 x 8 block (in no fixed order: a pixel's samples do not depend on the lane that
+// takes them); (width, 0), none, where the block has fewer live pixels. Every invocation of the
+// workgroup calls it, before any returns (it holds a barrier).
+fn compacted_pixel(gid: vec3<u32>, wid: vec3<u32>, lid: u32) -> vec2<u32> {
+    if !(COMPACT && adaptive() && params.sample_start > 0u) {
+        return gid.xy;
+    }
+    if gid.x < params.width && gid.y < params.row_count {
+        let index = (params.out_row + gid.y) * params.row_stride + gid.x;
+        if accumulated[index].w >= 0.0 {
+            live_lanes[atomicAdd(&live_count, 1u)] = lid;
+        }
+    }
+    workgroupBarrier();
+    if lid >= atomicLoad(&live_count) {
+        return vec2<u32>(params.width, 0u);
+    }
+    let own = live_lanes[lid];
+    return vec2<u32>(wid.x * 8u + own % 8u, wid.y * 8u + own / 8u);
+}
+
 // Whether this pipeline traces a cone per block first.
 fn cone_tracing() -> bool {
     if SPECIALISED {
@@ -1221,8 +1254,10 @@ fn main(
         workgroupBarrier();
     }
     let t_min = select(0.0, cone_t, cone);
-    let i = gid.x;
-    let row = gid.y;
+    // With compaction the block's live pixels, packed (the cone is the block's either way).
+    let pixel = compacted_pixel(gid, wid, lid);
+    let i = pixel.x;
+    let row = pixel.y;
     if i >= params.width || row >= params.row_count {
         return;
     }

@@ -253,13 +253,13 @@ fn at_equal_samples_total_adaptive_beats_uniform() {
     );
 }
 
-/// Runs qjulia in `dir` with `args`, with `QJULIA_BAND_PIXELS` at `band_pixels` where given.
-fn run(dir: &Path, args: &[&str], band_pixels: Option<&str>) {
+/// Runs qjulia in `dir` with `args` and these environment variables.
+fn run(dir: &Path, args: &[&str], env: &[(&str, &str)]) {
     let mut command = Command::new(env!("CARGO_BIN_EXE_qjulia"));
-    command.args(args).current_dir(dir);
-    if let Some(pixels) = band_pixels {
-        command.env("QJULIA_BAND_PIXELS", pixels);
-    }
+    command
+        .args(args)
+        .current_dir(dir)
+        .envs(env.iter().copied());
     let out = command.output().expect("run qjulia");
     assert!(
         out.status.success(),
@@ -277,7 +277,8 @@ fn samples_total(path: &Path) -> u64 {
 
 /// Bands of one row of 40 pixels and one sample a dispatch (`QJULIA_BAND_PIXELS=64`) give the
 /// bytes of the default bands (the whole image, up to 8 samples a dispatch): a pixel's stop
-/// depends on its own samples alone, and a done pixel stays done across dispatches.
+/// depends on its own samples alone, and a done pixel stays done across dispatches. So does the
+/// early-out alone, without compaction (`QJULIA_COMPACT=0`).
 #[test]
 fn any_split_into_dispatches_and_bands_gives_the_same_bytes() {
     let mut cases = vec![(
@@ -335,15 +336,24 @@ fn any_split_into_dispatches_and_bands_gives_the_same_bytes() {
             ]
             .concat()
         };
-        run(d, &args("whole.png", "whole.json"), None);
-        run(d, &args("split.png", "split.json"), Some("64"));
-        common::assert_same_file(
-            &format!("adaptive-split-{name}"),
-            &d.join("whole.png"),
-            &d.join("split.png"),
+        run(d, &args("whole.png", "whole.json"), &[]);
+        run(
+            d,
+            &args("split.png", "split.json"),
+            &[("QJULIA_BAND_PIXELS", "64")],
         );
+        let no_compaction = [("QJULIA_BAND_PIXELS", "64"), ("QJULIA_COMPACT", "0")];
+        run(d, &args("early.png", "early.json"), &no_compaction);
         let total = samples_total(&d.join("whole.json"));
-        assert_eq!(total, samples_total(&d.join("split.json")), "{name}");
+        for other in ["split", "early"] {
+            common::assert_same_file(
+                &format!("adaptive-{other}-{name}"),
+                &d.join("whole.png"),
+                &d.join(format!("{other}.png")),
+            );
+            let stats = d.join(format!("{other}.json"));
+            assert_eq!(total, samples_total(&stats), "{name}: {other}");
+        }
         let most = if name == "cpu-phong" { 12 } else { 20 };
         assert!(
             total < 40 * 36 * most,
@@ -385,7 +395,7 @@ fn the_samples_view_and_samples_total() {
             ],
         ]
         .concat(),
-        None,
+        &[],
     );
     run(
         d,
@@ -395,7 +405,7 @@ fn the_samples_view_and_samples_total() {
             &["--tile", "0/1", "--hdr", "part.exr"],
         ]
         .concat(),
-        None,
+        &[],
     );
     let (_, frame, stats) = qjulia::tile::merge(&[d.join("part.exr")]).expect("the part");
     let total: u64 = frame.samples.iter().map(|&n| n as u64).sum();
@@ -423,7 +433,7 @@ fn the_samples_view_and_samples_total() {
             &["-o", "off.png", "--stats", "off.json"],
         ]
         .concat(),
-        None,
+        &[],
     );
     assert_eq!(samples_total(&d.join("off.json")), 40 * 36 * 24);
 }

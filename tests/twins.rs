@@ -87,6 +87,13 @@ const TRACE: Twin = Twin {
         },
         OnlyIn {
             side: Side::Wgsl,
+            name: "compacted_pixel",
+            reason: "packs a workgroup's live pixels into its first invocations (adaptive \
+                     sampling's compaction); the CPU has no lanes to pack: `cpu::render_rows` \
+                     skips a done pixel's samples by breaking out of its loop",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
             name: "cone_tracing",
             reason: "returns the CONE_TRACING override when specialised; on the CPU \
                      `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",

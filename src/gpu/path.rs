@@ -122,6 +122,8 @@ pub struct GpuPathTracer<F: GpuReal = f32> {
     specialise: bool,
     /// Camera rays an invocation traces together, 1 or 2 (the `INTERLEAVE` override).
     interleave: u32,
+    /// Adaptive sampling's compaction (the `COMPACT` override).
+    compact: bool,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -150,6 +152,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
             interleave: super::variant::interleave_from_env(
                 super::variant::DEFAULT_PATH_INTERLEAVE,
             ),
+            compact: super::variant::compact_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         })
@@ -198,6 +201,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
             false => Vec::new(),
         };
         constants.push(super::variant::interleave_constant(self.interleave));
+        constants.push(super::variant::compact_constant(self.compact));
         constants.extend_from_slice(&self.device_constants);
         constants
     }

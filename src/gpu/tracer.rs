@@ -57,6 +57,8 @@ pub struct GpuTracer<F: GpuReal = f32> {
     specialise: bool,
     /// Camera rays an invocation traces together, 1 or 2 (the `INTERLEAVE` override).
     interleave: u32,
+    /// Adaptive sampling's compaction (the `COMPACT` override).
+    compact: bool,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -94,6 +96,7 @@ impl<F: GpuReal> GpuTracer<F> {
             kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,
             specialise: super::variant::specialise_from_env(),
             interleave: super::variant::interleave_from_env(super::variant::DEFAULT_INTERLEAVE),
+            compact: super::variant::compact_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         };
@@ -136,10 +139,12 @@ impl<F: GpuReal> GpuTracer<F> {
         self.kernel.pipeline(&constants)
     }
 
-    /// A variant's constants (None: generic), the interleaving and the device's.
+    /// A variant's constants (None: generic), the interleaving, the compaction and the
+    /// device's.
     fn with_device_constants(&self, variant: Option<Variant>) -> Vec<(&'static str, f64)> {
         let mut constants = variant.map(|v| v.constants()).unwrap_or_default();
         constants.push(super::variant::interleave_constant(self.interleave));
+        constants.push(super::variant::compact_constant(self.compact));
         constants.extend_from_slice(&self.device_constants);
         constants
     }

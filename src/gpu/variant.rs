@@ -45,6 +45,21 @@ pub fn interleave_constant(interleave: u32) -> (&'static str, f64) {
     ("INTERLEAVE", interleave as f64)
 }
 
+/// Whether adaptive sampling's later dispatches pack each workgroup's live pixels into its
+/// first invocations (the kernels' `COMPACT` override; shaders/trace.wgsl's `compacted_pixel`):
+/// yes unless `QJULIA_COMPACT=0`, which leaves a done pixel's invocation to return at once
+/// where it lies (the early-out alone). On lavapipe compaction paid (docs/PERFORMANCE.md). The
+/// pixels are the same bit for bit either way; like the interleaving, a device's choice, in no
+/// [`Variant`].
+pub fn compact_from_env() -> bool {
+    std::env::var_os("QJULIA_COMPACT").is_none_or(|v| v != "0")
+}
+
+/// The override constant of `compact` (the kernels' `COMPACT`).
+pub fn compact_constant(compact: bool) -> (&'static str, f64) {
+    ("COMPACT", if compact { 1.0 } else { 0.0 })
+}
+
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
