@@ -1094,6 +1094,48 @@ fn rendered_any(harness: &Harness<'static, ExplorerApp>) -> Frame {
     frame
 }
 
+/// Issue 20: with adaptive sampling (and the denoiser, whose variance takes each pixel's own
+/// count) the view's passes stop the pixels `qjulia render` stops: the counts it reads back are
+/// the render's, the status line's mean is theirs, and the view is the render byte for byte.
+#[test]
+fn an_adaptive_denoised_path_view_stops_the_pixels_the_render_stops() {
+    let mut scene = path_scene();
+    scene.image.denoise = qjulia::denoise::Denoiser::Atrous;
+    scene.path.noise_target = 0.3;
+    scene.path.min_samples = 2;
+    let Some(mut harness) = harness_of("explorer adaptive path", scene, PATH_WINDOW) else {
+        return;
+    };
+    settle(&mut harness);
+    let view = harness.state().slice_texture().unwrap();
+    let kept = view.kept_radiance().expect("the mean kept");
+    assert_eq!(kept.samples, 3);
+    let frame = kept.frame.as_ref().expect("the mean's AOVs kept");
+    let expected = rendered_any(&harness);
+    assert!(
+        frame.samples == expected.samples,
+        "the view's counts are not the render's"
+    );
+    let mean =
+        expected.samples.iter().map(|&n| n as f64).sum::<f64>() / expected.pixel_count() as f64;
+    assert!(
+        (2.0..3.0).contains(&mean),
+        "no pixel stopped early, or all did: {mean}"
+    );
+    assert_eq!(view.stats().samples_taken, Some(mean));
+    assert_eq!(
+        view.stats().denoised_samples,
+        Some(3),
+        "the view is not denoised"
+    );
+    common::assert_agree(
+        "explorer_adaptive_path",
+        &expected,
+        &shown_view(&mut harness),
+        &EXACT,
+    );
+}
+
 /// Issue 20: with the denoiser on, the idle view shows the denoised running mean, which once it
 /// has the view's samples is what `qjulia render` writes of the same scene and samples, byte
 /// for byte; the status line has its noise figure; a `[denoise]` key from the panel denoises

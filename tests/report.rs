@@ -127,7 +127,23 @@ fn the_monte_carlo_page_measures_every_case() {
     }
     let csv = mc::csv(&curves);
     assert_eq!(csv.lines().count(), 1 + curves.len() * mc::SAMPLES.len());
-    assert_eq!(curves.iter().filter(|c| c.case.denoise).count(), 3);
+    // Each scene: denoised, adaptive, and both.
+    assert_eq!(curves.iter().filter(|c| c.case.denoise).count(), 6);
+    assert_eq!(curves.iter().filter(|c| c.case.adaptive).count(), 6);
+    for c in &curves {
+        for p in &c.points {
+            // Adaptive sampling takes at most the samples, and at most min_samples (16) always.
+            let floor = p.samples.min(16) as f64;
+            assert!(
+                p.taken <= p.samples as f64 && p.taken >= floor,
+                "{:?}: {p:?}",
+                c.case
+            );
+            if !c.case.adaptive {
+                assert_eq!(p.taken, p.samples as f64);
+            }
+        }
+    }
     for c in &curves {
         let s = c.split;
         assert!(s.edge.is_finite() && s.flat.is_finite() && (0.0..=1.0).contains(&s.edge_share));
@@ -138,6 +154,8 @@ fn the_monte_carlo_page_measures_every_case() {
         "**Bounces**",
         "rough metal",
         "the denoiser**",
+        "adaptive sampling**",
+        "Sobol' adaptive denoised",
         "on edge pixels",
     ] {
         assert!(md.contains(verdict), "{md}");

@@ -276,8 +276,8 @@ pub struct ReportArgs {
     #[arg(long)]
     pub dimensions: bool,
     /// Path mode's convergence: RMSE of the linear image against a converged reference,
-    /// against samples and seconds, Sobol' against random, bounces 1, 3 and 5 (writes
-    /// DIR/monte_carlo.md, .csv and .png).
+    /// against samples and seconds, Sobol' against random, the denoiser and adaptive sampling
+    /// on and off, bounces 1, 3 and 5 (writes DIR/monte_carlo.md, .csv and .png).
     #[arg(long, conflicts_with_all = ["stability", "dimensions"])]
     pub monte_carlo: bool,
     /// Samples per pixel of the Monte Carlo page's references.

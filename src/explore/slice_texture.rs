@@ -31,6 +31,11 @@
 //! `[denoise]` keys denoises the kept mean again, without a trace; the switch itself traces
 //! again (the AOVs and M2 start at sample 0). The preview (one sample, while things move) is
 //! not denoised.
+//!
+//! With adaptive sampling (`path.noise_target`) the passes are the same kernels', so a done
+//! pixel stops as in `qjulia render`; the mean read back (path mode's, or with a denoiser)
+//! brings the accumulator, whose fourth float gives the samples each pixel took: the status
+//! line's mean, and the denoiser's per-pixel counts.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
@@ -95,8 +100,11 @@ pub struct TextureStats {
     pub refined: bool,
     /// Seconds from the last change of scene or size to this image.
     pub since_change_seconds: f64,
-    /// Samples in the running mean shown.
+    /// Samples in the running mean shown (with adaptive sampling: the most a pixel has taken).
     pub samples: u32,
+    /// With adaptive sampling (path mode, or with a denoiser): the mean samples a pixel of the
+    /// last running mean read back has taken.
+    pub samples_taken: Option<f64>,
     /// Path mode: seconds the host took to encode the radiance shown (the display transform).
     pub encode_seconds: f64,
     /// With a denoiser: the estimated noise of the last running mean read back
@@ -146,6 +154,9 @@ struct Job<F: GpuReal> {
     /// Whether its passes compute the AOVs and read them back with the mean (the denoised
     /// view).
     aovs: bool,
+    /// Whether its pixels sample adaptively: the accumulator comes back with the mean (path
+    /// mode's always does) for the samples each pixel took.
+    adaptive: bool,
     next_row: u32,
     started: Instant,
     /// Completion times of its tiles, filled in by the queue's callbacks.
@@ -174,6 +185,9 @@ struct RadianceReadback {
     row_stride: u32,
     /// Samples in its running mean.
     samples: u32,
+    /// Whether its pixels sample adaptively (the accumulator's fourth float says which are
+    /// done, after how many samples).
+    adaptive: bool,
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
@@ -510,6 +524,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let Ok(pipeline) = pipeline else {
             return;
         };
+        let adaptive = params.adaptive();
         self.job = Some(Job {
             quality,
             pipeline,
@@ -517,6 +532,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             path_uniform,
             sample: 0,
             aovs,
+            adaptive,
             next_row: 0,
             started: Instant::now(),
             pending: Arc::new(AtomicU32::new(0)),
@@ -570,7 +586,10 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // and with a denoiser the mean and its AOVs, come back to the host after the pass's
             // last tile.
             let layout = MeanLayout {
-                accumulated: if self.kernel.is_path() { 16 } else { 0 },
+                accumulated: match self.kernel.is_path() || (job.aovs && job.adaptive) {
+                    true => 16,
+                    false => 0,
+                },
                 aovs: if job.aovs { 48 } else { 0 },
                 depth: if job.aovs { size_of::<F>() as u64 } else { 0 },
             };
@@ -605,6 +624,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                     size: [target.width, target.height],
                     row_stride: target.row_stride,
                     samples: job.sample + 1,
+                    adaptive: job.adaptive,
                     mapped,
                 });
             }
@@ -675,6 +695,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             samples: 1,
             // Said again once this scene's mean is read back and denoised.
             noise: None,
+            samples_taken: None,
             denoised_samples: None,
             ..std::mem::take(&mut self.stats)
         };
@@ -704,7 +725,22 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             let (accumulated, rest) = view.split_at(items * rb.layout.accumulated as usize);
             let (aovs, depth) = rest.split_at(items * rb.layout.aovs as usize);
             // Mapped ranges are aligned to 8 bytes at least, and so is each section.
-            let radiance = unpad::<[f32; 4], _>(accumulated, shape, |a| [a[0], a[1], a[2]]);
+            let radiance = match self.kernel.is_path() {
+                true => unpad::<[f32; 4], _>(accumulated, shape, |a| [a[0], a[1], a[2]]),
+                false => Vec::new(),
+            };
+            // Adaptive sampling: a done pixel's fourth float is minus its samples; the others
+            // have taken every pass's.
+            let taken = rb.samples;
+            let counts = match rb.adaptive && !accumulated.is_empty() {
+                true => unpad::<[f32; 4], _>(accumulated, shape, move |a| match a[3] < 0.0 {
+                    true => (-a[3]) as u32,
+                    false => taken,
+                }),
+                false => Vec::new(),
+            };
+            self.stats.samples_taken = (!counts.is_empty())
+                .then(|| counts.iter().map(|&n| n as f64).sum::<f64>() / counts.len() as f64);
             let frame = (rb.layout.aovs > 0).then(|| {
                 let aov = |k: usize| {
                     unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]])
@@ -725,6 +761,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 frame.normal = aov(2);
                 frame.luminance_m2 = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[1][3]);
                 frame.depth = depth;
+                frame.samples = counts.clone();
                 Arc::new(frame)
             });
             drop(view);

@@ -98,7 +98,14 @@ impl StatusLine {
                         .on_hover_text(why);
                 }
                 if s.refined {
-                    ui.label(format!("samples {}/{}", s.samples, state.preview_samples));
+                    let mut samples = format!("samples {}/{}", s.samples, state.preview_samples);
+                    if let Some(mean) = s.samples_taken {
+                        samples.push_str(&format!(" ({mean:.1} a pixel)"));
+                    }
+                    ui.label(samples).on_hover_text(
+                        "with adaptive sampling, a pixel stops once its noise is at most \
+                         path.noise_target: the mean of what each has taken",
+                    );
                 }
                 if let Some(noise) = s.noise.filter(|_| s.refined) {
                     ui.label(format!("noise {:.1}%", 100.0 * noise))
