@@ -14,7 +14,7 @@ use qjulia::{Frame, Picture, Precision, Readback};
 
 use super::{
     AnimateArgs, BackendArg, ExploreArgs, GpuParamsArgs, MergeArgs, MeshArgs, Render2dArgs,
-    RenderArgs,
+    RenderArgs, SchemaArgs,
 };
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
@@ -436,6 +436,15 @@ pub fn info() -> anyhow::Result<()> {
     println!(
         "render uses: {}",
         qjulia::gpu::adapter_label(&chosen.get_info())
+    );
+    Ok(())
+}
+
+/// `qjulia schema --json`: the scene schema and presets ([`qjulia::scene::schema::json`]).
+pub fn schema(_args: &SchemaArgs) -> anyhow::Result<()> {
+    print!(
+        "{}",
+        qjulia::scene::schema::json::SchemaJson::new().to_json()
     );
     Ok(())
 }

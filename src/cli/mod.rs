@@ -5,7 +5,7 @@
 mod commands;
 mod report;
 
-pub use commands::{animate, explore, gpu_params, info, merge, mesh, render, render2d};
+pub use commands::{animate, explore, gpu_params, info, merge, mesh, render, render2d, schema};
 pub use report::report;
 
 use std::path::PathBuf;
@@ -57,6 +57,9 @@ pub enum Command {
     /// Print the tracer's uniform for a scene as data: its layout (WGSL `struct Params`), its
     /// bytes and the override constants of the scene's pipeline (for a host that packs them).
     GpuParams(GpuParamsArgs),
+    /// The scene schema and the presets, as data (`--json`): every key's type, default, range,
+    /// choices, comment and slider, the loader's messages, and each preset's scene.
+    Schema(SchemaArgs),
 }
 
 /// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
@@ -200,6 +203,13 @@ pub struct Render2dArgs {
     pub stats: Option<PathBuf>,
     #[command(flatten)]
     pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct SchemaArgs {
+    /// Print JSON (the only format, so required).
+    #[arg(long, required = true)]
+    pub json: bool,
 }
 
 #[derive(Args, Debug)]

@@ -18,6 +18,9 @@ use crate::uniform::Layout;
 /// pipeline's override constants, and the 2D view's uniform.
 #[derive(Clone, Debug, Serialize)]
 pub struct GpuParamsJson {
+    /// The scene, resolved (defaults, preset, file and flags), as TOML with every key: what a
+    /// host that loads the same scene itself must arrive at.
+    pub scene: String,
     /// "f32" or "f64": the module (shaders/real32.wgsl or real64.wgsl in front) and the layout.
     pub precision: &'static str,
     /// WGSL `struct Params` of shaders/trace.wgsl in this precision.
@@ -70,6 +73,7 @@ impl GpuParamsJson {
         };
         let j = Julia2dParams::<F>::new(scene);
         Self {
+            scene: scene.to_toml(),
             precision: F::NAME,
             layout,
             bytes: hex(&F::trace_uniform(&p, band, (0, per_dispatch))),

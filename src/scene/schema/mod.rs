@@ -15,6 +15,7 @@
 //! book's scene-file block from these tables) then prints the line to add to the block.
 
 mod book;
+pub mod json;
 
 pub use super::{KEYS, SCHEMA, TABLES};
 pub use book::readme_block;

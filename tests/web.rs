@@ -1,0 +1,93 @@
+//! The browser's fixtures (web/), made by the binary and checked in so that the TypeScript
+//! tests (vitest) need no Rust build, are held fresh here: `qjulia schema --json` is
+//! web/src/generated/schema.json byte for byte, and each case of web/test/fixtures/scenes.json
+//! (a scene file of web/test/corpus and `--set`s) has the scene `qjulia gpu-params` resolves
+//! or the one line it refuses it with. `QJULIA_BLESS=1 cargo test --release --test web` writes
+//! them again from the binary.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn web() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("web")
+}
+
+fn bless() -> bool {
+    std::env::var("QJULIA_BLESS").is_ok_and(|v| v == "1")
+}
+
+/// Compares `path`'s bytes with `made` (or writes them, blessing); a stale file fails with how
+/// to make it again.
+fn check_file(path: &Path, made: &str) {
+    if bless() {
+        std::fs::write(path, made).unwrap();
+        return;
+    }
+    let held = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        held == made,
+        "{} is stale: run `QJULIA_BLESS=1 cargo test --release --test web` and check in the \
+         result",
+        path.display()
+    );
+}
+
+#[test]
+fn the_schema_file_is_the_binarys() {
+    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["schema", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let made = String::from_utf8(out.stdout).unwrap();
+    let parsed: serde_json::Value = serde_json::from_str(&made).unwrap();
+    assert_eq!(parsed["format"], 1);
+    assert_eq!(
+        parsed["keys"].as_array().unwrap().len(),
+        qjulia::scene::SCHEMA.len()
+    );
+    check_file(&web().join("src/generated/schema.json"), &made);
+}
+
+#[test]
+fn the_scene_fixtures_are_the_binarys() {
+    let path = web().join("test/fixtures/scenes.json");
+    let mut cases: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert!(cases.len() >= 20, "a corpus of {} scenes", cases.len());
+    let (mut good, mut bad) = (0, 0);
+    for case in &mut cases {
+        let mut args = vec!["gpu-params".to_string(), "--json".into()];
+        if let Some(file) = case["file"].as_str() {
+            args.extend(["--scene".into(), file.into()]);
+        }
+        for set in case["sets"].as_array().unwrap() {
+            args.extend(["--set".into(), set.as_str().unwrap().into()]);
+        }
+        let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+            .args(&args)
+            .current_dir(web().join("test"))
+            .output()
+            .unwrap();
+        let object = case.as_object_mut().unwrap();
+        if out.status.success() {
+            let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            object.insert("message".into(), serde_json::Value::Null);
+            object.insert("scene".into(), json["scene"].clone());
+            good += 1;
+        } else {
+            assert_eq!(out.status.code(), Some(2), "{args:?}");
+            let stderr = String::from_utf8(out.stderr).unwrap();
+            let lines: Vec<&str> = stderr.lines().collect();
+            assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
+            let message = lines[0].strip_prefix("error: ").expect("error: ...");
+            object.insert("message".into(), message.into());
+            object.remove("scene");
+            bad += 1;
+        }
+    }
+    assert!(good >= 5 && bad >= 15, "{good} good and {bad} bad scenes");
+    let mut made = serde_json::to_string_pretty(&cases).unwrap();
+    made.push('\n');
+    check_file(&path, &made);
+}
