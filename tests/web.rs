@@ -1,8 +1,9 @@
 //! The browser's fixtures (web/), made by the binary and checked in so that the TypeScript
 //! tests (vitest) need no Rust build, are held fresh here: `qjulia schema --json` is
 //! web/src/generated/schema.json byte for byte, and each case of web/test/fixtures/scenes.json
-//! (a scene file of web/test/corpus and `--set`s) has the scene `qjulia gpu-params` resolves
-//! or the one line it refuses it with. `QJULIA_BLESS=1 cargo test --release --test web` writes
+//! (a preset, a scene file of web/test/corpus and `--set`s) has the scene `qjulia gpu-params` resolves,
+//! its uniform's bytes and its override constants, or the one line it refuses it with; and
+//! web/src/generated/layout.json is the uniforms' layout `gpu-params` prints. `QJULIA_BLESS=1 cargo test --release --test web` writes
 //! them again from the binary.
 
 use std::path::{Path, PathBuf};
@@ -58,6 +59,9 @@ fn the_scene_fixtures_are_the_binarys() {
     let (mut good, mut bad) = (0, 0);
     for case in &mut cases {
         let mut args = vec!["gpu-params".to_string(), "--json".into()];
+        if let Some(preset) = case.get("preset").and_then(|p| p.as_str()) {
+            args.extend(["--preset".into(), preset.into()]);
+        }
         if let Some(file) = case["file"].as_str() {
             args.extend(["--scene".into(), file.into()]);
         }
@@ -73,7 +77,11 @@ fn the_scene_fixtures_are_the_binarys() {
         if out.status.success() {
             let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
             object.insert("message".into(), serde_json::Value::Null);
-            object.insert("scene".into(), json["scene"].clone());
+            for field in ["scene", "bytes", "samples_per_dispatch"] {
+                object.insert(field.into(), json[field].clone());
+            }
+            let text = String::from_utf8(out.stdout.clone()).unwrap();
+            object.insert("overrides".into(), overrides_in_order(&text));
             good += 1;
         } else {
             assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -82,7 +90,9 @@ fn the_scene_fixtures_are_the_binarys() {
             assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
             let message = lines[0].strip_prefix("error: ").expect("error: ...");
             object.insert("message".into(), message.into());
-            object.remove("scene");
+            for field in ["scene", "bytes", "overrides", "samples_per_dispatch"] {
+                object.remove(field);
+            }
             bad += 1;
         }
     }
@@ -90,4 +100,41 @@ fn the_scene_fixtures_are_the_binarys() {
     let mut made = serde_json::to_string_pretty(&cases).unwrap();
     made.push('\n');
     check_file(&path, &made);
+}
+
+/// The `overrides` object of `gpu-params`' pretty JSON as `[name, value]` pairs in the order
+/// it prints them (the pipeline's constants in order; a JSON object's order is not kept).
+fn overrides_in_order(text: &str) -> serde_json::Value {
+    let start = text.find("\"overrides\": {").expect("an overrides object");
+    let body = &text[start..];
+    let end = body.find('}').expect("its end");
+    let pairs: Vec<serde_json::Value> = body[..end]
+        .lines()
+        .skip(1)
+        .filter_map(|line| {
+            let (name, value) = line.trim().trim_end_matches(',').split_once(": ")?;
+            let name: String = serde_json::from_str(name).ok()?;
+            let value: f64 = value.parse().ok()?;
+            Some(serde_json::json!([name, value]))
+        })
+        .collect();
+    assert!(!pairs.is_empty(), "no constants in {text}");
+    serde_json::Value::Array(pairs)
+}
+
+#[test]
+fn the_layout_file_is_the_binarys() {
+    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["gpu-params", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let layouts = serde_json::json!({
+        "params": json["layout"],
+        "julia2d": json["julia2d"]["layout"],
+    });
+    let mut made = serde_json::to_string_pretty(&layouts).unwrap();
+    made.push('\n');
+    check_file(&web().join("src/generated/layout.json"), &made);
 }

@@ -19,6 +19,7 @@ import {
 
 interface Case {
   name: string;
+  preset?: string;
   file: string | null;
   sets: string[];
   message: string | null;
@@ -69,7 +70,11 @@ describe('the scene loader', () => {
     const loader = new SceneLoader();
     let outcome: Scene | string;
     try {
-      if (c.file !== null) {
+      if (c.preset !== undefined) {
+      const preset = SCHEMA.presets.find((p) => p.slug === c.preset)!;
+      loader.tomlStr(preset.toml, { kind: 'preset', slug: preset.slug });
+    }
+    if (c.file !== null) {
         const text = readFileSync(join(here, c.file), 'utf8');
         loader.tomlStr(text, { kind: 'file', path: c.file });
       }

@@ -1,0 +1,290 @@
+// The tracer's uniform (`struct Params` of shaders/trace.wgsl, f32) and its pipeline's override
+// constants for a scene: the TypeScript twin of TraceParams::new (src/params.rs, with the
+// scene's camera frame, slice bounds, pixel angle and focus distance of src/scene/mod.rs),
+// F::trace_uniform and Variant::of (src/gpu/variant.rs). Every value is worked out in f64 as the
+// host does, then rounded to f32 where the field is f32; the layout (offsets, sizes, types) is
+// the one `qjulia gpu-params --json` emits (src/generated/layout.json), which the Rust tests
+// hold against naga's reflection of the WGSL. test/uniform.test.ts compares the bytes and the
+// constants with the binary's for every scene of the corpus.
+
+import layoutJson from './generated/layout.json';
+import type { Scene } from './scene';
+
+export interface FieldLayout {
+  name: string;
+  offset: number;
+  size: number;
+  type: string;
+  per_dispatch: boolean;
+}
+
+export interface Layout {
+  name: string;
+  size: number;
+  align: number;
+  fields: FieldLayout[];
+}
+
+export const PARAMS_LAYOUT = (layoutJson as unknown as { params: Layout }).params;
+
+/// Samples a dispatch adds at most (MAX_SAMPLES_PER_DISPATCH of src/gpu/tracer.rs).
+export const MAX_SAMPLES_PER_DISPATCH = 8;
+/// Pixels per band of a streamed render (src/render/mod.rs's band_pixels()).
+export const BAND_PIXELS = 1 << 22;
+/// |z|^2 beyond which f32 stops the orbit, whatever the scene asks (Real::ESCAPE_LIMIT).
+export const ESCAPE_LIMIT_F32 = 1e8;
+
+type V3 = [number, number, number];
+
+function length3(a: V3): number {
+  return Math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/// glam's normalize: times the reciprocal of the length.
+function normalize(a: V3): V3 {
+  const r = 1 / length3(a);
+  return [a[0] * r, a[1] * r, a[2] * r];
+}
+
+function cross(a: V3, b: V3): V3 {
+  return [a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1]];
+}
+
+/// Rust's f64::to_radians.
+function toRadians(degrees: number): number {
+  return degrees * (Math.PI / 180);
+}
+
+/// `v` scaled to unit length, divided by its largest component first (params.rs's `unit`).
+export function unit(v: number[]): number[] {
+  const m = v.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
+  const w = m > 0 ? v.map((x) => x / m) : v;
+  const n = Math.sqrt(w.reduce((s, x) => s + x * x, 0));
+  return n > 0 ? w.map((x) => x / n) : [0, 0, 1];
+}
+
+/// The camera's frame and the tangent of half the vertical field of view (Scene::camera_frame).
+export function cameraFrame(s: Scene): { forward: V3; right: V3; up: V3; tanHalfFovY: number } {
+  const eye = s.get('camera.eye') as V3;
+  const target = s.get('camera.target') as V3;
+  const forward = normalize([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+  const right = normalize(cross(forward, s.get('camera.up') as V3));
+  const up = cross(right, forward);
+  const tanHalfFovY = Math.tan(toRadians(s.get('camera.fov_y_degrees') as number) * 0.5);
+  return { forward, right, up, tanHalfFovY };
+}
+
+function dot(a: number[], b: number[]): number {
+  let sum = 0;
+  for (let k = 0; k < a.length; k++) sum += a[k] * b[k];
+  return sum;
+}
+
+/// The 3D ball the 4D bounding ball cuts out of the slice (Scene::slice_bounds).
+export function sliceBounds(s: Scene): { center: V3; radiusSquared: number } {
+  const w = s.get('slice.offset') as number[];
+  const basis = ['slice.x', 'slice.y', 'slice.z'].map((k) => s.get(k) as number[]);
+  const coords = basis.map((b) => dot(b, w));
+  let off = 0;
+  for (let k = 0; k < w.length; k++) {
+    let along = 0;
+    for (let a = 0; a < 3; a++) along += basis[a][k] * coords[a];
+    const v = w[k] - along;
+    off += v * v;
+  }
+  return {
+    center: [-coords[0], -coords[1], -coords[2]],
+    radiusSquared: (s.get('fractal.bounding_radius_squared') as number) - off,
+  };
+}
+
+/// A pixel's footprint per unit of distance along the ray (Scene::pixel_angle).
+export function pixelAngle(s: Scene): number {
+  const fov = s.get('camera.fov_y_degrees') as number;
+  return (2 * Math.tan(toRadians(fov) * 0.5)) / (s.get('image.height') as number);
+}
+
+/// The focus plane's distance (Scene::focus_distance).
+export function focusDistance(s: Scene): number {
+  const d = s.get('camera.focus_distance') as number;
+  if (d > 0) return d;
+  const eye = s.get('camera.eye') as V3;
+  const target = s.get('camera.target') as V3;
+  return length3([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+}
+
+const ALGEBRA_PARTS: Record<string, number> = { quaternion: 1, octonion: 2, sedenion: 4 };
+const CODES: Record<string, string[]> = {
+  normal_method: ['central', 'tetrahedral', 'analytic'],
+  tracing: ['seed', 'cone'],
+  colouring: ['flat', 'orbit_trap'],
+};
+
+/// A number of the algebra as 16 floats (hyper_from_f64: zeros past its dimension).
+function hyper(v: number[]): number[] {
+  return Array.from({ length: 16 }, (_, k) => v[k] ?? 0);
+}
+
+/// Every scene field of `struct Params` by name, in f64 (TraceParams::new); numbers, vectors,
+/// or 16 floats for a number of the algebra.
+export function traceParams(s: Scene): Map<string, number | number[]> {
+  const frame = cameraFrame(s);
+  const bounds = sliceBounds(s);
+  const f = (k: string) => s.get(k) as number;
+  const v = (k: string) => s.get(k) as number[];
+  const b = (k: string) => ((s.get(k) as boolean) ? 1 : 0);
+  const code = (field: string, key: string) => CODES[field].indexOf(s.get(key) as string);
+  return new Map<string, number | number[]>([
+    ['c', hyper(v('fractal.c'))],
+    ['slice_x', hyper(v('slice.x'))],
+    ['slice_y', hyper(v('slice.y'))],
+    ['slice_z', hyper(v('slice.z'))],
+    ['slice_offset', hyper(v('slice.offset'))],
+    ['eye', v('camera.eye')],
+    ['epsilon', f('fractal.epsilon')],
+    ['cam_forward', frame.forward],
+    ['tan_half_fov_y', frame.tanHalfFovY],
+    ['cam_right', frame.right],
+    ['aspect', f('image.width') / f('image.height')],
+    ['cam_up', frame.up],
+    ['escape_radius_squared', Math.min(f('fractal.escape_radius_squared'), ESCAPE_LIMIT_F32)],
+    ['light', v('light.position')],
+    ['bounds_radius_squared', bounds.radiusSquared],
+    ['bounds_center', bounds.center],
+    ['normal_tint', f('shading.normal_tint')],
+    ['diffuse', v('shading.diffuse')],
+    ['specular', f('shading.specular')],
+    ['background', v('shading.background')],
+    ['shininess', f('shading.shininess')],
+    ['palette_phase', v('shading.palette_phase')],
+    ['trap_scale', f('shading.trap_scale')],
+    ['cut_normal', unit(v('cut.normal'))],
+    ['cut_offset', f('cut.offset')],
+    ['shadow_factor', f('shading.shadow_factor')],
+    ['normal_delta', f('shading.normal_delta')],
+    ['step_scale', f('fractal.step_scale')],
+    ['pixel_epsilon', f('fractal.pixel_epsilon')],
+    ['pixel_angle', pixelAngle(s)],
+    ['light_radius', f('light.radius')],
+    ['ambient', f('shading.ambient')],
+    ['occlusion', f('shading.occlusion')],
+    ['trap_radius', f('shading.trap_radius')],
+    ['aperture', f('camera.aperture')],
+    ['focus_distance', focusDistance(s)],
+    ['blade_rotation', toRadians(f('camera.blade_rotation'))],
+    ['noise_target', f('path.noise_target')],
+    ['max_iterations', f('fractal.max_iterations')],
+    ['max_steps', f('fractal.max_steps')],
+    ['width', f('image.width')],
+    ['height', f('image.height')],
+    ['shadows', b('shading.shadows')],
+    ['normal_method', code('normal_method', 'shading.normal')],
+    ['tracing', code('tracing', 'fractal.tracing')],
+    ['algebra_parts', ALGEBRA_PARTS[s.get('fractal.algebra') as string]],
+    ['samples', f('image.samples')],
+    ['colouring', code('colouring', 'shading.colouring')],
+    ['cut', b('cut.enabled')],
+    ['blades', f('camera.blades')],
+    ['min_samples', f('path.min_samples')],
+  ]);
+}
+
+/// Samples each dispatch adds to bands of `rows` rows of `width` pixels
+/// (GpuTracer::samples_per_dispatch_in).
+export function samplesPerDispatch(rows: number, width: number, samples: number): number {
+  const bandPixels = rows * width;
+  const fit = Math.min(Math.max(Math.floor(BAND_PIXELS / Math.max(bandPixels, 1)), 1), 2 ** 32 - 1);
+  return Math.min(fit, MAX_SAMPLES_PER_DISPATCH, Math.max(samples, 1));
+}
+
+/// The uniform of a dispatch over rows [rowOffset, rowOffset + rowCount) written from row
+/// `outRow` on, `rowStride` pixels a row, adding the samples [start, end) (F::trace_uniform).
+export interface Dispatch {
+  rowOffset: number;
+  rowCount: number;
+  rowStride: number;
+  outRow: number;
+  sampleStart: number;
+  sampleEnd: number;
+}
+
+/// The bytes of `struct Params` (f32) for `s` and one dispatch.
+export function packParams(s: Scene, d: Dispatch, layout: Layout = PARAMS_LAYOUT): Uint8Array {
+  const bytes = new Uint8Array(layout.size);
+  const view = new DataView(bytes.buffer);
+  const values = traceParams(s);
+  const perDispatch: Record<string, number> = {
+    row_offset: d.rowOffset,
+    row_count: d.rowCount,
+    row_stride: d.rowStride,
+    out_row: d.outRow,
+    sample_start: d.sampleStart,
+    sample_end: d.sampleEnd,
+  };
+  for (const field of layout.fields) {
+    const value = field.per_dispatch ? perDispatch[field.name] : values.get(field.name);
+    if (value === undefined) throw new Error(`no value for the uniform's ${field.name}`);
+    const items = Array.isArray(value) ? value : [value];
+    const scalar = field.type === 'u32' ? 'u32' : 'f32';
+    const count = field.size / 4;
+    if (items.length < count) throw new Error(`${field.name}: ${items.length} of ${count} values`);
+    for (let k = 0; k < count; k++) {
+      const at = field.offset + 4 * k;
+      if (scalar === 'u32') view.setUint32(at, items[k], true);
+      else view.setFloat32(at, Math.fround(items[k]), true);
+    }
+  }
+  return bytes;
+}
+
+/// The scene's first dispatch over the whole image as one band, as `gpu-params` prints it.
+export function firstDispatch(s: Scene): Dispatch {
+  const width = s.get('image.width') as number;
+  const height = s.get('image.height') as number;
+  const samples = s.get('image.samples') as number;
+  return {
+    rowOffset: 0,
+    rowCount: height,
+    rowStride: width,
+    outRow: 0,
+    sampleStart: 0,
+    sampleEnd: samplesPerDispatch(height, width, samples),
+  };
+}
+
+/// The f32 value the GPU reads of an f64 (what a uniform field holds).
+const f32 = Math.fround;
+
+/// The shaded picture's pipeline override constants for `s` (Variant::of(params, true), as
+/// `gpu-params` prints them), in order.
+export function overrides(s: Scene): [string, number][] {
+  const p = traceParams(s);
+  const n = (k: string) => p.get(k) as number;
+  const standard = (k: string, axis: number) =>
+    (p.get(k) as number[]).every((x, i) => f32(x) === (i === axis ? 1 : 0));
+  const b = (v: boolean) => (v ? 1 : 0);
+  const samples = n('samples') > 1;
+  return [
+    ['SPECIALISED', 1],
+    ['SHADOWS', n('shadows')],
+    ['NORMAL_METHOD', n('normal_method')],
+    ['STANDARD_SLICE', b(standard('slice_x', 0) && standard('slice_y', 1) && standard('slice_z', 2))],
+    ['OVER_RELAXED', b(f32(n('step_scale')) > 1)],
+    ['PIXEL_EPSILON', b(f32(n('pixel_epsilon')) > 0)],
+    ['SHADE', 1],
+    ['CONE_TRACING', b(n('tracing') === 1)],
+    ['ALGEBRA_PARTS', n('algebra_parts')],
+    ['SAMPLES', b(samples)],
+    ['SOFT_SHADOWS', b(n('shadows') === 1 && f32(n('light_radius')) > 0)],
+    ['OCCLUSION', b(f32(n('occlusion')) > 0)],
+    ['ORBIT_TRAP', b(n('colouring') === 1)],
+    ['CUT', n('cut')],
+    ['LENS', b(samples && f32(n('aperture')) > 0)],
+    ['ADAPTIVE', b(samples && f32(n('noise_target')) > 0)],
+  ];
+}
+
+/// Bytes as lowercase hex, two digits a byte.
+export function hex(bytes: Uint8Array): string {
+  return Array.from(bytes, (x) => x.toString(16).padStart(2, '0')).join('');
+}
