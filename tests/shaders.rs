@@ -118,6 +118,29 @@ fn uniform_layout_matches_the_shader() {
     }
 }
 
+/// The path tracer's own uniform: the host's table is naga's `PathParams`, in both precisions'
+/// modules, and the bytemuck struct's offsets.
+#[test]
+fn path_uniform_layout_matches_the_shader() {
+    use qjulia::gpu::path::GpuPathParams;
+    use qjulia::gpu::shaders::{PATH_MODULE, PATH64_MODULE};
+    assert_layout_matches(&PATH_MODULE, &GpuPathParams::LAYOUT);
+    assert_layout_matches(&PATH64_MODULE, &GpuPathParams::LAYOUT);
+    assert_eq!(GpuPathParams::LAYOUT.size, size_of::<GpuPathParams>());
+    let offsets: Vec<(String, u32)> = GpuPathParams::LAYOUT
+        .fields
+        .iter()
+        .map(|f| (f.name.to_string(), f.offset as u32))
+        .collect();
+    assert_eq!(
+        offsets,
+        host_offsets!(GpuPathParams: sky_zenith, sky_intensity, sky_horizon, bounces, sky_ground,
+            roulette_start, sky_up, clamp_contribution, sun_direction, sun_cos_radius,
+            sun_irradiance, sampler, light_intensity, strategy, roughness, metallic, specular,
+            pad)
+    );
+}
+
 /// The sampler's grid uniform (binding 7 of the sample module) is the host's GpuSampleGrid, and
 /// the sampler's Params the tracer's.
 #[test]

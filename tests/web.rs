@@ -80,6 +80,7 @@ fn the_scene_fixtures_are_the_binarys() {
             for field in ["scene", "bytes", "samples_per_dispatch"] {
                 object.insert(field.into(), json[field].clone());
             }
+            object.insert("path_bytes".into(), json["path"]["bytes"].clone());
             let text = String::from_utf8(out.stdout.clone()).unwrap();
             object.insert("overrides".into(), overrides_in_order(&text));
             good += 1;
@@ -90,7 +91,13 @@ fn the_scene_fixtures_are_the_binarys() {
             assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
             let message = lines[0].strip_prefix("error: ").expect("error: ...");
             object.insert("message".into(), message.into());
-            for field in ["scene", "bytes", "overrides", "samples_per_dispatch"] {
+            for field in [
+                "scene",
+                "bytes",
+                "overrides",
+                "samples_per_dispatch",
+                "path_bytes",
+            ] {
                 object.remove(field);
             }
             bad += 1;
@@ -133,6 +140,7 @@ fn the_layout_file_is_the_binarys() {
     let layouts = serde_json::json!({
         "params": json["layout"],
         "julia2d": json["julia2d"]["layout"],
+        "path": json["path"]["layout"],
     });
     let mut made = serde_json::to_string_pretty(&layouts).unwrap();
     made.push('\n');

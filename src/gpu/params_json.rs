@@ -5,10 +5,12 @@
 use serde::{Serialize, Serializer};
 
 use super::kernel::Band;
+use super::path::GpuPathParams;
 use super::{
     GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64, GpuReal, GpuTracer, Variant,
 };
 use crate::Precision;
+use crate::cpu::path::PathParams;
 use crate::params::{Julia2dParams, TraceParams};
 use crate::scene::Scene;
 use crate::uniform::Layout;
@@ -34,7 +36,8 @@ pub struct GpuParamsJson {
     /// samples), the running mean kept in the `accumulated` output between them.
     pub samples_per_dispatch: u32,
     pub dispatches: u32,
-    /// The pipeline's override constants for the shaded picture, in the numbers wgpu's
+    /// The pipeline's override constants for the shaded picture (path mode's: the path
+    /// kernel's variant), in the numbers wgpu's
     /// `constants` map takes (f64; a bool is 1 or 0). An f64 pipeline also gets the repairs the
     /// device's f64 check asks for (`SQRT_NEWTON` and the like), which only the device knows.
     #[serde(serialize_with = "in_order")]
@@ -42,6 +45,9 @@ pub struct GpuParamsJson {
     /// The 2D view's uniform (`struct Julia2dParams` of shaders/julia2d.wgsl, no override
     /// constants): its layout and bytes for the whole image as one band.
     pub julia2d: UniformJson,
+    /// The path tracer's own uniform (`struct PathParams` of shaders/path.wgsl, binding 7, f32
+    /// in either precision): its layout and bytes, whatever the model (path mode reads it).
+    pub path: UniformJson,
 }
 
 /// A uniform's layout and bytes.
@@ -79,10 +85,19 @@ impl GpuParamsJson {
             bytes: hex(&F::trace_uniform(&p, band, (0, per_dispatch))),
             samples_per_dispatch: per_dispatch,
             dispatches: p.samples.max(1).div_ceil(per_dispatch),
-            overrides: Variant::of(&p, true).constants(),
+            overrides: match crate::Picture::SHADED.path_traced(scene) {
+                true => Variant::of_path(&p).constants(),
+                false => Variant::of(&p, true).constants(),
+            },
             julia2d: UniformJson {
                 layout: julia2d,
                 bytes: hex(&F::julia2d_uniform(&j, band)),
+            },
+            path: UniformJson {
+                layout: GpuPathParams::LAYOUT,
+                bytes: hex(bytemuck::bytes_of(&GpuPathParams::new(
+                    &PathParams::<F>::new(scene),
+                ))),
             },
         }
     }

@@ -21,6 +21,7 @@ use crate::cpu::path::PathParams;
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
+use crate::uniform::{FieldLayout, Layout};
 
 /// shaders/path.wgsl's `PathParams` (binding 7; keep in sync). Its CPU twin is
 /// [`PathParams`].
@@ -48,6 +49,143 @@ pub struct GpuPathParams {
 }
 
 impl GpuPathParams {
+    /// shaders/path.wgsl's `struct PathParams` as WGSL lays it out (tests/shaders.rs holds it
+    /// against naga's reflection and against this struct's offsets; `qjulia gpu-params --json`
+    /// prints it for the browser's host).
+    pub const LAYOUT: Layout = Layout {
+        name: "PathParams",
+        size: 128,
+        align: 16,
+        fields: &[
+            FieldLayout {
+                name: "sky_zenith",
+                offset: 0,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sky_intensity",
+                offset: 12,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sky_horizon",
+                offset: 16,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "bounces",
+                offset: 28,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sky_ground",
+                offset: 32,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "roulette_start",
+                offset: 44,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sky_up",
+                offset: 48,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "clamp_contribution",
+                offset: 60,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sun_direction",
+                offset: 64,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sun_cos_radius",
+                offset: 76,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sun_irradiance",
+                offset: 80,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "sampler",
+                offset: 92,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "light_intensity",
+                offset: 96,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "strategy",
+                offset: 108,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "roughness",
+                offset: 112,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "metallic",
+                offset: 116,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "specular",
+                offset: 120,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "pad",
+                offset: 124,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+        ],
+    };
+
     /// The uniform of `p`, in f32 whatever the precision of the geometry.
     pub fn new<F: Real>(p: &PathParams<F>) -> Self {
         let x = |x: F| x.to_f64() as f32;

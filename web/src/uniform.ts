@@ -25,7 +25,10 @@ export interface Layout {
   fields: FieldLayout[];
 }
 
-export const PARAMS_LAYOUT = (layoutJson as unknown as { params: Layout }).params;
+const LAYOUTS = layoutJson as unknown as { params: Layout; path: Layout };
+export const PARAMS_LAYOUT = LAYOUTS.params;
+/// `struct PathParams` of shaders/path.wgsl (binding 7).
+export const PATH_LAYOUT = LAYOUTS.path;
 
 /// Samples a dispatch adds at most (MAX_SAMPLES_PER_DISPATCH of src/gpu/tracer.rs).
 export const MAX_SAMPLES_PER_DISPATCH = 8;
@@ -210,20 +213,68 @@ export interface Dispatch {
 
 /// The bytes of `struct Params` (f32) for `s` and one dispatch.
 export function packParams(s: Scene, d: Dispatch, layout: Layout = PARAMS_LAYOUT): Uint8Array {
+  const values = traceParams(s);
+  const perDispatch = new Map<string, number>([
+    ['row_offset', d.rowOffset],
+    ['row_count', d.rowCount],
+    ['row_stride', d.rowStride],
+    ['out_row', d.outRow],
+    ['sample_start', d.sampleStart],
+    ['sample_end', d.sampleEnd],
+  ]);
+  return pack(layout, (f) => (f.per_dispatch ? perDispatch : values).get(f.name));
+}
+
+/// The path tracer's `PathParams` in f32 (PathParams::new, then GpuPathParams::new), by name.
+export function pathParams(s: Scene): Map<string, number | number[]> {
+  const f = (k: string) => s.get(k) as number;
+  const v = (k: string) => s.get(k) as number[];
+  const sun = f('sun.intensity');
+  const light = f('light.intensity');
+  return new Map<string, number | number[]>([
+    ['sky_zenith', v('sky.zenith')],
+    ['sky_intensity', f('sky.intensity')],
+    ['sky_horizon', v('sky.horizon')],
+    ['bounces', f('path.bounces')],
+    ['sky_ground', v('sky.ground')],
+    ['roulette_start', ROULETTE_START],
+    ['sky_up', unit(v('sky.up'))],
+    ['clamp_contribution', f('path.clamp')],
+    ['sun_direction', unit(v('sun.direction'))],
+    ['sun_cos_radius', Math.cos(toRadians(f('sun.angular_radius_degrees')))],
+    ['sun_irradiance', v('sun.colour').map((c) => c * sun)],
+    ['sampler', SAMPLER_CODES[s.get('path.sampler') as string]],
+    ['light_intensity', [light, light, light]],
+    ['strategy', 0],
+    ['roughness', f('material.roughness')],
+    ['metallic', f('material.metallic')],
+    ['specular', f('material.specular')],
+    ['pad', 0],
+  ]);
+}
+
+/// Russian roulette's first scattering event (ROULETTE_START of src/cpu/path.rs).
+export const ROULETTE_START = 3;
+/// The shader's `sampler` numbers (SAMPLER_SOBOL, SAMPLER_RANDOM of src/cpu/sobol.rs).
+const SAMPLER_CODES: Record<string, number> = { sobol: 0, random: 1 };
+
+/// The bytes of `struct PathParams` for `s`.
+export function packPath(s: Scene, layout: Layout = PATH_LAYOUT): Uint8Array {
+  const values = pathParams(s);
+  return pack(layout, (f) => values.get(f.name));
+}
+
+/// A uniform's bytes by its layout, each field's value(s) from `value` (u32 as they are, f32
+/// rounded from f64).
+function pack(
+  layout: Layout,
+  valueOf: (f: FieldLayout) => number | number[] | undefined,
+): Uint8Array {
   const bytes = new Uint8Array(layout.size);
   const view = new DataView(bytes.buffer);
-  const values = traceParams(s);
-  const perDispatch: Record<string, number> = {
-    row_offset: d.rowOffset,
-    row_count: d.rowCount,
-    row_stride: d.rowStride,
-    out_row: d.outRow,
-    sample_start: d.sampleStart,
-    sample_end: d.sampleEnd,
-  };
   for (const field of layout.fields) {
-    const value = field.per_dispatch ? perDispatch[field.name] : values.get(field.name);
-    if (value === undefined) throw new Error(`no value for the uniform's ${field.name}`);
+    const value = valueOf(field);
+    if (value === undefined) throw new Error(`no value for ${layout.name}'s ${field.name}`);
     const items = Array.isArray(value) ? value : [value];
     const scalar = field.type === 'u32' ? 'u32' : 'f32';
     const count = field.size / 4;
@@ -255,10 +306,12 @@ export function firstDispatch(s: Scene): Dispatch {
 /// The f32 value the GPU reads of an f64 (what a uniform field holds).
 const f32 = Math.fround;
 
-/// The shaded picture's pipeline override constants for `s` (Variant::of(params, true), as
-/// `gpu-params` prints them), in order.
+/// The shaded picture's pipeline override constants for `s` (Variant::of(params, true), or in
+/// path mode Variant::of_path: none of phong's shading, no cone), as `gpu-params` prints them,
+/// in order.
 export function overrides(s: Scene): [string, number][] {
   const p = traceParams(s);
+  const path = s.get('shading.model') === 'path';
   const n = (k: string) => p.get(k) as number;
   const standard = (k: string, axis: number) =>
     (p.get(k) as number[]).every((x, i) => f32(x) === (i === axis ? 1 : 0));
@@ -266,17 +319,17 @@ export function overrides(s: Scene): [string, number][] {
   const samples = n('samples') > 1;
   return [
     ['SPECIALISED', 1],
-    ['SHADOWS', n('shadows')],
+    ['SHADOWS', path ? 0 : n('shadows')],
     ['NORMAL_METHOD', n('normal_method')],
     ['STANDARD_SLICE', b(standard('slice_x', 0) && standard('slice_y', 1) && standard('slice_z', 2))],
     ['OVER_RELAXED', b(f32(n('step_scale')) > 1)],
     ['PIXEL_EPSILON', b(f32(n('pixel_epsilon')) > 0)],
     ['SHADE', 1],
-    ['CONE_TRACING', b(n('tracing') === 1)],
+    ['CONE_TRACING', b(!path && n('tracing') === 1)],
     ['ALGEBRA_PARTS', n('algebra_parts')],
     ['SAMPLES', b(samples)],
-    ['SOFT_SHADOWS', b(n('shadows') === 1 && f32(n('light_radius')) > 0)],
-    ['OCCLUSION', b(f32(n('occlusion')) > 0)],
+    ['SOFT_SHADOWS', b(!path && n('shadows') === 1 && f32(n('light_radius')) > 0)],
+    ['OCCLUSION', b(!path && f32(n('occlusion')) > 0)],
     ['ORBIT_TRAP', b(n('colouring') === 1)],
     ['CUT', n('cut')],
     ['LENS', b(samples && f32(n('aperture')) > 0)],

@@ -1,13 +1,14 @@
 // The uniform packing's twin (src/uniform.ts) against the binary: for every scene of the corpus
 // that loads (fixtures/scenes.json, made by `qjulia gpu-params --json` and held fresh by
 // tests/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
-// samples a dispatch, and the override constants, byte for byte and in order.
+// samples a dispatch, the path tracer's `PathParams`, and the override constants (path mode's
+// the path kernel's), byte for byte and in order.
 
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { describe, expect, test } from 'vitest';
 import { SCHEMA, SceneLoader } from '../src/scene';
-import { firstDispatch, hex, overrides, packParams, PARAMS_LAYOUT } from '../src/uniform';
+import { firstDispatch, hex, overrides, packParams, packPath, PARAMS_LAYOUT } from '../src/uniform';
 
 interface Case {
   name: string;
@@ -16,6 +17,7 @@ interface Case {
   sets: string[];
   message: string | null;
   bytes?: string;
+  path_bytes?: string;
   overrides?: [string, number][];
   samples_per_dispatch?: number;
 }
@@ -48,6 +50,7 @@ describe('the uniform', () => {
     const d = firstDispatch(scene);
     expect(d.sampleEnd).toBe(c.samples_per_dispatch);
     expect(hex(packParams(scene, d))).toBe(c.bytes);
+    expect(hex(packPath(scene))).toBe(c.path_bytes);
     expect(overrides(scene)).toEqual(c.overrides);
   });
 });
