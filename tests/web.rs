@@ -81,6 +81,7 @@ fn the_scene_fixtures_are_the_binarys() {
                 object.insert(field.into(), json[field].clone());
             }
             object.insert("path_bytes".into(), json["path"]["bytes"].clone());
+            object.insert("warnings".into(), json["warnings"].clone());
             let text = String::from_utf8(out.stdout.clone()).unwrap();
             object.insert("overrides".into(), overrides_in_order(&text));
             good += 1;

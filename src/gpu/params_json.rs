@@ -45,6 +45,9 @@ pub struct GpuParamsJson {
     /// The 2D view's uniform (`struct Julia2dParams` of shaders/julia2d.wgsl, no override
     /// constants): its layout and bytes for the whole image as one band.
     pub julia2d: UniformJson,
+    /// What this precision cannot resolve in the 3D slice (`precision::slice_warnings`): each
+    /// warning's line, in order (the browser stops zooming where f32 stops resolving the view).
+    pub warnings: Vec<String>,
     /// The path tracer's own uniform (`struct PathParams` of shaders/path.wgsl, binding 7, f32
     /// in either precision): its layout and bytes, whatever the model (path mode reads it).
     pub path: UniformJson,
@@ -93,6 +96,10 @@ impl GpuParamsJson {
                 layout: julia2d,
                 bytes: hex(&F::julia2d_uniform(&j, band)),
             },
+            warnings: crate::precision::slice_warnings(scene, precision_of::<F>())
+                .into_iter()
+                .map(|w| w.text)
+                .collect(),
             path: UniformJson {
                 layout: GpuPathParams::LAYOUT,
                 bytes: hex(bytemuck::bytes_of(&GpuPathParams::new(
@@ -105,6 +112,14 @@ impl GpuParamsJson {
     /// Pretty-printed.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("plain data serialises")
+    }
+}
+
+/// The precision of `F`.
+fn precision_of<F: GpuReal>() -> Precision {
+    match F::NAME {
+        "f64" => Precision::F64,
+        _ => Precision::F32,
     }
 }
 

@@ -2,11 +2,12 @@
 // that loads (fixtures/scenes.json, made by `qjulia gpu-params --json` and held fresh by
 // tests/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
 // samples a dispatch, the path tracer's `PathParams`, and the override constants (path mode's
-// the path kernel's), byte for byte and in order.
+// the path kernel's), byte for byte and in order; and f32's precision warnings, word for word.
 
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { describe, expect, test } from 'vitest';
+import { sliceWarnings } from '../src/precision';
 import { SCHEMA, SceneLoader } from '../src/scene';
 import { firstDispatch, hex, overrides, packParams, packPath, PARAMS_LAYOUT } from '../src/uniform';
 
@@ -18,6 +19,7 @@ interface Case {
   message: string | null;
   bytes?: string;
   path_bytes?: string;
+  warnings?: string[];
   overrides?: [string, number][];
   samples_per_dispatch?: number;
 }
@@ -51,6 +53,7 @@ describe('the uniform', () => {
     expect(d.sampleEnd).toBe(c.samples_per_dispatch);
     expect(hex(packParams(scene, d))).toBe(c.bytes);
     expect(hex(packPath(scene))).toBe(c.path_bytes);
+    expect(sliceWarnings(scene)).toEqual(c.warnings);
     expect(overrides(scene)).toEqual(c.overrides);
   });
 });
