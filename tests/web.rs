@@ -3,7 +3,9 @@
 //! web/src/generated/schema.json byte for byte, and each case of web/test/fixtures/scenes.json
 //! (a preset, a scene file of web/test/corpus and `--set`s) has the scene `qjulia gpu-params` resolves,
 //! its uniform's bytes and its override constants, or the one line it refuses it with; and
-//! web/src/generated/layout.json is the uniforms' layout `gpu-params` prints. `QJULIA_BLESS=1 cargo test --release --test web` writes
+//! web/src/generated/layout.json is the uniforms' layout `gpu-params` prints; and
+//! web/test/fixtures/heatmap.json holds a render's steps and samples with the heat maps the
+//! binary drew of them (`--view steps|divergence|samples`). `QJULIA_BLESS=1 cargo test --release --test web` writes
 //! them again from the binary.
 
 use std::path::{Path, PathBuf};
@@ -146,4 +148,93 @@ fn the_layout_file_is_the_binarys() {
     let mut made = serde_json::to_string_pretty(&layouts).unwrap();
     made.push('\n');
     check_file(&web().join("src/generated/layout.json"), &made);
+}
+
+/// The values of a uint32 `.npy` (the `--steps` file): after its header, little-endian.
+fn npy_u32(path: &Path) -> Vec<u32> {
+    let bytes = std::fs::read(path).unwrap();
+    let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    bytes[10 + header..]
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+/// The image rows of a heat-map PNG (the legend strip below them left out), as hex.
+fn view_rows(path: &Path, height: u32) -> String {
+    let ([w, _], rgb) = qjulia::output::read_png_rgb(path).unwrap();
+    rgb[..(w * height * 3) as usize]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+#[test]
+fn the_heat_map_fixture_is_the_binarys() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (w, h) = (40u32, 28u32);
+    let size = ["--width", "40", "--height", "28", "--backend", "cpu"];
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+            .args(args)
+            .args(size)
+            .current_dir(d)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&[
+        "render",
+        "--view",
+        "steps",
+        "-o",
+        "steps.png",
+        "--steps",
+        "steps.npy",
+    ]);
+    run(&["render", "--view", "divergence", "-o", "divergence.png"]);
+    let adaptive = [
+        "--set",
+        "image.samples=12",
+        "--set",
+        "light.radius=0.4",
+        "--set",
+        "path.min_samples=4",
+        "--set",
+    ];
+    let target = "path.noise_target=0.02";
+    run(&[
+        &["render", "--view", "samples", "-o", "samples.png"][..],
+        &adaptive,
+        &[target],
+    ]
+    .concat());
+    run(&[
+        &["render", "--tile", "0/1", "--hdr", "part.exr"][..],
+        &adaptive,
+        &[target],
+    ]
+    .concat());
+    let (_, frame, _) = qjulia::tile::merge(&[d.join("part.exr")]).unwrap();
+    let steps = npy_u32(&d.join("steps.npy"));
+    assert_eq!(steps.len(), (w * h) as usize);
+    let fixture = serde_json::json!({
+        "width": w,
+        "height": h,
+        "steps": steps,
+        "samples": frame.samples,
+        "views": {
+            "steps": view_rows(&d.join("steps.png"), h),
+            "divergence": view_rows(&d.join("divergence.png"), h),
+            "samples": view_rows(&d.join("samples.png"), h),
+        },
+    });
+    let mut made = serde_json::to_string(&fixture).unwrap();
+    made.push('\n');
+    check_file(&web().join("test/fixtures/heatmap.json"), &made);
 }
