@@ -5,7 +5,8 @@
 //! its uniform's bytes and its override constants, or the one line it refuses it with; and
 //! web/src/generated/layout.json is the uniforms' layout `gpu-params` prints; and
 //! web/test/fixtures/heatmap.json holds a render's steps and samples with the heat maps the
-//! binary drew of them (`--view steps|divergence|samples`). `QJULIA_BLESS=1 cargo test --release --test web` writes
+//! binary drew of them (`--view steps|divergence|samples`); web/e2e/fixtures/render-128.json
+//! the default scene at 128x128 as the CPU twin renders it, for the page's end-to-end test. `QJULIA_BLESS=1 cargo test --release --test web` writes
 //! them again from the binary.
 
 use std::path::{Path, PathBuf};
@@ -237,4 +238,74 @@ fn the_heat_map_fixture_is_the_binarys() {
     let mut made = serde_json::to_string(&fixture).unwrap();
     made.push('\n');
     check_file(&web().join("test/fixtures/heatmap.json"), &made);
+}
+
+/// Standard base64 (RFC 4648, with padding) of `bytes`.
+fn b64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (k, &b)| n | (b as u32) << (16 - 8 * k));
+        for k in 0..4 {
+            out.push(match k <= chunk.len() {
+                true => ALPHABET[(n >> (18 - 6 * k)) as usize & 63] as char,
+                false => '=',
+            });
+        }
+    }
+    out
+}
+
+/// The float32 values of a `.npy` (the `--depth` file).
+fn npy_f32(path: &Path) -> Vec<f32> {
+    npy_u32(path).into_iter().map(f32::from_bits).collect()
+}
+
+#[test]
+fn the_page_reference_is_the_binarys() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args([
+            "render",
+            "--backend",
+            "cpu",
+            "--width",
+            "128",
+            "--height",
+            "128",
+        ])
+        .args(["-o", "r.png", "--depth", "d.npy", "--steps", "s.npy"])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ([w, h], rgb) = qjulia::output::read_png_rgb(&d.join("r.png")).unwrap();
+    let hit: Vec<u8> = npy_f32(&d.join("d.npy"))
+        .iter()
+        .map(|z| u8::from(!z.is_nan()))
+        .collect();
+    let steps: Vec<u8> = npy_u32(&d.join("s.npy"))
+        .iter()
+        .flat_map(|s| s.to_le_bytes())
+        .collect();
+    let fixture = serde_json::json!({
+        "command": "qjulia render --backend cpu --width 128 --height 128",
+        "width": w,
+        "height": h,
+        "rgb": b64(&rgb),
+        "hit": b64(&hit),
+        "steps": b64(&steps),
+    });
+    let mut made = serde_json::to_string_pretty(&fixture).unwrap();
+    made.push('\n');
+    std::fs::create_dir_all(web().join("e2e/fixtures")).unwrap();
+    check_file(&web().join("e2e/fixtures/render-128.json"), &made);
 }

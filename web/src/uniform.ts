@@ -212,7 +212,11 @@ export interface Dispatch {
 }
 
 /// The bytes of `struct Params` (f32) for `s` and one dispatch.
-export function packParams(s: Scene, d: Dispatch, layout: Layout = PARAMS_LAYOUT): Uint8Array {
+export function packParams(
+  s: Scene,
+  d: Dispatch,
+  layout: Layout = PARAMS_LAYOUT,
+): Uint8Array<ArrayBuffer> {
   const values = traceParams(s);
   const perDispatch = new Map<string, number>([
     ['row_offset', d.rowOffset],
@@ -259,7 +263,7 @@ export const ROULETTE_START = 3;
 const SAMPLER_CODES: Record<string, number> = { sobol: 0, random: 1 };
 
 /// The bytes of `struct PathParams` for `s`.
-export function packPath(s: Scene, layout: Layout = PATH_LAYOUT): Uint8Array {
+export function packPath(s: Scene, layout: Layout = PATH_LAYOUT): Uint8Array<ArrayBuffer> {
   const values = pathParams(s);
   return pack(layout, (f) => values.get(f.name));
 }
@@ -269,7 +273,7 @@ export function packPath(s: Scene, layout: Layout = PATH_LAYOUT): Uint8Array {
 function pack(
   layout: Layout,
   valueOf: (f: FieldLayout) => number | number[] | undefined,
-): Uint8Array {
+): Uint8Array<ArrayBuffer> {
   const bytes = new Uint8Array(layout.size);
   const view = new DataView(bytes.buffer);
   for (const field of layout.fields) {
