@@ -3,8 +3,6 @@
 // each case of fixtures/scenes.json (made by `qjulia gpu-params`, held fresh by tests/web.rs)
 // gives the same scene, or the same one-line message, word for word.
 
-import { readFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { parse as parseToml } from 'smol-toml';
 import { describe, expect, test } from 'vitest';
 import {
@@ -16,18 +14,7 @@ import {
   type Scene,
   type Value,
 } from '../src/scene';
-
-interface Case {
-  name: string;
-  preset?: string;
-  file: string | null;
-  sets: string[];
-  message: string | null;
-  scene?: string;
-}
-
-const here = import.meta.dirname;
-const cases: Case[] = JSON.parse(readFileSync(join(here, 'fixtures/scenes.json'), 'utf8'));
+import { CASES, load } from './corpus';
 
 /// A resolved scene's TOML (every key written) as the loader's dotted map.
 function resolved(text: string): Scene {
@@ -66,20 +53,10 @@ describe('the scene loader', () => {
     expect(differences(loader.build(), resolved(preset.scene))).toEqual([]);
   });
 
-  test.each(cases.map((c) => [c.name, c] as const))('%s', (_, c) => {
-    const loader = new SceneLoader();
+  test.each(CASES.map((c) => [c.name, c] as const))('%s', (_, c) => {
     let outcome: Scene | string;
     try {
-      if (c.preset !== undefined) {
-      const preset = SCHEMA.presets.find((p) => p.slug === c.preset)!;
-      loader.tomlStr(preset.toml, { kind: 'preset', slug: preset.slug });
-    }
-    if (c.file !== null) {
-        const text = readFileSync(join(here, c.file), 'utf8');
-        loader.tomlStr(text, { kind: 'file', path: c.file });
-      }
-      for (const set of c.sets) loader.set(set);
-      outcome = loader.build();
+      outcome = load(c);
     } catch (e) {
       if (!(e instanceof SceneError)) throw e;
       outcome = e.message;

@@ -4,29 +4,12 @@
 // samples a dispatch, the path tracer's `PathParams`, and the override constants (path mode's
 // the path kernel's), byte for byte and in order; and f32's precision warnings, word for word.
 
-import { readFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { describe, expect, test } from 'vitest';
 import { sliceWarnings } from '../src/precision';
-import { SCHEMA, SceneLoader } from '../src/scene';
 import { firstDispatch, hex, overrides, packParams, packPath, PARAMS_LAYOUT } from '../src/uniform';
+import { CASES, load } from './corpus';
 
-interface Case {
-  name: string;
-  preset?: string;
-  file: string | null;
-  sets: string[];
-  message: string | null;
-  bytes?: string;
-  path_bytes?: string;
-  warnings?: string[];
-  overrides?: [string, number][];
-  samples_per_dispatch?: number;
-}
-
-const here = import.meta.dirname;
-const cases: Case[] = JSON.parse(readFileSync(join(here, 'fixtures/scenes.json'), 'utf8'));
-const good = cases.filter((c) => c.message === null);
+const good = CASES.filter((c) => c.message === null);
 
 describe('the uniform', () => {
   test('the layout is the tracer uniform', () => {
@@ -39,16 +22,7 @@ describe('the uniform', () => {
   });
 
   test.each(good.map((c) => [c.name, c] as const))('%s', (_, c) => {
-    const loader = new SceneLoader();
-    if (c.preset !== undefined) {
-      const preset = SCHEMA.presets.find((p) => p.slug === c.preset)!;
-      loader.tomlStr(preset.toml, { kind: 'preset', slug: preset.slug });
-    }
-    if (c.file !== null) {
-      loader.tomlStr(readFileSync(join(here, c.file), 'utf8'), { kind: 'file', path: c.file });
-    }
-    for (const set of c.sets) loader.set(set);
-    const scene = loader.build();
+    const scene = load(c);
     const d = firstDispatch(scene);
     expect(d.sampleEnd).toBe(c.samples_per_dispatch);
     expect(hex(packParams(scene, d))).toBe(c.bytes);
