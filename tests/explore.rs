@@ -1136,6 +1136,37 @@ fn an_adaptive_denoised_path_view_stops_the_pixels_the_render_stops() {
     );
 }
 
+/// Issue 20: the samples view shows the heat map of the samples each pixel took, the render's
+/// counts (`qjulia render --view samples`), in path mode with adaptive sampling.
+#[test]
+fn the_samples_view_shows_the_heat_map_of_the_counts() {
+    let mut scene = path_scene();
+    scene.path.noise_target = 0.3;
+    scene.path.min_samples = 2;
+    scene.image.view = View::Samples;
+    let Some(mut harness) = harness_of("explorer samples view", scene, PATH_WINDOW) else {
+        return;
+    };
+    settle(&mut harness);
+    let expected = rendered_any(&harness);
+    let map = qjulia::heatmap::samples_view(&expected.samples, expected.width, expected.height);
+    assert!(
+        map.legend.min < map.legend.max,
+        "no pixel stopped early: {:?}",
+        map.legend
+    );
+    assert_eq!(harness.state().heat_legend(), Some(&map.legend));
+    let shown = shown_view(&mut harness);
+    // Above the legend strip at the bottom, the screen holds the heat map.
+    let rows = (expected.height - qjulia::heatmap::LEGEND_HEIGHT - 4) as usize;
+    let w = expected.width as usize;
+    let screen = shown.rgb8();
+    assert!(
+        screen[..rows * w * 3] == map.rgb[..rows * w * 3],
+        "the samples view is not the heat map of the render's counts"
+    );
+}
+
 /// Issue 20: with the denoiser on, the idle view shows the denoised running mean, which once it
 /// has the view's samples is what `qjulia render` writes of the same scene and samples, byte
 /// for byte; the status line has its noise figure; a `[denoise]` key from the panel denoises

@@ -1,4 +1,5 @@
-//! The step views in the explorer: the heat map of the steps the view read back, uploaded as an
+//! The step views in the explorer (and the samples view, of the counts): the heat map of the
+//! steps the view read back, uploaded as an
 //! egui texture and remade only when new steps arrive, and its legend painted over the bottom
 //! of the view, laid out as the PNG's legend strip ([`crate::heatmap::legend_layout`]).
 
@@ -29,20 +30,25 @@ impl HeatTexture {
         &self.legend
     }
 
-    /// Makes `slot` the heat map of `view` for `steps` (`size` pixels, of `generation`), unless
-    /// it already is; the texture is reused.
+    /// Makes `slot` the heat map of `view` for `values` (the steps, or for the samples view
+    /// the samples each pixel took; `size` pixels, of `generation`), unless it already is; the
+    /// texture is reused.
     pub fn refresh(
         slot: &mut Option<Self>,
         ctx: &egui::Context,
         view: View,
-        steps: &[u32],
+        values: &[u32],
         size: [u32; 2],
         generation: u64,
     ) {
         if slot.as_ref().is_some_and(|h| h.is_for(view, generation)) {
             return;
         }
-        let Some(map) = crate::heatmap::heat_map_of(view, steps, &[], size[0], size[1]) else {
+        let (steps, samples) = match view {
+            View::Samples => (&[][..], values),
+            _ => (values, &[][..]),
+        };
+        let Some(map) = crate::heatmap::heat_map_of(view, steps, samples, size[0], size[1]) else {
             return;
         };
         let HeatMap { rgb, legend, .. } = map;

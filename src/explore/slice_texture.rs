@@ -96,6 +96,12 @@ pub struct TextureStats {
     pub steps: Option<(Arc<Vec<u32>>, [u32; 2])>,
     /// Counts the images whose steps were read back: a new value means new steps.
     pub steps_generation: u64,
+    /// The samples each pixel of the last running mean read back has taken, row by row, and
+    /// its size (the samples view), where the mean came back with the accumulator (path mode,
+    /// a denoiser, or the samples view itself).
+    pub counts: Option<(Arc<Vec<u32>>, [u32; 2])>,
+    /// Counts the means whose counts were read back.
+    pub counts_generation: u64,
     /// Whether the full-resolution image is shown.
     pub refined: bool,
     /// Seconds from the last change of scene or size to this image.
@@ -511,7 +517,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let (pipeline, path_uniform) = match &self.kernel {
             ViewKernel::Phong(tracer) => {
                 // The step views show the steps alone: no shading needed.
-                let shade = scene.image.view == View::Shaded;
+                let shade = scene.image.view.needs_shading();
                 let variant = tracer.variant_for(&params, shade);
                 (tracer.pipeline_reading(variant, readback), Vec::new())
             }
@@ -585,8 +591,11 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // The tracer's colour goes straight into the texture; the path tracer's radiance,
             // and with a denoiser the mean and its AOVs, come back to the host after the pass's
             // last tile.
+            // The samples view reads the accumulator back for its counts (the heat map stands
+            // in the texture's place, so phong mode's colour need not reach the texture).
+            let counts = self.asked.image.view == View::Samples;
             let layout = MeanLayout {
-                accumulated: match self.kernel.is_path() || (job.aovs && job.adaptive) {
+                accumulated: match self.kernel.is_path() || (job.aovs && job.adaptive) || counts {
                     true => 16,
                     false => 0,
                 },
@@ -696,6 +705,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // Said again once this scene's mean is read back and denoised.
             noise: None,
             samples_taken: None,
+            counts: None,
             denoised_samples: None,
             ..std::mem::take(&mut self.stats)
         };
@@ -741,6 +751,15 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             };
             self.stats.samples_taken = (!counts.is_empty())
                 .then(|| counts.iter().map(|&n| n as f64).sum::<f64>() / counts.len() as f64);
+            // Without adaptive sampling every pixel has taken every pass's sample.
+            if !accumulated.is_empty() {
+                let all = match counts.is_empty() {
+                    true => vec![taken; shape.0 * shape.1],
+                    false => counts.clone(),
+                };
+                self.stats.counts = Some((Arc::new(all), rb.size));
+                self.stats.counts_generation += 1;
+            }
             let frame = (rb.layout.aovs > 0).then(|| {
                 let aov = |k: usize| {
                     unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]])
@@ -1124,7 +1143,7 @@ impl SliceTexture {
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
         let kernels = &self.kernels;
         let picture = Picture::Slice {
-            shade: scene.image.view == View::Shaded,
+            shade: scene.image.view.needs_shading(),
         };
         self.path_shown = false;
         if picture.path_traced(scene) {

@@ -129,11 +129,16 @@ impl Viewport {
             return false;
         };
         let refined = view.is_refined(&view_scene, self.pixels);
+        let stats = view.stats();
+        let generation = match scene.image.view {
+            View::Samples => stats.counts_generation,
+            _ => stats.steps_generation,
+        };
         let heat_made = scene.image.view == View::Shaded
             || self
                 .heat
                 .as_ref()
-                .is_some_and(|h| h.is_for(scene.image.view, view.stats().steps_generation));
+                .is_some_and(|h| h.is_for(scene.image.view, generation));
         refined && !view.busy() && heat_made
     }
 
@@ -198,11 +203,15 @@ impl Viewport {
                     .image(texture, rect, FULL_UV, egui::Color32::WHITE);
             }
         } else {
-            // Step views: a heat map of the steps read back from the image shown.
+            // Step views: a heat map of the steps read back from the image shown; the samples
+            // view, of the samples each pixel took.
             let stats = view.stats();
-            if let Some((steps, size)) = &stats.steps {
-                let generation = stats.steps_generation;
-                HeatTexture::refresh(&mut self.heat, ui.ctx(), shown, steps, *size, generation);
+            let values = match shown {
+                View::Samples => stats.counts.as_ref().map(|c| (c, stats.counts_generation)),
+                _ => stats.steps.as_ref().map(|s| (s, stats.steps_generation)),
+            };
+            if let Some(((values, size), generation)) = values {
+                HeatTexture::refresh(&mut self.heat, ui.ctx(), shown, values, *size, generation);
             }
             if let Some(heat) = self.heat.as_ref().filter(|h| h.shows(shown)) {
                 heat.paint(ui.painter(), rect);
