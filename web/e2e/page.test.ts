@@ -36,6 +36,7 @@ const dist = join(root, 'dist');
 let server: Server;
 let browser: Browser;
 let page: Page;
+let origin: string;
 
 const TYPES: Record<string, string> = {
   '.html': 'text/html',
@@ -64,6 +65,7 @@ beforeAll(async () => {
   });
   await new Promise<void>((ok) => server.listen(0, '127.0.0.1', ok));
   const port = (server.address() as { port: number }).port;
+  origin = `http://127.0.0.1:${port}`;
   browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
   page = await browser.newPage();
   page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
@@ -106,34 +108,64 @@ const skipped = (name: string) => {
   return SKIP;
 };
 
+/// The page's picture against the CLI's (e2e/fixtures/render-128.json) within
+/// CONTRACT_TOLERANCE: masks on 99.5% of pixels, colour within 2/255 on 99%.
+function assertAgreesWithTheCli(what: string, r: Rendered): void {
+  const fixture = JSON.parse(readFileSync(join(import.meta.dirname, 'fixtures/render-128.json'), 'utf8'));
+  const rgb = Buffer.from(fixture.rgb, 'base64');
+  const hit = Buffer.from(fixture.hit, 'base64');
+  expect([r.width, r.height]).toEqual([128, 128]);
+  const pixels = 128 * 128;
+  let [masks, colours, hits, most] = [0, 0, 0, 0];
+  for (let k = 0; k < pixels; k++) {
+    const h = r.depth[k] !== null;
+    hits += Number(h);
+    masks += Number(h === (hit[k] === 1));
+    const c = r.colour[k];
+    const worst = Math.max(
+      ...[0, 1, 2].map((ch) => Math.abs(((c >>> (8 * ch)) & 255) - rgb[3 * k + ch])),
+    );
+    most = Math.max(most, worst);
+    colours += Number(worst <= 2);
+  }
+  console.log(
+    `${what}: the page against qjulia render --backend cpu: ${hits} hits of the CLI's ` +
+      `${hit.reduce((a, b) => a + b, 0)}, masks agree on ${masks} of ${pixels}, colour within ` +
+      `2/255 on ${colours} (most ${most}/255)`,
+  );
+  expect(masks / pixels).toBeGreaterThanOrEqual(0.995);
+  expect(colours / pixels).toBeGreaterThanOrEqual(0.99);
+}
+
+const DEFAULT_128 = '[image]\nwidth = 128\nheight = 128\n';
+
 describe('the page', () => {
   test('renders the default scene as qjulia render does, within CONTRACT_TOLERANCE', async () => {
     if (skipped('default scene')) return;
-    const fixture = JSON.parse(readFileSync(join(import.meta.dirname, 'fixtures/render-128.json'), 'utf8'));
-    const rgb = Buffer.from(fixture.rgb, 'base64');
-    const hit = Buffer.from(fixture.hit, 'base64');
-    const r = await render('[image]\nwidth = 128\nheight = 128\n');
-    expect([r.width, r.height]).toEqual([128, 128]);
-    const pixels = 128 * 128;
-    let [masks, colours, hits, most] = [0, 0, 0, 0];
-    for (let k = 0; k < pixels; k++) {
-      const h = r.depth[k] !== null;
-      hits += Number(h);
-      masks += Number(h === (hit[k] === 1));
-      const c = r.colour[k];
-      const worst = Math.max(
-        ...[0, 1, 2].map((ch) => Math.abs(((c >>> (8 * ch)) & 255) - rgb[3 * k + ch])),
-      );
-      most = Math.max(most, worst);
-      colours += Number(worst <= 2);
-    }
-    console.log(
-      `page against qjulia render --backend cpu: ${hits} hits of the CLI's ` +
-        `${hit.reduce((a, b) => a + b, 0)}, masks agree on ${masks} of ${pixels}, colour within ` +
-        `2/255 on ${colours} (most ${most}/255)`,
-    );
-    expect(masks / pixels).toBeGreaterThanOrEqual(0.995);
-    expect(colours / pixels).toBeGreaterThanOrEqual(0.99);
+    assertAgreesWithTheCli('rendered', await render(DEFAULT_128));
+  });
+
+  test('a share link reopens the same scene', async () => {
+    if (skipped('share link')) return;
+    const shared = await browser.newPage();
+    await shared.goto(`${origin}/#${encodeURIComponent(DEFAULT_128)}`);
+    await shared.waitForFunction(() => document.body.dataset.ready === 'true', undefined, {
+      timeout: 120_000,
+    });
+    type Page2 = { qjulia: { text(): string; last(): Rendered | null } };
+    expect(await shared.evaluate(() => (window as unknown as Page2).qjulia.text())).toBe(DEFAULT_128);
+    const last = await shared.evaluate(() => (window as unknown as Page2).qjulia.last());
+    assertAgreesWithTheCli('reopened from a share link', last!);
+    await shared.close();
+  });
+
+  test('an invalid TOML shows the error line', async () => {
+    if (skipped('invalid TOML')) return;
+    const r = await render('[fractal\nepsilon = 1\n');
+    // Where the parser stopped, as the CLI says it (`qjulia render --scene` adds toml-rs's
+    // words: "unclosed table, expected `]`").
+    expect(r.error).toBe('scene.toml: invalid TOML at line 1, column 9');
+    expect(await page.textContent('#error')).toBe(`error: ${r.error}`);
   });
 
   test('a preset loads and renders', async () => {

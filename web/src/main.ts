@@ -50,17 +50,38 @@ async function start(): Promise<void> {
   };
   const fragment = decodeURIComponent(location.hash.slice(1));
   text.value = fragment;
-  document.querySelector('#render')!.addEventListener('click', () => void render(text.value));
+  let last: Rendered | null = null;
+  const renderText = async (toml: string) => {
+    const r = await render(toml);
+    if (typeof r !== 'string') last = r;
+    return r;
+  };
+  document.querySelector('#render')!.addEventListener('click', () => void renderText(text.value));
+  // A share link: this page with the scene's TOML in the fragment, which the page opens.
+  document.querySelector('#share')!.addEventListener('click', () => {
+    location.hash = encodeURIComponent(text.value);
+    void navigator.clipboard?.writeText(location.href).catch(() => undefined);
+  });
+  const plain = (r: Rendered) => ({
+    width: r.width,
+    height: r.height,
+    colour: [...r.colour],
+    depth: [...r.depth].map((d) => (Number.isNaN(d) ? null : d)),
+    steps: [...r.steps],
+  });
   (window as unknown as { qjulia: unknown }).qjulia = {
     adapter: tracer.adapterName,
     /// Renders TOML; the pixels (colour, depth, steps as plain arrays) or the error line.
     async render(toml: string) {
-      const r = await render(toml);
-      if (typeof r === 'string') return { error: r };
-      return { width: r.width, height: r.height, colour: [...r.colour], depth: [...r.depth].map((d) => (Number.isNaN(d) ? null : d)), steps: [...r.steps] };
+      const r = await renderText(toml);
+      return typeof r === 'string' ? { error: r } : plain(r);
     },
+    /// The last picture shown (the share link's, once the page has opened it).
+    last: () => (last === null ? null : plain(last)),
+    /// The scene text the page holds.
+    text: () => text.value,
   };
-  await render(fragment);
+  await renderText(fragment);
   document.body.dataset.ready = 'true';
 }
 

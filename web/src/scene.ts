@@ -245,9 +245,10 @@ export class SceneLoader {
     try {
       table = parseToml(text, { integersAsBigInt: true }) as { [key: string]: Value };
     } catch (e) {
-      // The TOML parsers' messages differ: the line says where, as the CLI's does.
-      const m = /line (\d+), column (\d+)/.exec(String(e));
-      const where = m ? ` at line ${m[1]}, column ${m[2]}` : '';
+      // The TOML parsers' words differ; where they stop is the same: the line says where, as
+      // the CLI's does (which then adds toml-rs's words).
+      const { line, column } = e as { line?: number; column?: number };
+      const where = line !== undefined && column !== undefined ? ` at line ${line}, column ${column}` : '';
       throw new SceneError(source, null, `invalid TOML${where}`);
     }
     this.insertTable('', table, source);
