@@ -360,10 +360,9 @@ fn path_main(
             aovs = add_aovs(aovs, k, r.radiance, r.hit, r.albedo, r.normal);
         }
         if adaptive() {
-            let after = sample_luminance(mean);
-            state = max(add_m2(state, sample_luminance(r.radiance), sample_luminance(before), after), 0.0);
-            if sampling_done(state, k + 1u, after) {
-                state = -f32(k + 1u);
+            let l = sample_luminance(r.radiance);
+            state = next_state(state, k + 1u, l, sample_luminance(before), sample_luminance(mean));
+            if state < 0.0 {
                 break;
             }
         }

@@ -1204,6 +1204,17 @@ fn sampling_done(m2: f32, n: u32, mean_luminance: f32) -> bool {
     return n >= floor && pixel_noise(m2, n, mean_luminance) <= f32(params.noise_target);
 }
 
+// A pixel's state after its sample n (1-based), whose luminance is l, the mean's luminance
+// before it `before` and after it `after`: its M2 with l added (add_m2, at least 0), or minus
+// n where it is then done (sampling_done).
+fn next_state(state: f32, n: u32, l: f32, before: f32, after: f32) -> f32 {
+    let m2 = max(add_m2(state, l, before, after), 0.0);
+    if sampling_done(m2, n, after) {
+        return -f32(n);
+    }
+    return m2;
+}
+
 // The workgroup's live pixels (compacted_pixel): how many, and each one's local index.
 var<workgroup> live_count: atomic<u32>;
 var<workgroup> live_lanes: array<u32, 64>;
@@ -1331,10 +1342,9 @@ fn main(
         }
         if adaptive() {
             let l = sample_luminance(vec3<f32>(c));
-            let after = sample_luminance(vec3<f32>(mean));
-            state = max(add_m2(state, l, sample_luminance(vec3<f32>(before)), after), 0.0);
-            if sampling_done(state, k + 1u, after) {
-                state = -f32(k + 1u);
+            let l_before = sample_luminance(vec3<f32>(before));
+            state = next_state(state, k + 1u, l, l_before, sample_luminance(vec3<f32>(mean)));
+            if state < 0.0 {
                 break;
             }
         }

@@ -150,11 +150,10 @@ pub fn render_rows<F: Real>(
                 };
                 first.get_or_insert(pixel);
                 if params.adaptive() {
-                    let l = trace::sample_luminance(c.to_f32());
-                    let after = trace::sample_luminance(mean.to_f32());
-                    let before = trace::sample_luminance(before.to_f32());
-                    state = trace::add_m2(state, l, before, after).max(0.0);
-                    if params.sampling_done(state, k + 1, after) {
+                    let luminance = |v: Vec3<F>| trace::sample_luminance(v.to_f32());
+                    let (l, after) = (luminance(c), luminance(mean));
+                    state = params.next_state(state, k + 1, l, luminance(before), after);
+                    if state < 0.0 {
                         taken = k + 1;
                         break;
                     }

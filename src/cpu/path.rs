@@ -13,7 +13,7 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, Primary, Trace, add_aovs, add_m2, sample_luminance};
+use super::trace::{Aovs, Primary, Trace, add_aovs, sample_luminance};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -490,13 +490,13 @@ pub fn render_path_rows<F: Real>(
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
                     made = add_aovs(made, k, radiance, r.hit, albedo, r.normal.to_f32());
                 }
-                let l = sample_luminance(r.radiance.to_f32());
+                let luminance = |v: Vec3<F>| sample_luminance(v.to_f32());
+                let l = params.adaptive().then(|| luminance(r.radiance));
                 first.get_or_insert(r);
-                if params.adaptive() {
-                    let after = sample_luminance(mean.to_f32());
-                    let before = sample_luminance(before.to_f32());
-                    state = add_m2(state, l, before, after).max(0.0);
-                    if params.sampling_done(state, k + 1, after) {
+                if let Some(l) = l {
+                    let after = luminance(mean);
+                    state = params.next_state(state, k + 1, l, luminance(before), after);
+                    if state < 0.0 {
                         taken = k + 1;
                         break;
                     }

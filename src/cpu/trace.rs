@@ -1183,6 +1183,17 @@ impl<F: Real> TraceParams<F> {
         let floor = self.min_samples.min(self.samples).max(2);
         n >= floor && pixel_noise(m2, n, mean_luminance) <= self.noise_target.to_f64() as f32
     }
+
+    /// A pixel's state after its sample `n` (1-based), whose luminance is `l`, the mean's
+    /// luminance before it `before` and after it `after`: its M2 with `l` added ([`add_m2`], at
+    /// least 0), or minus `n` where it is then done ([`Self::sampling_done`]).
+    pub fn next_state(&self, state: f32, n: u32, l: f32, before: f32, after: f32) -> f32 {
+        let m2 = add_m2(state, l, before, after).max(0.0);
+        if self.sampling_done(m2, n, after) {
+            return -(n as f32);
+        }
+        m2
+    }
 }
 
 /// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.
