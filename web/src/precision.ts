@@ -3,6 +3,7 @@
 // no f64). The page stops zooming where these say so, and shows the line.
 
 import type { Scene } from './scene';
+import { type V3, length3, sub } from './vector';
 
 /// f32's relative spacing of values, with margin: 8 f32::EPSILON (Real::RELATIVE_EPSILON).
 export const F32_RELATIVE_SPACING = 8 * 2 ** -23;
@@ -20,8 +21,6 @@ export function rustExp1(x: number): string {
   return x.toExponential(1).replace('e+', 'e');
 }
 
-type V3 = [number, number, number];
-const length3 = (a: V3) => Math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
 
 /// Each warning's line, in order: epsilon below the spacing of f32 values at the rays' reach,
 /// a pixel's footprint at the target below it, an escape radius f32 iterations would overflow.
@@ -39,7 +38,7 @@ export function sliceWarnings(s: Scene): string[] {
         `${reach.toFixed(3)} (${rustExp1(spacing)}): hits are taken there instead; ${REMEDY}`,
     );
   }
-  const view = length3([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+  const view = length3(sub(target, eye));
   const fov = s.get('camera.fov_y_degrees') as number;
   const footprint =
     (2 * view * Math.tan(fov * (Math.PI / 180) * 0.5)) / (s.get('image.height') as number);

@@ -11,6 +11,7 @@
 
 import { parse as parseToml } from 'smol-toml';
 import schemaJson from './generated/schema.json';
+import { type V3, cross, dot, length3, normalize, sub } from './vector';
 
 /// A TOML value as the loader keeps it: integers as bigint, floats as number (TOML tells them
 /// apart, and so do the messages).
@@ -118,12 +119,6 @@ export function defaultScene(): Scene {
 }
 
 const ALGEBRA_DIM: Record<string, number> = { quaternion: 4, octonion: 8, sedenion: 16 };
-
-function dot(a: number[], b: number[]): number {
-  let sum = 0;
-  for (let k = 0; k < a.length; k++) sum += a[k] * b[k];
-  return sum;
-}
 
 /// Gram-Schmidt in x, y, z order; null where the vectors are (nearly) dependent.
 export function orthonormalise(basis: number[][]): number[][] | null {
@@ -332,20 +327,6 @@ function blame(keys: string[], used: Map<string, [Value, Source]>): string {
 
 /// How far from orthonormal a slice basis may be and still be re-orthonormalised.
 export const SLICE_ORTHONORMAL_TOLERANCE = 1e-3;
-
-type V3 = [number, number, number];
-const sub = (a: V3, b: V3): V3 => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-const length3 = (a: V3): number => Math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-const cross = (a: V3, b: V3): V3 => [
-  a[1] * b[2] - b[1] * a[2],
-  a[2] * b[0] - b[2] * a[0],
-  a[0] * b[1] - b[0] * a[1],
-];
-/// glam's normalize: times the reciprocal of the length.
-const normalize = (a: V3): V3 => {
-  const r = 1 / length3(a);
-  return [a[0] * r, a[1] * r, a[2] * r];
-};
 
 /// Range and consistency checks over the whole scene once every layer is in (Rust's
 /// `check_scene`): the key at fault and the reason, or null; the slice basis is

@@ -9,6 +9,7 @@
 
 import layoutJson from './generated/layout.json';
 import type { Scene } from './scene';
+import { type V3, cross, dot, length3, normalize, sub } from './vector';
 
 export interface FieldLayout {
   name: string;
@@ -37,22 +38,6 @@ export const BAND_PIXELS = 1 << 22;
 /// |z|^2 beyond which f32 stops the orbit, whatever the scene asks (Real::ESCAPE_LIMIT).
 export const ESCAPE_LIMIT_F32 = 1e8;
 
-type V3 = [number, number, number];
-
-function length3(a: V3): number {
-  return Math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-}
-
-/// glam's normalize: times the reciprocal of the length.
-function normalize(a: V3): V3 {
-  const r = 1 / length3(a);
-  return [a[0] * r, a[1] * r, a[2] * r];
-}
-
-function cross(a: V3, b: V3): V3 {
-  return [a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1]];
-}
-
 /// Rust's f64::to_radians.
 function toRadians(degrees: number): number {
   return degrees * (Math.PI / 180);
@@ -70,17 +55,11 @@ export function unit(v: number[]): number[] {
 export function cameraFrame(s: Scene): { forward: V3; right: V3; up: V3; tanHalfFovY: number } {
   const eye = s.get('camera.eye') as V3;
   const target = s.get('camera.target') as V3;
-  const forward = normalize([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+  const forward = normalize(sub(target, eye));
   const right = normalize(cross(forward, s.get('camera.up') as V3));
   const up = cross(right, forward);
   const tanHalfFovY = Math.tan(toRadians(s.get('camera.fov_y_degrees') as number) * 0.5);
   return { forward, right, up, tanHalfFovY };
-}
-
-function dot(a: number[], b: number[]): number {
-  let sum = 0;
-  for (let k = 0; k < a.length; k++) sum += a[k] * b[k];
-  return sum;
 }
 
 /// The 3D ball the 4D bounding ball cuts out of the slice (Scene::slice_bounds).
@@ -113,7 +92,7 @@ export function focusDistance(s: Scene): number {
   if (d > 0) return d;
   const eye = s.get('camera.eye') as V3;
   const target = s.get('camera.target') as V3;
-  return length3([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+  return length3(sub(target, eye));
 }
 
 const ALGEBRA_PARTS: Record<string, number> = { quaternion: 1, octonion: 2, sedenion: 4 };
