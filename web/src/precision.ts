@@ -3,7 +3,7 @@
 // no f64). The page stops zooming where these say so, and shows the line.
 
 import type { Scene } from './scene';
-import { type V3, length3, sub } from './vector';
+import { type V3, length3, sub, toRadians } from './vector';
 
 /// f32's relative spacing of values, with margin: 8 f32::EPSILON (Real::RELATIVE_EPSILON).
 export const F32_RELATIVE_SPACING = 8 * 2 ** -23;
@@ -41,7 +41,7 @@ export function sliceWarnings(s: Scene): string[] {
   const view = length3(sub(target, eye));
   const fov = s.get('camera.fov_y_degrees') as number;
   const footprint =
-    (2 * view * Math.tan(fov * (Math.PI / 180) * 0.5)) / (s.get('image.height') as number);
+    (2 * view * Math.tan(toRadians(fov) * 0.5)) / (s.get('image.height') as number);
   if (footprint < spacing) {
     out.push(
       `a pixel spans ${rustExp1(footprint)} at the target, below the spacing of f32 values ` +

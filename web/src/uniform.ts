@@ -9,7 +9,7 @@
 
 import layoutJson from './generated/layout.json';
 import type { Scene } from './scene';
-import { type V3, cross, dot, length3, normalize, sub } from './vector';
+import { type V3, cross, dot, length3, normalize, sub, toRadians } from './vector';
 
 export interface FieldLayout {
   name: string;
@@ -37,11 +37,6 @@ export const MAX_SAMPLES_PER_DISPATCH = 8;
 export const BAND_PIXELS = 1 << 22;
 /// |z|^2 beyond which f32 stops the orbit, whatever the scene asks (Real::ESCAPE_LIMIT).
 export const ESCAPE_LIMIT_F32 = 1e8;
-
-/// Rust's f64::to_radians.
-function toRadians(degrees: number): number {
-  return degrees * (Math.PI / 180);
-}
 
 /// `v` scaled to unit length, divided by its largest component first (params.rs's `unit`).
 export function unit(v: number[]): number[] {

@@ -29,3 +29,8 @@ export function normalize(a: V3): V3 {
   const r = 1 / length3(a);
   return [a[0] * r, a[1] * r, a[2] * r];
 }
+
+/// Rust's f64::to_radians.
+export function toRadians(degrees: number): number {
+  return degrees * (Math.PI / 180);
+}
