@@ -84,6 +84,7 @@ fn the_scene_fixtures_are_the_binarys() {
                 object.insert(field.into(), json[field].clone());
             }
             object.insert("path_bytes".into(), json["path"]["bytes"].clone());
+            object.insert("julia2d_bytes".into(), json["julia2d"]["bytes"].clone());
             object.insert("warnings".into(), json["warnings"].clone());
             let text = String::from_utf8(out.stdout.clone()).unwrap();
             object.insert("overrides".into(), overrides_in_order(&text));
@@ -101,6 +102,7 @@ fn the_scene_fixtures_are_the_binarys() {
                 "overrides",
                 "samples_per_dispatch",
                 "path_bytes",
+                "julia2d_bytes",
             ] {
                 object.remove(field);
             }
@@ -308,4 +310,112 @@ fn the_page_reference_is_the_binarys() {
     made.push('\n');
     std::fs::create_dir_all(web().join("e2e/fixtures")).unwrap();
     check_file(&web().join("e2e/fixtures/render-128.json"), &made);
+}
+
+/// A small deterministic generator for the camera fixture's moves (the moves are stored, so the
+/// TypeScript replays them without it).
+struct Moves(u64);
+
+impl Moves {
+    /// A value in [-span, span], in quarter points (as a pointer's deltas are).
+    fn next(&mut self, span: f64) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let unit = (self.0 >> 11) as f64 / (1u64 << 53) as f64;
+        ((unit * 2.0 - 1.0) * span * 4.0).round() / 4.0
+    }
+}
+
+fn camera_json(c: &qjulia::scene::Camera) -> serde_json::Value {
+    serde_json::json!({ "eye": c.eye, "target": c.target, "fov_y_degrees": c.fov_y_degrees })
+}
+
+#[test]
+fn the_camera_fixture_is_the_librarys() {
+    use qjulia::explore::camera;
+    use qjulia::scene::{Camera, View2d};
+    let mut moves = Moves(21);
+    let mut starts = vec![("the default camera", Camera::default())];
+    for slug in ["rabbit", "deep-zoom"] {
+        let p = qjulia::scene::presets::find(slug).expect("a preset");
+        starts.push((p.name, p.scene().camera));
+    }
+    let mut tilted = Camera::default();
+    tilted.up = [0.3, 1.0, -0.2];
+    tilted.eye = [1.0, 2.9, 0.5];
+    starts.push(("a tilted up", tilted));
+    let mut scripts = Vec::new();
+    for (name, start) in starts {
+        let mut cam = start.clone();
+        let mut steps = Vec::new();
+        for k in 0..60 {
+            let op = match k % 5 {
+                0 | 1 => serde_json::json!(["orbit", moves.next(40.0), moves.next(40.0)]),
+                2 => serde_json::json!(["pan", moves.next(30.0), moves.next(30.0), 256.0]),
+                // Long runs of the wheel reach the closest distance and the narrowing field.
+                _ => serde_json::json!(["wheel", moves.next(300.0) + 200.0]),
+            };
+            match op[0].as_str().unwrap() {
+                "orbit" => {
+                    camera::drag_orbit(&mut cam, op[1].as_f64().unwrap(), op[2].as_f64().unwrap())
+                }
+                "pan" => camera::drag_pan(
+                    &mut cam,
+                    op[1].as_f64().unwrap(),
+                    op[2].as_f64().unwrap(),
+                    op[3].as_f64().unwrap(),
+                ),
+                _ => camera::wheel_zoom(&mut cam, op[1].as_f64().unwrap()),
+            }
+            steps.push(serde_json::json!({ "op": op, "camera": camera_json(&cam) }));
+        }
+        scripts.push(serde_json::json!({
+            "name": name,
+            "start": { "up": start.up, "camera": camera_json(&start) },
+            "steps": steps,
+        }));
+    }
+    let mut view = View2d::default();
+    let mut steps_2d = Vec::new();
+    for k in 0..80 {
+        let op = match k % 3 {
+            0 => serde_json::json!(["drag", moves.next(50.0), moves.next(50.0), 300.0]),
+            1 => serde_json::json!([
+                "wheel",
+                moves.next(200.0) + 150.0,
+                300.0,
+                [moves.next(150.0), moves.next(150.0)]
+            ]),
+            _ => serde_json::json!(["wheel", moves.next(400.0), 300.0, null]),
+        };
+        let f = |k: usize| op[k].as_f64().unwrap();
+        match (op[0].as_str().unwrap(), op[3].as_array()) {
+            ("drag", _) => camera::drag_2d(&mut view, f(1), f(2), f(3)),
+            (_, Some(at)) => {
+                let at = [at[0].as_f64().unwrap(), at[1].as_f64().unwrap()];
+                camera::wheel_zoom_2d(&mut view, f(1), f(2), Some(at))
+            }
+            _ => camera::wheel_zoom_2d(&mut view, f(1), f(2), None),
+        }
+        steps_2d
+            .push(serde_json::json!({ "op": op, "center": view.center, "extent": view.extent }));
+    }
+    let fixture = serde_json::json!({
+        "constants": {
+            "ORBIT_PER_POINT": camera::ORBIT_PER_POINT,
+            "ZOOM_PER_POINT": camera::ZOOM_PER_POINT,
+            "MIN_DISTANCE": camera::MIN_DISTANCE,
+            "MAX_DISTANCE": camera::MAX_DISTANCE,
+            "WIDE_FOV_DEGREES": camera::WIDE_FOV_DEGREES,
+            "MIN_FOV_DEGREES": camera::MIN_FOV_DEGREES,
+            "MIN_EXTENT": camera::MIN_EXTENT,
+        },
+        "scripts": scripts,
+        "view2d": { "start": { "center": View2d::default().center, "extent": View2d::default().extent }, "steps": steps_2d },
+    });
+    let mut made = serde_json::to_string_pretty(&fixture).unwrap();
+    made.push('\n');
+    check_file(&web().join("test/fixtures/camera.json"), &made);
 }

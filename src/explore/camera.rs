@@ -1,10 +1,22 @@
 //! The explorer's camera controller: orbit about the target, zoom toward it, pan across the
-//! view. Works on the scene's camera directly, so what the explorer shows is what a saved scene
-//! renders. `up` never changes; the eye never reaches the target or lines up with `up`.
+//! view, and the 2D view's pan and zoom. Works on the scene's camera directly, so what the
+//! explorer shows is what a saved scene renders. `up` never changes; the eye never reaches the
+//! target or lines up with `up`. The pointer's moves become camera moves here too (`drag_orbit`,
+//! `drag_pan`, `wheel_zoom`, `drag_2d`, `wheel_zoom_2d`), for the desktop explorer and for the
+//! browser's, whose TypeScript twin (web/src/camera.ts) is held to these by
+//! web/test/fixtures/camera.json.
 
 use glam::{DQuat, DVec3};
 
-use crate::scene::Camera;
+use crate::scene::{Camera, View2d};
+
+/// Radians of orbit per point dragged, and zoom per point scrolled (the wheel's points).
+pub const ORBIT_PER_POINT: f64 = 0.01;
+pub const ZOOM_PER_POINT: f64 = 0.002;
+
+/// The narrowest 2D extent the mouse and keys zoom to: a pixel of 512 is then 2e-15, about
+/// f64's spacing near the set (the view switches to f64 by itself below f32's).
+pub const MIN_EXTENT: f64 = 1e-12;
 
 /// Closest the eye may come to the target, and farthest it may go.
 pub const MIN_DISTANCE: f64 = 1e-3;
@@ -86,6 +98,55 @@ pub fn pan(cam: &mut Camera, right: f64, up: f64) {
     let shift = (r * right + u * up) * height;
     cam.eye = (eye + shift).to_array();
     cam.target = (target + shift).to_array();
+}
+
+/// A drag of (dx, dy) points with the orbiting button: right turns the view left, down tilts it
+/// up, slower in a narrow view ([`orbit_scale`]).
+pub fn drag_orbit(cam: &mut Camera, dx: f64, dy: f64) {
+    let rate = ORBIT_PER_POINT * orbit_scale(cam);
+    orbit(cam, dx * rate, dy * rate);
+}
+
+/// A drag of (dx, dy) points with the panning button across a view `height` points high: the
+/// scene follows the pointer.
+pub fn drag_pan(cam: &mut Camera, dx: f64, dy: f64, height: f64) {
+    let h = height.max(1.0);
+    pan(cam, -dx / h, dy / h);
+}
+
+/// The wheel turned by `scroll` points (positive: away from the user, zooming in).
+pub fn wheel_zoom(cam: &mut Camera, scroll: f64) {
+    zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
+}
+
+/// The 2D view's extent between [`MIN_EXTENT`] and its slider's widest.
+pub fn clamp_extent(extent: f64) -> f64 {
+    let widest = crate::scene::schema::slider("view2d.extent").expect("view2d.extent has a slider");
+    extent.clamp(MIN_EXTENT, widest.max)
+}
+
+/// A drag of (dx, dy) points across the 2D view, `width` points wide (the extent spans it): the
+/// plane follows the pointer.
+pub fn drag_2d(v: &mut View2d, dx: f64, dy: f64, width: f64) {
+    let per_point = v.extent / width.max(1.0);
+    v.center[0] -= dx * per_point;
+    v.center[1] += dy * per_point;
+}
+
+/// The wheel turned by `scroll` points over the 2D view, `width` points wide, with the pointer
+/// `from_centre` points right of and below the view's centre (if over it): the point under the
+/// pointer stays there.
+pub fn wheel_zoom_2d(v: &mut View2d, scroll: f64, width: f64, from_centre: Option<[f64; 2]>) {
+    let per_point = v.extent / width.max(1.0);
+    let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
+    let factor = extent / v.extent;
+    if let Some([x, y]) = from_centre {
+        let under = [v.center[0] + x * per_point, v.center[1] - y * per_point];
+        for (centre, under) in v.center.iter_mut().zip(under) {
+            *centre = under - (under - *centre) * factor;
+        }
+    }
+    v.extent = extent;
 }
 
 #[cfg(test)]

@@ -3,24 +3,11 @@
 
 use egui::{Key, Modifiers};
 
-use super::camera;
+use super::camera::{self, clamp_extent};
 use super::command::Command;
 use super::file_dialog::Purpose;
 use super::state::Mode;
 use crate::scene::{Camera, Scene, View2d};
-
-/// Radians of orbit per point dragged, and zoom per point scrolled.
-const ORBIT_PER_POINT: f64 = 0.01;
-const ZOOM_PER_POINT: f64 = 0.002;
-
-/// The narrowest 2D extent the mouse and keys zoom to: a pixel of 512 is then 2e-15, about
-/// f64's spacing near the set (the view switches to f64 by itself below f32's).
-const MIN_EXTENT: f64 = 1e-12;
-
-/// The 2D view's extent between [`MIN_EXTENT`] and its slider's widest.
-fn clamp_extent(extent: f64) -> f64 {
-    extent.clamp(MIN_EXTENT, slider("view2d.extent").max)
-}
 
 /// The explorer's slider of a scene key, from the scene schema.
 pub fn slider(path: &str) -> crate::scene::schema::Slider {
@@ -152,49 +139,37 @@ pub fn shortcuts(
 pub fn mouse_3d(ui: &egui::Ui, rect: egui::Rect, response: &egui::Response, cam: &mut Camera) {
     if response.dragged_by(egui::PointerButton::Primary) {
         let d = response.drag_delta();
-        let rate = ORBIT_PER_POINT * camera::orbit_scale(cam);
-        camera::orbit(cam, d.x as f64 * rate, d.y as f64 * rate);
+        camera::drag_orbit(cam, d.x as f64, d.y as f64);
     }
     if response.dragged_by(egui::PointerButton::Secondary)
         || response.dragged_by(egui::PointerButton::Middle)
     {
         let d = response.drag_delta();
-        let h = rect.height().max(1.0) as f64;
-        camera::pan(cam, -d.x as f64 / h, d.y as f64 / h);
+        camera::drag_pan(cam, d.x as f64, d.y as f64, rect.height() as f64);
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
         if scroll != 0.0 {
-            camera::zoom(cam, (-scroll * ZOOM_PER_POINT).exp());
+            camera::wheel_zoom(cam, scroll);
         }
     }
 }
 
 /// The mouse on the 2D view (`rect`): drag to pan, wheel to zoom about the pointer.
 pub fn mouse_2d(ui: &egui::Ui, rect: egui::Rect, response: &egui::Response, v: &mut View2d) {
-    // Complex units per point: the texture fills the rect, extent across its width.
-    let per_point = v.extent / rect.width().max(1.0) as f64;
+    let width = rect.width() as f64;
     if response.dragged() {
         let d = response.drag_delta();
-        v.center[0] -= d.x as f64 * per_point;
-        v.center[1] += d.y as f64 * per_point;
+        camera::drag_2d(v, d.x as f64, d.y as f64, width);
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
         if scroll != 0.0 {
-            let extent = clamp_extent(v.extent * (-scroll * ZOOM_PER_POINT).exp());
-            let factor = extent / v.extent;
-            if let Some(p) = response.hover_pos() {
-                // The point under the pointer stays there.
-                let under = [
-                    v.center[0] + (p.x - rect.center().x) as f64 * per_point,
-                    v.center[1] - (p.y - rect.center().y) as f64 * per_point,
-                ];
-                for (centre, under) in v.center.iter_mut().zip(under) {
-                    *centre = under - (under - *centre) * factor;
-                }
-            }
-            v.extent = extent;
+            let under = response.hover_pos().map(|p| {
+                let d = p - rect.center();
+                [d.x as f64, d.y as f64]
+            });
+            camera::wheel_zoom_2d(v, scroll, width, under);
         }
     }
 }

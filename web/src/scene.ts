@@ -42,6 +42,8 @@ export interface Key {
   choices?: string[];
   length?: number;
   each?: Range | null;
+  /// The explorer's slider, where the key has one.
+  slider?: { min: number; max: number; logarithmic: boolean } | null;
 }
 
 export interface Preset {
@@ -433,4 +435,25 @@ function plainDecimal(x: number): string {
     return sign + (whole.length > exp + 1 ? `${whole.slice(0, exp + 1)}.${whole.slice(exp + 1)}` : whole);
   }
   return `${sign}0.${'0'.repeat(-exp - 1)}${digits}`;
+}
+
+/// The full scene as TOML, every key written, so that it renders again identically: the twin of
+/// Scene::to_toml (the toml crate's writer): a table a section in the schema's order, a blank
+/// line between them, each key as `name = value`, floats in Rust's shortest form.
+export function sceneToToml(s: Scene): string {
+  const sections = SCHEMA.tables.map((t) => {
+    const lines = SCHEMA.keys
+      .filter((k) => k.table === t.name)
+      .map((k) => `${k.name} = ${tomlValue(k, s.get(k.path)!)}`);
+    return `[${t.name}]\n${lines.join('\n')}\n`;
+  });
+  return sections.join('\n');
+}
+
+/// A key's value as the toml crate writes it.
+function tomlValue(k: Key, v: number | string | boolean | number[]): string {
+  if (Array.isArray(v)) return `[${v.map(displayFloat).join(', ')}]`;
+  if (typeof v === 'number') return k.type === 'integer' ? String(v) : displayFloat(v);
+  if (typeof v === 'string') return JSON.stringify(v);
+  return String(v);
 }

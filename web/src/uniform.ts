@@ -26,10 +26,13 @@ export interface Layout {
   fields: FieldLayout[];
 }
 
-const LAYOUTS = layoutJson as unknown as { params: Layout; path: Layout };
+const LAYOUTS = layoutJson as unknown as { params: Layout; path: Layout; julia2d: Layout };
 export const PARAMS_LAYOUT = LAYOUTS.params;
 /// `struct PathParams` of shaders/path.wgsl (binding 7).
 export const PATH_LAYOUT = LAYOUTS.path;
+
+/// `struct Julia2dParams` of shaders/julia2d.wgsl (the 2D view's uniform).
+export const JULIA2D_LAYOUT = LAYOUTS.julia2d;
 
 /// Samples a dispatch adds at most (MAX_SAMPLES_PER_DISPATCH of src/gpu/tracer.rs).
 export const MAX_SAMPLES_PER_DISPATCH = 8;
@@ -199,6 +202,40 @@ export function packParams(
     ['out_row', d.outRow],
     ['sample_start', d.sampleStart],
     ['sample_end', d.sampleEnd],
+  ]);
+  return pack(layout, (f) => (f.per_dispatch ? perDispatch : values).get(f.name));
+}
+
+/// The 2D view's `Julia2dParams` in f32 (Julia2dParams::new of src/params.rs), by name: c's
+/// first two components as c = x + y i, the view's centre, half its width and height in the
+/// complex plane.
+export function julia2dParams(s: Scene): Map<string, number | number[]> {
+  const c = s.get('fractal.c') as number[];
+  const [w, h] = [s.get('image.width') as number, s.get('image.height') as number];
+  const half = 0.5 * (s.get('view2d.extent') as number);
+  return new Map<string, number | number[]>([
+    ['c', [c[0], c[1]]],
+    ['center', s.get('view2d.center') as number[]],
+    ['half_extent', [half, (half * h) / w]],
+    ['max_iterations', s.get('view2d.max_iterations') as number],
+    ['width', w],
+    ['height', h],
+  ]);
+}
+
+/// The bytes of `struct Julia2dParams` for `s` and a band of rows (its per-dispatch fields:
+/// row_offset, row_count, row_stride, out_row; `sampleStart` and `sampleEnd` unused).
+export function packJulia2d(
+  s: Scene,
+  d: Dispatch,
+  layout: Layout = JULIA2D_LAYOUT,
+): Uint8Array<ArrayBuffer> {
+  const values = julia2dParams(s);
+  const perDispatch = new Map<string, number>([
+    ['row_offset', d.rowOffset],
+    ['row_count', d.rowCount],
+    ['row_stride', d.rowStride],
+    ['out_row', d.outRow],
   ]);
   return pack(layout, (f) => (f.per_dispatch ? perDispatch : values).get(f.name));
 }

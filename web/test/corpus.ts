@@ -18,6 +18,7 @@ export interface Case {
   scene?: string;
   bytes?: string;
   path_bytes?: string;
+  julia2d_bytes?: string;
   overrides?: [string, number][];
   samples_per_dispatch?: number;
   warnings?: string[];

@@ -9,6 +9,7 @@ import {
   SCHEMA,
   SceneError,
   SceneLoader,
+  sceneToToml,
   displayFloat,
   orthonormalise,
   type Scene,
@@ -67,6 +68,33 @@ describe('the scene loader', () => {
       expect(typeof outcome).not.toBe('string');
       expect(differences(outcome as Scene, resolved(c.scene!))).toEqual([]);
     }
+  });
+});
+
+describe('the scene writer', () => {
+  // Scene::to_toml's bytes for every scene the binary loads and every preset; and what it
+  // writes loads back as the same scene (the page's Save, then `qjulia render --scene`), but
+  // for the slice's last bits: the loader orthonormalises the axes again, as the CLI's does.
+  test.each(CASES.filter((c) => c.message === null).map((c) => [c.name, c] as const))(
+    '%s',
+    (_, c) => {
+      const scene = load(c);
+      expect(sceneToToml(scene)).toBe(c.scene);
+      const again = new SceneLoader();
+      again.tomlStr(sceneToToml(scene), { kind: 'file', path: 'saved.toml' });
+      const reloaded = again.build();
+      expect(differences(reloaded, scene).filter((k) => !k.startsWith('slice.'))).toEqual([]);
+      for (const k of ['slice.x', 'slice.y', 'slice.z']) {
+        const [a, b] = [reloaded.get(k) as number[], scene.get(k) as number[]];
+        a.forEach((x, i) => expect(Math.abs(x - b[i])).toBeLessThan(1e-15));
+      }
+    },
+  );
+
+  test.each(SCHEMA.presets.map((p) => [p.slug, p] as const))('preset %s', (_, preset) => {
+    const loader = new SceneLoader();
+    loader.tomlStr(preset.toml, { kind: 'preset', slug: preset.slug });
+    expect(sceneToToml(loader.build())).toBe(preset.scene);
   });
 });
 

@@ -1,12 +1,20 @@
 // The uniform packing's twin (src/uniform.ts) against the binary: for every scene of the corpus
 // that loads (fixtures/scenes.json, made by `qjulia gpu-params --json` and held fresh by
 // tests/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
-// samples a dispatch, the path tracer's `PathParams`, and the override constants (path mode's
+// samples a dispatch, the path tracer's `PathParams`, the 2D view's `Julia2dParams`, and the override constants (path mode's
 // the path kernel's), byte for byte and in order; and f32's precision warnings, word for word.
 
 import { describe, expect, test } from 'vitest';
 import { sliceWarnings } from '../src/precision';
-import { firstDispatch, hex, overrides, packParams, packPath, PARAMS_LAYOUT } from '../src/uniform';
+import {
+  firstDispatch,
+  hex,
+  overrides,
+  packJulia2d,
+  packParams,
+  packPath,
+  PARAMS_LAYOUT,
+} from '../src/uniform';
 import { CASES, load } from './corpus';
 
 const good = CASES.filter((c) => c.message === null);
@@ -27,6 +35,7 @@ describe('the uniform', () => {
     expect(d.sampleEnd).toBe(c.samples_per_dispatch);
     expect(hex(packParams(scene, d))).toBe(c.bytes);
     expect(hex(packPath(scene))).toBe(c.path_bytes);
+    expect(hex(packJulia2d(scene, d))).toBe(c.julia2d_bytes);
     expect(sliceWarnings(scene)).toEqual(c.warnings);
     expect(overrides(scene)).toEqual(c.overrides);
   });
