@@ -86,6 +86,7 @@ fn the_scene_fixtures_are_the_binarys() {
             object.insert("path_bytes".into(), json["path"]["bytes"].clone());
             object.insert("julia2d_bytes".into(), json["julia2d"]["bytes"].clone());
             object.insert("warnings".into(), json["warnings"].clone());
+            object.insert("julia2d_warnings".into(), json["julia2d_warnings"].clone());
             let text = String::from_utf8(out.stdout.clone()).unwrap();
             object.insert("overrides".into(), overrides_in_order(&text));
             good += 1;
@@ -103,6 +104,8 @@ fn the_scene_fixtures_are_the_binarys() {
                 "samples_per_dispatch",
                 "path_bytes",
                 "julia2d_bytes",
+                "warnings",
+                "julia2d_warnings",
             ] {
                 object.remove(field);
             }
@@ -418,4 +421,71 @@ fn the_camera_fixture_is_the_librarys() {
     let mut made = serde_json::to_string_pretty(&fixture).unwrap();
     made.push('\n');
     check_file(&web().join("test/fixtures/camera.json"), &made);
+}
+
+#[test]
+fn the_display_fixture_is_the_librarys() {
+    use qjulia::display::{Display, ToneMap};
+    // f32 radiances: 0, negatives, a geometric sweep over 1e-6..1e3, the sRGB knee's
+    // neighbours, and the f32s whose 8-bit value is about to change under no tone map.
+    let mut values: Vec<f32> = vec![0.0, -0.5, -1e-9, 0.003_130_8, 0.003_130_7, 1.0, 2.0];
+    values.extend((0..1200).map(|k| 1e-6f32 * 10f32.powf(k as f32 / 133.0)));
+    let plain = Display::default();
+    for k in 1..255u32 {
+        // The smallest f32 that encodes to k, by bisection, and the one just below it.
+        let (mut lo, mut hi) = (0.0f32, 1.0f32);
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if u32::from(plain.encode(mid)) >= k {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        values.extend([hi, f32::from_bits(hi.to_bits() - 1)]);
+    }
+    let mut cases = Vec::new();
+    for tone_map in ToneMap::ALL {
+        for exposure in [0.0, -1.5, 2.25, 7.0] {
+            let d = Display { exposure, tone_map };
+            let bytes: String = values
+                .iter()
+                .map(|&v| format!("{:02x}", d.encode(v)))
+                .collect();
+            cases.push(serde_json::json!({
+                "tone_map": tone_map.name(), "exposure": exposure, "bytes": bytes
+            }));
+        }
+    }
+    let fixture = serde_json::json!({
+        "values": values.iter().map(|&v| v as f64).collect::<Vec<_>>(),
+        "cases": cases,
+    });
+    let mut made = serde_json::to_string_pretty(&fixture).unwrap();
+    made.push('\n');
+    check_file(&web().join("test/fixtures/display.json"), &made);
+}
+
+#[test]
+fn the_png_fixture_is_the_binarys() {
+    // A qjulia PNG (an 8x6 render of the rabbit), for the page's reader of the scene chunk.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rabbit.png");
+    let status = Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["render", "--preset", "rabbit", "--width", "8", "--height", "6"])
+        .args(["--backend", "cpu", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(status.status.success());
+    let made = std::fs::read(&out).unwrap();
+    let path = web().join("test/fixtures/rabbit.png");
+    if bless() {
+        std::fs::write(&path, &made).unwrap();
+    }
+    assert!(
+        std::fs::read(&path).unwrap_or_default() == made,
+        "{} is stale: run `QJULIA_BLESS=1 cargo test --release --test web`",
+        path.display()
+    );
 }

@@ -48,6 +48,9 @@ pub struct GpuParamsJson {
     /// What this precision cannot resolve in the 3D slice (`precision::slice_warnings`): each
     /// warning's line, in order (the browser stops zooming where f32 stops resolving the view).
     pub warnings: Vec<String>,
+    /// What this precision cannot resolve in the 2D view (`precision::julia2d_warnings`), each
+    /// warning's line (the browser's 2D zoom stops there).
+    pub julia2d_warnings: Vec<String>,
     /// The path tracer's own uniform (`struct PathParams` of shaders/path.wgsl, binding 7, f32
     /// in either precision): its layout and bytes, whatever the model (path mode reads it).
     pub path: UniformJson,
@@ -97,6 +100,10 @@ impl GpuParamsJson {
                 bytes: hex(&F::julia2d_uniform(&j, band)),
             },
             warnings: crate::precision::slice_warnings(scene, precision_of::<F>())
+                .into_iter()
+                .map(|w| w.text)
+                .collect(),
+            julia2d_warnings: crate::precision::julia2d_warnings(scene, precision_of::<F>())
                 .into_iter()
                 .map(|w| w.text)
                 .collect(),

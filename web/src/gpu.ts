@@ -1,30 +1,56 @@
-// The page's GPU host: the tracer kernel (shaders/trace.wgsl's `main`, f32) on WebGPU, as the
-// Rust host runs it (src/gpu/tracer.rs and src/gpu/kernel/): the bind layout of the Rust
-// runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, estimates, accumulated,
-// aovs), one pipeline per variant's override constants (cached, as the Rust side caches them),
-// the samples added dispatch by dispatch with the uniform of src/uniform.ts, then colour, depth
-// and steps read back.
+// The page's GPU host: the kernels of shaders/ on WebGPU, as the Rust host runs them
+// (src/gpu/tracer.rs, src/gpu/path.rs, src/gpu/julia2d.rs and src/gpu/kernel/): the bind layout
+// of the Rust runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, estimates,
+// accumulated, aovs; the path tracer's own uniform at 7), one pipeline per kernel and variant's
+// override constants (cached, as the Rust side caches them), the samples added dispatch by
+// dispatch with the uniforms of src/uniform.ts, the running mean kept in `accumulated` between
+// them. A render is a [`Job`]: the explorer adds a dispatch of samples a frame and shows what
+// is there (idle accumulation), and reads it back as the CLI's frame.
 
+import { Display } from './display';
 import type { Scene } from './scene';
-import { TRACE_MODULE } from './shaders';
-import { firstDispatch, overrides, packParams, PARAMS_LAYOUT } from './uniform';
+import { JULIA2D_MODULE, PATH_MODULE, TRACE_MODULE } from './shaders';
+import {
+  type Dispatch,
+  JULIA2D_LAYOUT,
+  PARAMS_LAYOUT,
+  PATH_LAYOUT,
+  overrides,
+  packJulia2d,
+  packParams,
+  packPath,
+  pathSamplesPerDispatch,
+  samplesPerDispatch,
+} from './uniform';
 
 /// Bytes a pixel of each output (TRACE_OUTPUTS of src/gpu/mod.rs); the AOVs (the last) are a
 /// placeholder of one pixel, as the Rust runner binds them when not read.
 const OUTPUT_BYTES = [4, 4, 4, 4, 16, 48];
 const ON_DEMAND = [false, false, false, false, false, true];
+/// The 2D view's outputs: colour, the in-set marker, iterations (JULIA2D_KERNEL).
+const JULIA2D_OUTPUT_BYTES = [4, 4, 4];
 /// Invocations per workgroup in x and y (WORKGROUP_SIZE).
 const WORKGROUP = 8;
+/// Camera rays an invocation of the path tracer traces together (DEFAULT_PATH_INTERLEAVE of
+/// src/gpu/variant.rs; the tracer's `main` keeps the shader's default, DEFAULT_INTERLEAVE = 2).
+const PATH_INTERLEAVE = 1;
 
 export interface Rendered {
   width: number;
   height: number;
-  /// 0xFFBBGGRR per pixel, as the tracer packs it.
+  /// 0xFFBBGGRR per pixel, as the CLI's frame packs it (path mode: the display transform of
+  /// the linear mean).
   colour: Uint32Array;
-  /// The hit's t; NaN where the ray missed.
+  /// The hit's t; NaN where the ray missed (2D: 0 in the set, NaN outside).
   depth: Float32Array;
   steps: Uint32Array;
-  /// Milliseconds from the first dispatch to the readback mapped.
+  /// Path mode and adaptive sampling: the accumulator (linear mean RGB, then the pixel's
+  /// state: M2 while it samples, minus its samples once done), else null.
+  accumulated: Float32Array | null;
+  /// Samples taken so far (of `samples`).
+  taken: number;
+  samples: number;
+  /// Milliseconds from the job's first dispatch to this readback mapped.
   milliseconds: number;
 }
 
@@ -33,27 +59,155 @@ export function noWebGpu(): string | null {
   return 'gpu' in navigator ? null : 'this browser has no WebGPU (navigator.gpu)';
 }
 
+type Kind = 'trace' | 'path' | 'julia2d';
+
+interface Kernel {
+  module: GPUShaderModule;
+  entryPoint: string;
+  layout: GPUBindGroupLayout;
+  pipelineLayout: GPUPipelineLayout;
+}
+
+/// A render in progress: the scene's buffers, its pipeline, and the samples added so far.
+export class Job {
+  taken = 0;
+  readonly samples: number;
+  readonly perDispatch: number;
+  private started = 0;
+
+  constructor(
+    private tracer: Tracer,
+    readonly scene: Scene,
+    readonly kind: Kind,
+    private pipeline: GPUComputePipeline,
+    private uniform: GPUBuffer,
+    private outputs: GPUBuffer[],
+    private bindGroup: GPUBindGroup,
+    readonly width: number,
+    readonly height: number,
+  ) {
+    this.samples = kind === 'julia2d' ? 1 : Math.max(scene.get('image.samples') as number, 1);
+    const perDispatch = samplesPerDispatch(height, width, this.samples);
+    this.perDispatch =
+      kind === 'path'
+        ? Math.min(
+            perDispatch,
+            pathSamplesPerDispatch(scene.get('path.bounces') as number, scene.get('fractal.max_steps') as number),
+          )
+        : perDispatch;
+  }
+
+  get done(): boolean {
+    return this.taken >= this.samples;
+  }
+
+  /// Queues the next dispatch of samples (the whole image as one band).
+  step(): void {
+    if (this.done) return;
+    if (this.taken === 0) this.started = performance.now();
+    const device = this.tracer.device;
+    const d: Dispatch = {
+      rowOffset: 0,
+      rowCount: this.height,
+      rowStride: this.width,
+      outRow: 0,
+      sampleStart: this.taken,
+      sampleEnd: Math.min(this.taken + this.perDispatch, this.samples),
+    };
+    const bytes = this.kind === 'julia2d' ? packJulia2d(this.scene, d) : packParams(this.scene, d);
+    device.queue.writeBuffer(this.uniform, 0, bytes);
+    const encoder = device.createCommandEncoder();
+    const pass = encoder.beginComputePass();
+    pass.setPipeline(this.pipeline);
+    pass.setBindGroup(0, this.bindGroup);
+    pass.dispatchWorkgroups(Math.ceil(this.width / WORKGROUP), Math.ceil(this.height / WORKGROUP));
+    pass.end();
+    device.queue.submit([encoder.finish()]);
+    this.taken = d.sampleEnd;
+  }
+
+  /// What the job holds now, read back: colour, depth and steps (and the accumulator where
+  /// path mode or adaptive sampling needs it).
+  async read(): Promise<Rendered> {
+    const device = this.tracer.device;
+    const pixels = this.width * this.height;
+    const wantsMean = this.kind === 'path' || this.adaptive;
+    const read = device.createBuffer({
+      size: (12 + (wantsMean ? 16 : 0)) * pixels,
+      usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST,
+    });
+    const encoder = device.createCommandEncoder();
+    for (let k = 0; k < 3; k++) encoder.copyBufferToBuffer(this.outputs[k], 0, read, 4 * k * pixels, 4 * pixels);
+    if (wantsMean) encoder.copyBufferToBuffer(this.outputs[4], 0, read, 12 * pixels, 16 * pixels);
+    device.queue.submit([encoder.finish()]);
+    await read.mapAsync(GPUMapMode.READ);
+    const bytes = read.getMappedRange().slice(0);
+    read.unmap();
+    read.destroy();
+    const milliseconds = performance.now() - this.started;
+    const depth = new Float32Array(bytes, 4 * pixels, pixels).map((d) => (d < 0 ? NaN : d));
+    const accumulated = wantsMean ? new Float32Array(bytes, 12 * pixels, 4 * pixels) : null;
+    let colour: Uint32Array = new Uint32Array(bytes, 0, pixels);
+    if (this.kind === 'path') {
+      const display = new Display(this.scene.get('image.exposure') as number, this.scene.get('image.tone_map') as string);
+      colour = display.packAll(accumulated!);
+    }
+    return {
+      width: this.width,
+      height: this.height,
+      colour,
+      depth,
+      steps: new Uint32Array(bytes, 8 * pixels, pixels),
+      accumulated,
+      taken: this.taken,
+      samples: this.samples,
+      milliseconds,
+    };
+  }
+
+  private get adaptive(): boolean {
+    return (this.scene.get('path.noise_target') as number) > 0 && this.samples > 1;
+  }
+
+  /// Frees the job's buffers.
+  destroy(): void {
+    [this.uniform, ...this.outputs].forEach((b) => b.destroy());
+  }
+}
+
 export class Tracer {
-  private pipelines = new Map<string, GPUComputePipeline>();
-  private module: GPUShaderModule;
-  private layout: GPUBindGroupLayout;
-  private pipelineLayout: GPUPipelineLayout;
+  private pipelines = new Map<string, Promise<GPUComputePipeline>>();
+  private kernels: Record<Kind, Kernel>;
 
   private constructor(
     public device: GPUDevice,
     public adapterName: string,
   ) {
-    this.module = device.createShaderModule({ label: 'trace', code: TRACE_MODULE });
-    const entries: GPUBindGroupLayoutEntry[] = [
-      { binding: 0, visibility: GPUShaderStage.COMPUTE, buffer: { type: 'uniform' } },
-      ...OUTPUT_BYTES.map((_, k) => ({
-        binding: 1 + k,
-        visibility: GPUShaderStage.COMPUTE,
-        buffer: { type: 'storage' as const },
-      })),
-    ];
-    this.layout = device.createBindGroupLayout({ label: 'trace', entries });
-    this.pipelineLayout = device.createPipelineLayout({ bindGroupLayouts: [this.layout] });
+    const storage = (binding: number): GPUBindGroupLayoutEntry => ({
+      binding,
+      visibility: GPUShaderStage.COMPUTE,
+      buffer: { type: 'storage' },
+    });
+    const uniform = (binding: number): GPUBindGroupLayoutEntry => ({
+      binding,
+      visibility: GPUShaderStage.COMPUTE,
+      buffer: { type: 'uniform' },
+    });
+    const kernel = (name: string, code: string, entryPoint: string, entries: GPUBindGroupLayoutEntry[]): Kernel => {
+      const layout = device.createBindGroupLayout({ label: name, entries });
+      return {
+        module: device.createShaderModule({ label: name, code }),
+        entryPoint,
+        layout,
+        pipelineLayout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
+      };
+    };
+    const traceEntries = [uniform(0), ...OUTPUT_BYTES.map((_, k) => storage(1 + k))];
+    this.kernels = {
+      trace: kernel('trace', TRACE_MODULE, 'main', traceEntries),
+      path: kernel('path', PATH_MODULE, 'path_main', [...traceEntries, uniform(7)]),
+      julia2d: kernel('julia2d', JULIA2D_MODULE, 'main', [uniform(0), storage(1), storage(2), storage(3)]),
+    };
   }
 
   /// The tracer on the browser's adapter; a string says why there is none.
@@ -67,78 +221,75 @@ export class Tracer {
     return new Tracer(device, `${info.vendor} ${info.architecture} ${info.description}`.trim());
   }
 
-  /// The pipeline of a scene's variant, built on first use and kept.
-  async pipeline(scene: Scene): Promise<GPUComputePipeline> {
-    const constants = Object.fromEntries(overrides(scene));
-    const key = JSON.stringify(constants);
+  /// The kernel a scene's picture needs: the 2D view, the path tracer or the tracer.
+  static kindOf(scene: Scene, twoD: boolean): Kind {
+    if (twoD) return 'julia2d';
+    return scene.get('shading.model') === 'path' ? 'path' : 'trace';
+  }
+
+  /// The pipeline of a kernel and a scene's variant, built on first use and kept.
+  pipeline(kind: Kind, scene: Scene): Promise<GPUComputePipeline> {
+    const constants: Record<string, number> =
+      kind === 'julia2d' ? {} : Object.fromEntries(overrides(scene));
+    if (kind === 'path') constants.INTERLEAVE = PATH_INTERLEAVE;
+    const key = `${kind} ${JSON.stringify(constants)}`;
     let made = this.pipelines.get(key);
     if (made === undefined) {
-      made = await this.device.createComputePipelineAsync({
-        label: `trace ${key}`,
-        layout: this.pipelineLayout,
-        compute: { module: this.module, entryPoint: 'main', constants },
+      const k = this.kernels[kind];
+      made = this.device.createComputePipelineAsync({
+        label: key,
+        layout: k.pipelineLayout,
+        compute: { module: k.module, entryPoint: k.entryPoint, constants },
       });
       this.pipelines.set(key, made);
     }
     return made;
   }
 
-  /// Traces the whole image of a validated scene (one band) and reads it back.
-  async render(scene: Scene): Promise<Rendered> {
+  /// A new render of a validated scene (its image.width x image.height), nothing dispatched.
+  async start(scene: Scene, twoD = false): Promise<Job> {
+    const kind = Tracer.kindOf(scene, twoD);
     const width = scene.get('image.width') as number;
     const height = scene.get('image.height') as number;
-    const samples = Math.max(scene.get('image.samples') as number, 1);
     const pixels = width * height;
-    const pipeline = await this.pipeline(scene);
+    const pipeline = await this.pipeline(kind, scene);
     const device = this.device;
+    const layout = kind === 'julia2d' ? JULIA2D_LAYOUT : PARAMS_LAYOUT;
     const uniform = device.createBuffer({
-      size: PARAMS_LAYOUT.size,
+      size: layout.size,
       usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
     });
-    const outputs = OUTPUT_BYTES.map((bytes, k) =>
+    const sizes = kind === 'julia2d' ? JULIA2D_OUTPUT_BYTES : OUTPUT_BYTES;
+    const outputs = sizes.map((bytes, k) =>
       device.createBuffer({
-        size: bytes * (ON_DEMAND[k] ? 1 : pixels),
+        size: bytes * (kind !== 'julia2d' && ON_DEMAND[k] ? 1 : pixels),
         usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC,
       }),
     );
-    const bindGroup = device.createBindGroup({
-      layout: this.layout,
-      entries: [uniform, ...outputs].map((buffer, binding) => ({ binding, resource: { buffer } })),
-    });
-    const first = firstDispatch(scene);
-    const perDispatch = first.sampleEnd;
-    const start = performance.now();
-    for (let s = 0; s < samples; s += perDispatch) {
-      const d = { ...first, sampleStart: s, sampleEnd: Math.min(s + perDispatch, samples) };
-      device.queue.writeBuffer(uniform, 0, packParams(scene, d));
-      const encoder = device.createCommandEncoder();
-      const pass = encoder.beginComputePass();
-      pass.setPipeline(pipeline);
-      pass.setBindGroup(0, bindGroup);
-      pass.dispatchWorkgroups(Math.ceil(width / WORKGROUP), Math.ceil(height / WORKGROUP));
-      pass.end();
-      device.queue.submit([encoder.finish()]);
+    const entries: GPUBindGroupEntry[] = [uniform, ...outputs].map((buffer, binding) => ({
+      binding,
+      resource: { buffer },
+    }));
+    const owned = [...outputs];
+    if (kind === 'path') {
+      const path = device.createBuffer({
+        size: PATH_LAYOUT.size,
+        usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+      });
+      device.queue.writeBuffer(path, 0, packPath(scene));
+      entries.push({ binding: 7, resource: { buffer: path } });
+      owned.push(path);
     }
-    const read = device.createBuffer({
-      size: 12 * pixels,
-      usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST,
-    });
-    const encoder = device.createCommandEncoder();
-    for (let k = 0; k < 3; k++) encoder.copyBufferToBuffer(outputs[k], 0, read, 4 * k * pixels, 4 * pixels);
-    device.queue.submit([encoder.finish()]);
-    await read.mapAsync(GPUMapMode.READ);
-    const bytes = read.getMappedRange().slice(0);
-    read.unmap();
-    const milliseconds = performance.now() - start;
-    [uniform, read, ...outputs].forEach((b) => b.destroy());
-    const depth = new Float32Array(bytes, 4 * pixels, pixels).map((d) => (d < 0 ? NaN : d));
-    return {
-      width,
-      height,
-      colour: new Uint32Array(bytes, 0, pixels),
-      depth,
-      steps: new Uint32Array(bytes, 8 * pixels, pixels),
-      milliseconds,
-    };
+    const bindGroup = device.createBindGroup({ layout: this.kernels[kind].layout, entries });
+    return new Job(this, scene, kind, pipeline, uniform, owned, bindGroup, width, height);
+  }
+
+  /// Traces the whole image of a validated scene, every sample, and reads it back.
+  async render(scene: Scene, twoD = false): Promise<Rendered> {
+    const job = await this.start(scene, twoD);
+    while (!job.done) job.step();
+    const r = await job.read();
+    job.destroy();
+    return r;
   }
 }

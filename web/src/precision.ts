@@ -63,3 +63,18 @@ export function sliceWarnings(s: Scene): string[] {
 export function f32Resolves(s: Scene): boolean {
   return sliceWarnings(s).length === 0;
 }
+
+/// The 2D view's f32 warnings (julia2d_warnings): a pixel (extent / width) below the spacing of
+/// f32 values at the view's farthest point from 0 (|centre| + half the extent, at least 1).
+export function julia2dWarnings(s: Scene): string[] {
+  const [x, y] = s.get('view2d.center') as number[];
+  const extent = s.get('view2d.extent') as number;
+  const reach = Math.max(Math.max(Math.abs(x), Math.abs(y)) + 0.5 * extent, 1);
+  const spacing = reach * F32_RELATIVE_SPACING;
+  const pixel = extent / (s.get('image.width') as number);
+  if (!(pixel < spacing)) return [];
+  return [
+    `a pixel spans ${rustExp1(pixel)} (view2d.extent / image.width), below the spacing of f32 ` +
+      `values (${rustExp1(spacing)}): neighbouring pixels iterate the same points; use --precision f64`,
+  ];
+}

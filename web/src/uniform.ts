@@ -177,6 +177,14 @@ export function samplesPerDispatch(rows: number, width: number, samples: number)
   return Math.min(fit, MAX_SAMPLES_PER_DISPATCH, Math.max(samples, 1));
 }
 
+/// Samples one invocation of the path tracer traces in one dispatch: as many as keep samples x
+/// rays x max_steps within 60,000 (each scattering event traces at most three rays), at least 1
+/// and at most 8 (path_samples_per_dispatch of src/gpu/path.rs).
+export function pathSamplesPerDispatch(bounces: number, maxSteps: number): number {
+  const rays = 3 * bounces + 1;
+  return Math.min(Math.max(Math.floor(60_000 / (rays * Math.max(maxSteps, 1))), 1), 8);
+}
+
 /// The uniform of a dispatch over rows [rowOffset, rowOffset + rowCount) written from row
 /// `outRow` on, `rowStride` pixels a row, adding the samples [start, end) (F::trace_uniform).
 export interface Dispatch {

@@ -22,6 +22,7 @@ export interface Case {
   overrides?: [string, number][];
   samples_per_dispatch?: number;
   warnings?: string[];
+  julia2d_warnings?: string[];
 }
 
 const here = import.meta.dirname;

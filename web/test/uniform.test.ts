@@ -2,10 +2,10 @@
 // that loads (fixtures/scenes.json, made by `qjulia gpu-params --json` and held fresh by
 // tests/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
 // samples a dispatch, the path tracer's `PathParams`, the 2D view's `Julia2dParams`, and the override constants (path mode's
-// the path kernel's), byte for byte and in order; and f32's precision warnings, word for word.
+// the path kernel's), byte for byte and in order; and f32's precision warnings (the 3D slice's and the 2D view's), word for word.
 
 import { describe, expect, test } from 'vitest';
-import { sliceWarnings } from '../src/precision';
+import { julia2dWarnings, sliceWarnings } from '../src/precision';
 import {
   firstDispatch,
   hex,
@@ -37,6 +37,7 @@ describe('the uniform', () => {
     expect(hex(packPath(scene))).toBe(c.path_bytes);
     expect(hex(packJulia2d(scene, d))).toBe(c.julia2d_bytes);
     expect(sliceWarnings(scene)).toEqual(c.warnings);
+    expect(julia2dWarnings(scene)).toEqual(c.julia2d_warnings);
     expect(overrides(scene)).toEqual(c.overrides);
   });
 });
