@@ -30,6 +30,7 @@ pub mod stats;
 pub mod tile;
 pub mod uniform;
 pub mod video;
+pub mod web;
 
 pub use error::{Error, Result};
 pub use frame::Frame;

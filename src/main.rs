@@ -41,6 +41,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Explore(args)) => cli::explore(args),
         Some(cli::Command::GpuParams(args)) => cli::gpu_params(args),
         Some(cli::Command::Schema(args)) => cli::schema(args),
+        Some(cli::Command::Web(args)) => cli::web(args),
         None if qjulia::explore::display_available() => cli::explore(&cli::ExploreArgs::default()),
         None => {
             // No display to explore on: help, on stdout, exit 0.

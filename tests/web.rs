@@ -472,7 +472,9 @@ fn the_png_fixture_is_the_binarys() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("rabbit.png");
     let status = Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["render", "--preset", "rabbit", "--width", "8", "--height", "6"])
+        .args([
+            "render", "--preset", "rabbit", "--width", "8", "--height", "6",
+        ])
         .args(["--backend", "cpu", "-o"])
         .arg(&out)
         .output()

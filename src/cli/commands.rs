@@ -14,7 +14,7 @@ use qjulia::{Frame, Picture, Precision, Readback};
 
 use super::{
     AnimateArgs, BackendArg, ExploreArgs, GpuParamsArgs, MergeArgs, MeshArgs, Render2dArgs,
-    RenderArgs, SchemaArgs,
+    RenderArgs, SchemaArgs, WebArgs,
 };
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
@@ -446,6 +446,22 @@ pub fn schema(_args: &SchemaArgs) -> anyhow::Result<()> {
         "{}",
         qjulia::scene::schema::json::SchemaJson::new().to_json()
     );
+    Ok(())
+}
+
+/// `qjulia web`: serves the built page until interrupted.
+pub fn web(args: &WebArgs) -> anyhow::Result<()> {
+    let dir = args.dir.clone().unwrap_or_else(qjulia::web::default_dir);
+    let server = qjulia::web::PageServer::bind(&dir, (args.host, args.port).into())
+        .map_err(anyhow::Error::msg)?;
+    println!(
+        "serving {} on http://{}/ (Ctrl-C stops)",
+        dir.display(),
+        server.addr()
+    );
+    use std::io::Write;
+    std::io::stdout().flush()?;
+    server.run();
     Ok(())
 }
 

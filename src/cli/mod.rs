@@ -5,7 +5,9 @@
 mod commands;
 mod report;
 
-pub use commands::{animate, explore, gpu_params, info, merge, mesh, render, render2d, schema};
+pub use commands::{
+    animate, explore, gpu_params, info, merge, mesh, render, render2d, schema, web,
+};
 pub use report::report;
 
 use std::path::PathBuf;
@@ -60,6 +62,8 @@ pub enum Command {
     /// The scene schema and the presets, as data (`--json`): every key's type, default, range,
     /// choices, comment and slider, the loader's messages, and each preset's scene.
     Schema(SchemaArgs),
+    /// Serve the browser page (web/dist, built with `npm run build` in web/) on localhost.
+    Web(WebArgs),
 }
 
 /// Where the scene comes from: defaults, then --scene, then shorthands, then each --set.
@@ -203,6 +207,20 @@ pub struct Render2dArgs {
     pub stats: Option<PathBuf>,
     #[command(flatten)]
     pub tracer: TracerArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct WebArgs {
+    /// The port (0: any free one, printed).
+    #[arg(long, default_value_t = 8080)]
+    pub port: u16,
+    /// The address to listen on; other machines reach the page only where this is not the
+    /// loopback address.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: std::net::IpAddr,
+    /// The built page (default: web/dist of the sources this binary was built from).
+    #[arg(long, value_name = "DIR")]
+    pub dir: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]

@@ -1,94 +1,36 @@
-// The page in headless Chromium (Debian's /usr/bin/chromium, or QJULIA_CHROMIUM), driven by
-// playwright-core, on WebGPU's SwiftShader adapter: the default scene at 128x128 is the CLI's
-// render (e2e/fixtures/render-128.json, made by `qjulia render --backend cpu` and held fresh by
-// tests/web.rs) within CONTRACT_TOLERANCE; a preset renders; a bad scene shows the CLI's error
-// line. Without Chromium or WebGPU this fails, unless QJULIA_SKIP_BROWSER_TESTS=1 (then each
-// test says it skipped).
+// The page in headless Chromium (e2e/harness.ts) on WebGPU's SwiftShader adapter: the default
+// scene at 128x128 is the CLI's render (e2e/fixtures/render-128.json, made by `qjulia render
+// --backend cpu` and held fresh by tests/web.rs) within CONTRACT_TOLERANCE; a share link
+// reopens it; a preset renders; bad scenes show the CLI's error line; a drag orbits, a right
+// drag pans and the wheel zooms; the scene saved after a drag, and a PNG exported, render to
+// the page's picture with the CLI (the release binary beside web/, or QJULIA_BIN); the 2D view
+// is render2d's; path mode accumulates to the CLI's picture; the zoom stops where f32 does.
+// Without Chromium, WebGPU or the binary this fails, unless QJULIA_SKIP_BROWSER_TESTS=1 (then
+// each test says it skipped).
 
-import { existsSync, readFileSync } from 'node:fs';
-import { createServer, type Server } from 'node:http';
-import { extname, join } from 'node:path';
-import { type Browser, type Page, chromium } from 'playwright-core';
-import { build } from 'vite';
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { inflateSync } from 'node:zlib';
+import type { Page } from 'playwright-core';
 import { afterAll, beforeAll, describe, expect, test } from 'vitest';
 import { SCHEMA } from '../src/scene';
+import { type Harness, launch, open, root } from './harness';
 
 const SKIP = process.env.QJULIA_SKIP_BROWSER_TESTS === '1';
-const CHROMIUM = process.env.QJULIA_CHROMIUM ?? '/usr/bin/chromium';
-/// WebGPU on SwiftShader, presenting without a display (the flags issue 21 measured).
-const FLAGS = [
-  '--no-sandbox',
-  '--disable-gpu-sandbox',
-  '--enable-unsafe-webgpu',
-  '--enable-features=Vulkan',
-  '--use-vulkan=swiftshader',
-  '--use-angle=swiftshader',
-  '--enable-unsafe-swiftshader',
-  '--ignore-gpu-blocklist',
-  '--disable-background-networking',
-  '--disable-component-update',
-  '--disable-sync',
-  '--no-first-run',
-];
-const root = join(import.meta.dirname, '..');
-const dist = join(root, 'dist');
 
-let server: Server;
-let browser: Browser;
+let harness: Harness;
 let page: Page;
-let origin: string;
-
-const TYPES: Record<string, string> = {
-  '.html': 'text/html',
-  '.js': 'text/javascript',
-  '.css': 'text/css',
-};
 
 beforeAll(async () => {
   if (SKIP) return;
-  if (!existsSync(CHROMIUM)) {
-    throw new Error(
-      `the browser tests need Chromium at ${CHROMIUM} (Debian: apt-get install chromium; or ` +
-        'set QJULIA_CHROMIUM), or opt out with QJULIA_SKIP_BROWSER_TESTS=1',
-    );
-  }
-  await build({ root, logLevel: 'warn' });
-  server = createServer((req, res) => {
-    const path = join(dist, decodeURIComponent((req.url ?? '/').split(/[?#]/)[0]));
-    const file = path.endsWith('/') ? join(path, 'index.html') : path;
-    if (!file.startsWith(dist) || !existsSync(file)) {
-      res.writeHead(404).end();
-      return;
-    }
-    res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream' });
-    res.end(readFileSync(file));
-  });
-  await new Promise<void>((ok) => server.listen(0, '127.0.0.1', ok));
-  const port = (server.address() as { port: number }).port;
-  origin = `http://127.0.0.1:${port}`;
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') console.log(`page ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`http://127.0.0.1:${port}/#${encodeURIComponent('[image]\nwidth = 16\nheight = 16\n')}`);
-  await page.waitForFunction(
-    () =>
-      document.body.dataset.ready === 'true' ||
-      /needs WebGPU/.test(document.querySelector('#status')?.textContent ?? ''),
-    undefined,
-    { timeout: 120_000 },
-  );
-  const ready = await page.evaluate(() => document.body.dataset.ready === 'true');
-  if (!ready) {
-    throw new Error(`the page found no WebGPU: ${await page.textContent('#status')}`);
-  }
+  harness = await launch();
+  page = await open(harness, '[image]\nwidth = 16\nheight = 16\n');
 });
 
 afterAll(async () => {
-  await browser?.close();
-  server?.close();
+  await harness?.close();
 });
 
 interface Rendered {
@@ -112,29 +54,134 @@ const skipped = (name: string) => {
 /// CONTRACT_TOLERANCE: masks on 99.5% of pixels, colour within 2/255 on 99%.
 function assertAgreesWithTheCli(what: string, r: Rendered): void {
   const fixture = JSON.parse(readFileSync(join(import.meta.dirname, 'fixtures/render-128.json'), 'utf8'));
-  const rgb = Buffer.from(fixture.rgb, 'base64');
-  const hit = Buffer.from(fixture.hit, 'base64');
   expect([r.width, r.height]).toEqual([128, 128]);
-  const pixels = 128 * 128;
+  assertAgrees(what, r, { rgb: Buffer.from(fixture.rgb, 'base64'), hit: Buffer.from(fixture.hit, 'base64') });
+}
+
+/// The page's picture (`r`) against a CLI render (its RGB bytes and hit mask) within
+/// CONTRACT_TOLERANCE: masks on 99.5% of pixels, colour within 2/255 on 99%.
+function assertAgrees(what: string, r: Rendered, cli: { rgb: Uint8Array; hit: Uint8Array }): void {
+  const pixels = r.width * r.height;
+  expect(cli.rgb.length).toBe(3 * pixels);
   let [masks, colours, hits, most] = [0, 0, 0, 0];
   for (let k = 0; k < pixels; k++) {
     const h = r.depth[k] !== null;
     hits += Number(h);
-    masks += Number(h === (hit[k] === 1));
+    masks += Number(h === (cli.hit[k] === 1));
     const c = r.colour[k];
-    const worst = Math.max(
-      ...[0, 1, 2].map((ch) => Math.abs(((c >>> (8 * ch)) & 255) - rgb[3 * k + ch])),
-    );
+    const worst = Math.max(...[0, 1, 2].map((ch) => Math.abs(((c >>> (8 * ch)) & 255) - cli.rgb[3 * k + ch])));
     most = Math.max(most, worst);
     colours += Number(worst <= 2);
   }
   console.log(
-    `${what}: the page against qjulia render --backend cpu: ${hits} hits of the CLI's ` +
-      `${hit.reduce((a, b) => a + b, 0)}, masks agree on ${masks} of ${pixels}, colour within ` +
+    `${what}: the page against the CLI: ${hits} hits of the CLI's ` +
+      `${cli.hit.reduce((a, b) => a + b, 0)}, masks agree on ${masks} of ${pixels}, colour within ` +
       `2/255 on ${colours} (most ${most}/255)`,
   );
   expect(masks / pixels).toBeGreaterThanOrEqual(0.995);
   expect(colours / pixels).toBeGreaterThanOrEqual(0.99);
+}
+
+/// The qjulia binary the tests run (QJULIA_BIN, or the release build beside web/).
+const QJULIA = process.env.QJULIA_BIN ?? join(root, '..', 'target', 'release', 'qjulia');
+
+/// Runs the CLI in `dir`; throws with its stderr where it fails.
+function cli(dir: string, args: string[]): string {
+  if (!existsSync(QJULIA)) {
+    throw new Error(`these tests run the CLI: build it (cargo build --release) or set QJULIA_BIN (no ${QJULIA})`);
+  }
+  return execFileSync(QJULIA, args, { cwd: dir, encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
+}
+
+/// The CLI's refusal of a scene: its one error line without `error: `.
+function cliRefusal(dir: string, args: string[]): string {
+  try {
+    cli(dir, args);
+  } catch (e) {
+    const stderr = String((e as { stderr?: string }).stderr ?? '');
+    expect((e as { status?: number }).status).toBe(2);
+    return stderr.trim().replace(/^error: /, '');
+  }
+  throw new Error(`the CLI took ${args.join(' ')}`);
+}
+
+/// An 8-bit, non-interlaced RGB or RGBA PNG's pixels as RGB (test code: the page's export and
+/// the CLI's output compared).
+function decodePng(bytes: Uint8Array): { width: number; height: number; rgb: Uint8Array } {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  let at = 8;
+  let [width, height, channels] = [0, 0, 0];
+  const idat: Uint8Array[] = [];
+  while (at < bytes.length) {
+    const length = view.getUint32(at);
+    const type = String.fromCharCode(...bytes.subarray(at + 4, at + 8));
+    const data = bytes.subarray(at + 8, at + 8 + length);
+    if (type === 'IHDR') {
+      [width, height] = [view.getUint32(at + 8), view.getUint32(at + 12)];
+      expect([data[8], data[12]]).toEqual([8, 0]);
+      channels = { 2: 3, 6: 4 }[data[9]] ?? 0;
+      expect(channels).toBeGreaterThan(0);
+    }
+    if (type === 'IDAT') idat.push(data);
+    at += 12 + length;
+  }
+  const raw = inflateSync(Buffer.concat(idat));
+  const stride = width * channels;
+  const out = new Uint8Array(stride * height);
+  for (let y = 0; y < height; y++) {
+    const filter = raw[y * (stride + 1)];
+    for (let x = 0; x < stride; x++) {
+      const v = raw[y * (stride + 1) + 1 + x];
+      const a = x >= channels ? out[y * stride + x - channels] : 0;
+      const b = y > 0 ? out[(y - 1) * stride + x] : 0;
+      const c = x >= channels && y > 0 ? out[(y - 1) * stride + x - channels] : 0;
+      const p = a + b - c;
+      const paeth =
+        Math.abs(p - a) <= Math.abs(p - b) && Math.abs(p - a) <= Math.abs(p - c) ? a : Math.abs(p - b) <= Math.abs(p - c) ? b : c;
+      const predicted = [0, a, b, (a + b) >> 1, paeth][filter];
+      out[y * stride + x] = (v + predicted) & 255;
+    }
+  }
+  const rgb = new Uint8Array(width * height * 3);
+  for (let k = 0; k < width * height; k++) rgb.set(out.subarray(k * channels, k * channels + 3), 3 * k);
+  return { width, height, rgb };
+}
+
+/// The CLI's render of a scene file in `dir`: RGB bytes and the hit mask (from --depth).
+function cliRender(dir: string, scene: string, extra: string[] = []): { rgb: Uint8Array; hit: Uint8Array } {
+  cli(dir, ['render', '--scene', scene, '-o', 'cli.png', '--depth', 'cli-depth.npy', ...extra]);
+  const { rgb } = decodePng(new Uint8Array(readFileSync(join(dir, 'cli.png'))));
+  const npy = readFileSync(join(dir, 'cli-depth.npy'));
+  const header = npy.readUInt16LE(8);
+  const depth = new Float32Array(npy.buffer.slice(npy.byteOffset + 10 + header, npy.byteOffset + npy.length));
+  return { rgb, hit: Uint8Array.from(depth, (d) => (Number.isNaN(d) ? 0 : 1)) };
+}
+
+/// Calls `window.qjulia[name](...args)` in the page.
+function q<T>(name: string, ...args: unknown[]): Promise<T> {
+  return page.evaluate(
+    ([n, a]) => {
+      const api = (window as unknown as { qjulia: Record<string, (...x: unknown[]) => unknown> }).qjulia;
+      return api[n as string](...(a as unknown[]));
+    },
+    [name, args] as const,
+  ) as Promise<T>;
+}
+
+const scratch = () => mkdtempSync(join(tmpdir(), 'qjulia-e2e-'));
+const base64 = (bytes: Uint8Array) => Buffer.from(bytes).toString('base64');
+
+/// A left (or right) drag across the view, held across frames as a user's is.
+async function drag(dx: number, dy: number, button: 'left' | 'right' = 'left'): Promise<void> {
+  const box = (await page.locator('#view').boundingBox())!;
+  const [x, y] = [box.x + box.width / 2, box.y + box.height / 2];
+  await page.mouse.move(x, y);
+  await page.mouse.down({ button });
+  for (let k = 1; k <= 8; k++) {
+    await page.mouse.move(x + (dx * k) / 8, y + (dy * k) / 8);
+    await page.waitForTimeout(30);
+  }
+  await page.mouse.up({ button });
 }
 
 const DEFAULT_128 = '[image]\nwidth = 128\nheight = 128\n';
@@ -147,12 +194,8 @@ describe('the page', () => {
 
   test('a share link reopens the same scene', async () => {
     if (skipped('share link')) return;
-    const shared = await browser.newPage();
-    await shared.goto(`${origin}/#${encodeURIComponent(DEFAULT_128)}`);
-    await shared.waitForFunction(() => document.body.dataset.ready === 'true', undefined, {
-      timeout: 120_000,
-    });
-    type Page2 = { qjulia: { text(): string; last(): Rendered | null } };
+    const shared = await open(harness, DEFAULT_128);
+    type Page2 = { qjulia: { text(): string; last(): Promise<Rendered | null> } };
     expect(await shared.evaluate(() => (window as unknown as Page2).qjulia.text())).toBe(DEFAULT_128);
     const last = await shared.evaluate(() => (window as unknown as Page2).qjulia.last());
     assertAgreesWithTheCli('reopened from a share link', last!);
@@ -183,5 +226,125 @@ describe('the page', () => {
     const r = await render('[fractal]\nepsilon = -1\n');
     expect(r.error).toBe('scene.toml: fractal.epsilon = -1: must be > 0');
     expect(await page.textContent('#error')).toBe('error: scene.toml: fractal.epsilon = -1: must be > 0');
+  });
+
+  test('a mouse drag changes the view, and the scene saved renders the same with the CLI', async () => {
+    if (skipped('drag and save')) return;
+    const before = await render('[image]\nwidth = 96\nheight = 96\n');
+    const eye = (toml: string) => /\[camera\]\neye = (\[[^\]]*\])/.exec(toml)![1];
+    const eyeBefore = eye(await q<string>('scene'));
+    await drag(120, 40);
+    const after = (await q<Rendered>('last'))!;
+    const saved = await q<string>('scene');
+    expect(eye(saved)).not.toBe(eyeBefore);
+    const changed = after.colour.filter((c, k) => c !== before.colour[k]).length;
+    console.log(`a drag of 120 x 40 points: the eye from ${eyeBefore} to ${eye(saved)}, ${changed} pixels changed`);
+    expect(changed).toBeGreaterThan(500);
+    // Save: the page's TOML, rendered by the CLI (the GPU where there is one), is the page's
+    // picture within CONTRACT_TOLERANCE.
+    const dir = scratch();
+    writeFileSync(join(dir, 'saved.toml'), saved);
+    assertAgrees('saved after a drag', after, cliRender(dir, 'saved.toml'));
+  });
+
+  test('a right drag pans and the wheel zooms', async () => {
+    if (skipped('pan and zoom')) return;
+    await render('[image]\nwidth = 48\nheight = 48\n');
+    const target = (toml: string) => /\ntarget = (\[[^\]]*\])/.exec(toml)![1];
+    await drag(30, 0, 'right');
+    await q('last');
+    expect(target(await q<string>('scene'))).not.toBe('[0.0, 0.0, 0.0]');
+    const box = (await page.locator('#view').boundingBox())!;
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    await page.mouse.wheel(0, -200);
+    await q('last');
+    const eye = /\[camera\]\neye = \[([^\]]*)\]/.exec(await q<string>('scene'))![1].split(', ').map(Number);
+    const t = target(await q<string>('scene')).slice(1, -1).split(', ').map(Number);
+    const distance = Math.hypot(...eye.map((e, k) => e - t[k]));
+    // One wheel turn of 200 points: the distance times exp(-0.4).
+    expect(distance).toBeCloseTo(3 * Math.exp(-0.4), 9);
+  });
+
+  test('an exported PNG carries the scene: the CLI renders it again, and the page reopens it', async () => {
+    if (skipped('PNG export')) return;
+    const shown = await render('[image]\nwidth = 64\nheight = 48\n[fractal]\nc = [-0.1, 0.7, 0.1, 0.1]\n');
+    const png = Buffer.from(await q<string>('png'), 'base64');
+    const dir = scratch();
+    writeFileSync(join(dir, 'page.png'), png);
+    const exported = decodePng(png);
+    expect([exported.width, exported.height]).toEqual([64, 48]);
+    // The export is the picture shown, byte for byte.
+    const rgb = Uint8Array.from({ length: 64 * 48 * 3 }, (_, k) => (shown.colour[Math.floor(k / 3)] >>> (8 * (k % 3))) & 255);
+    expect(Buffer.from(exported.rgb).equals(Buffer.from(rgb))).toBe(true);
+    assertAgrees('the exported PNG rendered by the CLI', shown, cliRender(dir, 'page.png'));
+    const scene = await q<string>('scene');
+    await render('');
+    expect(await q('open', 'page.png', base64(png))).toBeNull();
+    expect(await q<string>('scene')).toBe(scene);
+  });
+
+  test('a bad file gets the CLI\u2019s line, naming it', async () => {
+    if (skipped('bad file')) return;
+    const dir = scratch();
+    const bad = '[camera]\nfov_y_degrees = 200.0\n';
+    writeFileSync(join(dir, 'wide.toml'), bad);
+    const line = cliRefusal(dir, ['render', '--scene', 'wide.toml', '-o', 'x.png']);
+    expect(await q('open', 'wide.toml', base64(new TextEncoder().encode(bad)))).toBe(line);
+    expect(await page.textContent('#error')).toBe(`error: ${line}`);
+    expect(existsSync(join(dir, 'x.png'))).toBe(false);
+  });
+
+  test('the 2D view is the CLI\u2019s render2d', async () => {
+    if (skipped('2D view')) return;
+    const toml = '[image]\nwidth = 64\nheight = 64\n[view2d]\ncenter = [0.1, 0.2]\nextent = 3.0\n';
+    await q('mode', true);
+    const r = await render(toml);
+    await q('mode', false);
+    const dir = scratch();
+    writeFileSync(join(dir, 'view.toml'), toml);
+    cli(dir, ['render2d', '--scene', 'view.toml', '-o', 'cli2d.png']);
+    const made = decodePng(new Uint8Array(readFileSync(join(dir, 'cli2d.png'))));
+    let [same, most] = [0, 0];
+    for (let k = 0; k < 64 * 64; k++) {
+      const d = Math.abs((r.colour[k] & 255) - made.rgb[3 * k]);
+      same += Number(d <= 2);
+      most = Math.max(most, d);
+    }
+    console.log(`the 2D view: grey within 2/255 of render2d's on ${same} of ${64 * 64} (most ${most}/255)`);
+    expect(same / (64 * 64)).toBeGreaterThanOrEqual(0.99);
+  });
+
+  test('path mode, accumulated, is the CLI\u2019s picture', async () => {
+    if (skipped('path mode')) return;
+    const toml =
+      '[shading]\nmodel = "path"\n[path]\nbounces = 2\n[image]\nwidth = 40\nheight = 40\nsamples = 4\n' +
+      'tone_map = "aces"\n';
+    const r = await render(toml);
+    const dir = scratch();
+    writeFileSync(join(dir, 'path.toml'), toml);
+    assertAgrees('path mode, 4 samples', r, cliRender(dir, 'path.toml'));
+  });
+
+  test('zooming in stops where f32 stops resolving the view, and says why', async () => {
+    if (skipped('zoom stop')) return;
+    await render('[image]\nwidth = 32\nheight = 32\n');
+    const box = (await page.locator('#view').boundingBox())!;
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    let turns = 0;
+    while ((await q<string>('notice')) === '' && turns < 60) {
+      await page.mouse.wheel(0, -1000);
+      await page.waitForTimeout(20);
+      turns++;
+    }
+    const notice = await q<string>('notice');
+    console.log(`after ${turns} wheel turns: ${notice}`);
+    expect(notice).toMatch(/WebGPU has no f64/);
+    expect(notice).toMatch(/a pixel spans .* at the target, below the spacing of f32 values/);
+    await q('last');
+    // The view it stopped at still resolves: the CLI has no f32 warning for it.
+    const dir = scratch();
+    writeFileSync(join(dir, 'deep.toml'), await q<string>('scene'));
+    const params = JSON.parse(cli(dir, ['gpu-params', '--scene', 'deep.toml', '--json']));
+    expect(params.warnings).toEqual([]);
   });
 });

@@ -1,7 +1,8 @@
 // The scene a qjulia PNG carries: an iTXt chunk with the keyword `qjulia-scene` holding the
 // scene's TOML (SCENE_PNG_KEYWORD of src/scene/png.rs), as every qjulia PNG has, so that
 // `qjulia render --scene FILE.png` reads a picture exported from the page back. The browser's
-// encoder (canvas.toBlob) writes no such chunk: `withScene` adds it before IEND.
+// encoder (canvas.toBlob) writes no such chunk: `withScene` adds it before the image data, where
+// the binary writes it and where its reader (which stops at the first IDAT) looks.
 
 /// The keyword of the iTXt chunk that carries a PNG's scene as TOML.
 export const SCENE_PNG_KEYWORD = 'qjulia-scene';
@@ -64,11 +65,10 @@ function chunk(type: string, data: Uint8Array): Uint8Array {
 }
 
 /// `png` with the scene's TOML in an uncompressed iTXt chunk (keyword, no language, no
-/// translated keyword) before IEND; an existing qjulia-scene chunk is replaced.
+/// translated keyword) before the first IDAT; an existing qjulia-scene chunk is replaced.
 export function withScene(png: Uint8Array, toml: string): Uint8Array<ArrayBuffer> {
   const all = chunks(png);
-  const end = all.find((c) => c.type === 'IEND');
-  if (end === undefined) throw new Error('a PNG without IEND');
+  if (!all.some((c) => c.type === 'IDAT')) throw new Error('a PNG without image data');
   const keyword = new TextEncoder().encode(SCENE_PNG_KEYWORD);
   const text = new TextEncoder().encode(toml);
   // keyword, 0, compression flag 0, method 0, language "", 0, translated keyword "", 0, text
@@ -76,8 +76,12 @@ export function withScene(png: Uint8Array, toml: string): Uint8Array<ArrayBuffer
   data.set(keyword, 0);
   data.set(text, keyword.length + 5);
   const parts: Uint8Array[] = [png.subarray(0, 8)];
+  let added = false;
   for (const c of all) {
-    if (c.type === 'IEND') parts.push(chunk('iTXt', data));
+    if (c.type === 'IDAT' && !added) {
+      parts.push(chunk('iTXt', data));
+      added = true;
+    }
     if (c.type === 'iTXt' && isScene(c.data)) continue;
     parts.push(png.subarray(c.at, c.at + 12 + c.data.length));
   }
