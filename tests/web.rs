@@ -345,9 +345,11 @@ fn the_camera_fixture_is_the_librarys() {
         let p = qjulia::scene::presets::find(slug).expect("a preset");
         starts.push((p.name, p.scene().camera));
     }
-    let mut tilted = Camera::default();
-    tilted.up = [0.3, 1.0, -0.2];
-    tilted.eye = [1.0, 2.9, 0.5];
+    let tilted = Camera {
+        up: [0.3, 1.0, -0.2],
+        eye: [1.0, 2.9, 0.5],
+        ..Default::default()
+    };
     starts.push(("a tilted up", tilted));
     let mut scripts = Vec::new();
     for (name, start) in starts {

@@ -347,4 +347,17 @@ describe('the page', () => {
     const params = JSON.parse(cli(dir, ['gpu-params', '--scene', 'deep.toml', '--json']));
     expect(params.warnings).toEqual([]);
   });
+
+  test('without WebGPU the page says so and links to the native build', async () => {
+    if (skipped('no WebGPU')) return;
+    const bare = await harness.browser.newPage();
+    await bare.addInitScript(() => {
+      delete (Navigator.prototype as unknown as { gpu?: unknown }).gpu;
+    });
+    await bare.goto(harness.origin);
+    await bare.waitForFunction(() => /needs WebGPU/.test(document.querySelector('#status')?.textContent ?? ''));
+    expect(await bare.textContent('#status')).toMatch(/^this browser has no WebGPU \(navigator.gpu\): the page needs WebGPU/);
+    expect(await bare.getAttribute('#status a', 'href')).toMatch(/github/);
+    await bare.close();
+  });
 });
