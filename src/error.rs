@@ -55,11 +55,12 @@ pub enum Error {
     /// ffmpeg missing or failing (`animate --video`). Exit 1.
     #[error("{0}")]
     Video(String),
-    /// Reading or writing a file. Exit 1.
-    #[error("{}: {source}", path.display())]
+    /// Reading or writing a file. Exit 1. The I/O error is part of the message and not a
+    /// `source`, so that a chain printed in full (`{:#}`) says it once.
+    #[error("{}: {cause}", path.display())]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
 }
 

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 use clap::{CommandFactory, Parser};
 
 fn main() -> ExitCode {
-    give_a_runtime_dir();
+    // First, before any other thread exists (see its comment).
+    qjulia::gpu::give_a_runtime_dir();
     let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         // Help and version go to stdout as usual; a usage error is one line and exit 2.
@@ -57,33 +58,6 @@ fn main() -> ExitCode {
                 .downcast_ref::<qjulia::Error>()
                 .map_or(1, qjulia::Error::exit_code);
             ExitCode::from(code as u8)
-        }
-    }
-}
-
-/// Mesa's EGL, which wgpu probes for its GL backend, prints "error: XDG_RUNTIME_DIR is invalid
-/// or not set" twice when the variable is missing (a headless machine, CI, ssh), which reads
-/// like a failure before a successful render. Where it is missing or not a directory, point it
-/// at a private one in the temporary folder. (Where it is set, as on every desktop, nothing
-/// changes.)
-fn give_a_runtime_dir() {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::DirBuilderExt;
-        let valid =
-            std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
-        if valid {
-            return;
-        }
-        let user = std::env::var("USER").unwrap_or_else(|_| "user".into());
-        let dir = std::env::temp_dir().join(format!("qjulia-runtime-{user}"));
-        let made = std::fs::DirBuilder::new()
-            .recursive(true)
-            .mode(0o700)
-            .create(&dir);
-        if made.is_ok() {
-            // SAFETY: the first thing main does, before any other thread exists.
-            unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
         }
     }
 }

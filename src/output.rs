@@ -5,6 +5,7 @@
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 use tempfile::NamedTempFile;
 
@@ -120,17 +121,50 @@ pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     Ok(())
 }
 
-/// Writes one output to a temporary file in its target's directory.
+/// The prefix and suffix of the temporary files staged for `path`: `.NAME.qjulia-XXXXXX.tmp`
+/// beside it (hidden, never taken for an output), named after the output they become.
+pub fn staging_name(path: &Path) -> (String, &'static str) {
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    (format!(".{name}.qjulia-"), ".tmp")
+}
+
+/// The folder `path` is written in.
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Removes what a killed run left while writing `path`: its staged temporary files (of
+/// [`staging_name`]). Only the run that writes `path` calls it, so no other run's file goes.
+pub fn remove_stale_staging(path: &Path) {
+    let (prefix, suffix) = staging_name(path);
+    let Ok(entries) = std::fs::read_dir(folder_of(path)) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if name.starts_with(&prefix) && name.ends_with(suffix) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Writes one output to a temporary file in its target's directory (after removing the stale
+/// temporaries of that target).
 pub(crate) fn stage(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<NamedTempFile> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = folder_of(path);
+    remove_stale_staging(path);
+    let (prefix, suffix) = staging_name(path);
     let mut builder = tempfile::Builder::new();
-    builder.prefix(".qjulia-").suffix(".tmp");
+    builder.prefix(&prefix).suffix(suffix);
     // Temporary files are private by default; the outputs are ordinary files.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
@@ -143,10 +177,10 @@ pub(crate) fn stage(
     Ok(temp)
 }
 
-pub(crate) fn io_error(path: &Path, source: std::io::Error) -> Error {
+pub(crate) fn io_error(path: &Path, cause: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     }
 }
 
@@ -169,17 +203,61 @@ pub const PNG_COMPRESSION: png::Compression = png::Compression::Fast;
 /// little-endian `.npy` of shape (height, width). The EXR's channels are gathered in host memory
 /// (40 bytes a pixel) and encoded at the end.
 pub struct StreamingOutputs {
-    png: Option<(
-        NamedTempFile,
-        PathBuf,
-        png::StreamWriter<'static, BufWriter<File>>,
-    )>,
+    png: Option<StagedPng>,
     depth: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
     depth_f64: bool,
     steps: Option<(NamedTempFile, PathBuf, BufWriter<File>)>,
     stats: Option<PathBuf>,
     /// The EXR's temporary file, its path, its channels so far and the scene it carries.
     hdr: Option<(NamedTempFile, PathBuf, HdrImage, Box<Scene>)>,
+}
+
+/// The PNG being written: its temporary file, its final path, the encoder's stream and the
+/// first error its writer met.
+type StagedPng = (
+    NamedTempFile,
+    PathBuf,
+    png::StreamWriter<'static, Checked>,
+    ErrorSlot,
+);
+
+/// Where a [`Checked`] writer keeps its first error.
+type ErrorSlot = Arc<Mutex<Option<std::io::Error>>>;
+
+/// A buffered writer into a file that keeps the first error it meets, its last flush's (when
+/// dropped) included: the PNG encoder owns its writer and drops it unflushed-checked, so a full
+/// disk at the last bytes would otherwise leave a short file that looks finished.
+pub struct Checked {
+    file: BufWriter<File>,
+    error: ErrorSlot,
+}
+
+impl Checked {
+    fn keep<T>(&self, result: std::io::Result<T>) -> std::io::Result<T> {
+        if let Err(e) = &result {
+            let mut slot = self.error.lock().expect("the error slot");
+            slot.get_or_insert_with(|| std::io::Error::new(e.kind(), e.to_string()));
+        }
+        result
+    }
+}
+
+impl Write for Checked {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.file.write(buf);
+        self.keep(r)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.file.flush();
+        self.keep(r)
+    }
+}
+
+impl Drop for Checked {
+    fn drop(&mut self) {
+        let r = self.file.flush();
+        let _ = self.keep(r);
+    }
 }
 
 /// A temporary file beside `path` and a buffered writer into it.
@@ -216,6 +294,11 @@ impl StreamingOutputs {
         let png = match &paths.png {
             Some(path) => {
                 let (temp, path, file) = temp_writer(path)?;
+                let error = Arc::new(Mutex::new(None));
+                let file = Checked {
+                    file,
+                    error: error.clone(),
+                };
                 let mut encoder = png::Encoder::new(file, png_size[0], png_size[1]);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
@@ -229,7 +312,7 @@ impl StreamingOutputs {
                     .map_err(to_io)?
                     .into_stream_writer()
                     .map_err(to_io)?;
-                Some((temp, path, stream))
+                Some((temp, path, stream, error))
             }
             None => None,
         };
@@ -273,7 +356,7 @@ impl StreamingOutputs {
 
     /// Appends whole rows of RGB8 pixels to the PNG.
     pub fn write_png_rows(&mut self, rgb: &[u8]) -> Result<()> {
-        if let Some((_, path, stream)) = &mut self.png {
+        if let Some((_, path, stream, _)) = &mut self.png {
             stream.write_all(rgb).map_err(|e| io_error(path, e))?;
         }
         Ok(())
@@ -316,10 +399,14 @@ impl StreamingOutputs {
 
     fn finish_with(self, stats: Option<&RenderStats>) -> Result<()> {
         let mut staged: Vec<(NamedTempFile, PathBuf)> = Vec::new();
-        if let Some((temp, path, stream)) = self.png {
+        if let Some((temp, path, stream, error)) = self.png {
             stream
                 .finish()
                 .map_err(|e| io_error(&path, std::io::Error::other(e)))?;
+            // The encoder has dropped its writer, whose last flush may have failed.
+            if let Some(e) = error.lock().expect("the error slot").take() {
+                return Err(io_error(&path, e));
+            }
             staged.push((temp, path));
         }
         for (temp, path, mut file) in [self.depth, self.steps].into_iter().flatten() {

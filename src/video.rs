@@ -114,17 +114,19 @@ impl VideoWriter {
     pub fn start(path: &Path, [width, height]: [u32; 2], fps: f64) -> Result<Self> {
         let codec = Codec::for_path(path)?;
         let ffmpeg = find_ffmpeg()?;
-        let io = |source| Error::Io {
+        let io = |cause| Error::Io {
             path: path.to_path_buf(),
-            source,
+            cause,
         };
         let dir = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p,
             _ => Path::new("."),
         };
+        crate::output::remove_stale_staging(path);
+        let (prefix, suffix) = crate::output::staging_name(path);
         let temp = tempfile::Builder::new()
-            .prefix(".qjulia-")
-            .suffix(".video.tmp")
+            .prefix(&prefix)
+            .suffix(suffix)
             .tempfile_in(dir)
             .map_err(io)?
             .into_temp_path();
@@ -189,7 +191,7 @@ impl VideoWriter {
         drop(self.stdin.take());
         let status = self.child.wait().map_err(|e| Error::Io {
             path: self.path.clone(),
-            source: e,
+            cause: e,
         })?;
         if !status.success() {
             return Err(self.failure(&format!("exited with {status}")));
@@ -197,7 +199,7 @@ impl VideoWriter {
         let temp = self.temp.take().expect("finished once");
         temp.persist(&self.path).map_err(|e| Error::Io {
             path: self.path.clone(),
-            source: e.error,
+            cause: e.error,
         })?;
         Ok(())
     }

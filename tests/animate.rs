@@ -81,7 +81,15 @@ fn resume_completes_an_interrupted_run_with_the_same_bytes() {
     for name in frame_names(0..=1).into_iter().chain(frame_names(3..=3)) {
         std::fs::copy(whole.join(&name), resumed.join(&name)).unwrap();
     }
-    std::fs::write(resumed.join(".qjulia-abc123.tmp"), b"half a frame").unwrap();
+    // Staged temporaries a killed run left: one of the frame it was on (2, to be rendered
+    // again: the resumed run removes it), and one of an output of another name, which it
+    // leaves alone.
+    std::fs::write(
+        resumed.join(".frame-00002.png.qjulia-abc123.tmp"),
+        b"half a frame",
+    )
+    .unwrap();
+    std::fs::write(resumed.join(".other.png.qjulia-abc123.tmp"), b"not ours").unwrap();
     let out = qjulia(
         dir.path(),
         &[
@@ -105,7 +113,8 @@ fn resume_completes_an_interrupted_run_with_the_same_bytes() {
         dir.path(),
         &["--out", "resumed", "--resume", "--stats", "s.json"],
     );
-    std::fs::remove_file(resumed.join(".qjulia-abc123.tmp")).unwrap();
+    assert!(!resumed.join(".frame-00002.png.qjulia-abc123.tmp").exists());
+    std::fs::remove_file(resumed.join(".other.png.qjulia-abc123.tmp")).unwrap();
     assert_same_files(&whole, &resumed);
     let stats: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();

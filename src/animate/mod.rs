@@ -239,9 +239,9 @@ pub fn run(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<AnimateStats> {
     if let Some(dir) = job.out {
-        std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+        std::fs::create_dir_all(dir).map_err(|cause| Error::Io {
             path: dir.to_path_buf(),
-            source,
+            cause,
         })?;
     }
     let frames = plan_frames(job);

@@ -239,8 +239,41 @@ pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
     format!("{} / {:?}", info.name, info.backend)
 }
 
+/// Mesa's EGL, which wgpu probes for its GL backend, prints "error: XDG_RUNTIME_DIR is invalid
+/// or not set" twice when the variable is missing (a headless machine, CI, ssh, a test process),
+/// which reads like a failure before a successful render. Where it is missing or not a
+/// directory, point it at a private one in the temporary folder; where it is set, as on every
+/// desktop, nothing changes. Done once, before the first instance is made (the binary calls it
+/// first thing in `main`, before any other thread exists).
+pub fn give_a_runtime_dir() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::DirBuilderExt;
+            let valid = std::env::var_os("XDG_RUNTIME_DIR")
+                .is_some_and(|d| std::path::Path::new(&d).is_dir());
+            if valid {
+                return;
+            }
+            let user = std::env::var("USER").unwrap_or_else(|_| "user".into());
+            let dir = std::env::temp_dir().join(format!("qjulia-runtime-{user}"));
+            let made = std::fs::DirBuilder::new()
+                .recursive(true)
+                .mode(0o700)
+                .create(&dir);
+            if made.is_ok() {
+                // SAFETY: before the first wgpu instance, so before any driver thread that
+                // could read the environment; std's own readers take the same lock.
+                unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+            }
+        }
+    });
+}
+
 /// Every adapter wgpu finds for the backends `WGPU_BACKEND` allows (all when unset).
 pub async fn available_adapters() -> Vec<wgpu::Adapter> {
+    give_a_runtime_dir();
     let instance =
         wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
     let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());

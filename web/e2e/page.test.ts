@@ -157,6 +157,13 @@ function cliRender(dir: string, scene: string, extra: string[] = []): { rgb: Uin
   return { rgb, hit: Uint8Array.from(depth, (d) => (Number.isNaN(d) ? 0 : 1)) };
 }
 
+/// The CLI's render of a scene given as TOML text (saved as scene.toml in a new folder).
+function cliRenderText(toml: string): { rgb: Uint8Array; hit: Uint8Array } {
+  const dir = scratch();
+  writeFileSync(join(dir, 'scene.toml'), toml);
+  return cliRender(dir, 'scene.toml');
+}
+
 /// Calls `window.qjulia[name](...args)` in the page.
 function q<T>(name: string, ...args: unknown[]): Promise<T> {
   return page.evaluate(
@@ -242,9 +249,7 @@ describe('the page', () => {
     expect(changed).toBeGreaterThan(500);
     // Save: the page's TOML, rendered by the CLI (the GPU where there is one), is the page's
     // picture within CONTRACT_TOLERANCE.
-    const dir = scratch();
-    writeFileSync(join(dir, 'saved.toml'), saved);
-    assertAgrees('saved after a drag', after, cliRender(dir, 'saved.toml'));
+    assertAgrees('saved after a drag', after, cliRenderText(saved));
   });
 
   test('a right drag pans and the wheel zooms', async () => {
@@ -320,9 +325,7 @@ describe('the page', () => {
       '[shading]\nmodel = "path"\n[path]\nbounces = 2\n[image]\nwidth = 40\nheight = 40\nsamples = 4\n' +
       'tone_map = "aces"\n';
     const r = await render(toml);
-    const dir = scratch();
-    writeFileSync(join(dir, 'path.toml'), toml);
-    assertAgrees('path mode, 4 samples', r, cliRender(dir, 'path.toml'));
+    assertAgrees('path mode, 4 samples', r, cliRenderText(toml));
   });
 
   test('zooming in stops where f32 stops resolving the view, and says why', async () => {

@@ -155,6 +155,11 @@ export function setAlgebra(s: Scene, algebra: string): void {
   (basis ?? standard).forEach((v, a) => s.set(axes[a], v));
 }
 
+/// Whether `key` names a table of the scene file (`[animation]` included): is_table_name.
+function isTableName(key: string): boolean {
+  return key === 'animation' || SCHEMA.tables.some((t) => t.name === key);
+}
+
 function isTable(v: unknown): v is { [key: string]: Value } {
   return typeof v === 'object' && v !== null && !Array.isArray(v);
 }
@@ -269,7 +274,8 @@ export class SceneLoader {
     } catch {
       value = text;
     }
-    if (isTable(value)) this.insertTable(key, value, source);
+    // An empty inline table where a value belongs is kept, to be refused.
+    if (isTable(value) && (Object.keys(value).length > 0 || isTableName(key))) this.insertTable(key, value, source);
     else this.entries.set(key, [value, source]);
   }
 
@@ -277,6 +283,9 @@ export class SceneLoader {
     for (const [k, v] of Object.entries(table)) {
       const key = prefix === '' ? k : `${prefix}.${k}`;
       if (isTable(v) && Object.keys(v).length > 0) this.insertTable(key, v, source);
+      // A table with no keys (a template whose keys are commented out) sets nothing; an empty
+      // table where a value belongs is kept, to be refused.
+      else if (isTable(v) && isTableName(key)) continue;
       else this.entries.set(key, [v, source]);
     }
   }
@@ -409,7 +418,7 @@ export function displayValue(v: Value): string {
   if (typeof v === 'boolean') return String(v);
   if (Array.isArray(v)) return `[${v.map(displayValue).join(', ')}]`;
   const items = Object.entries(v).map(([k, x]) => `${k} = ${displayValue(x)}`);
-  return `{ ${items.join(', ')} }`;
+  return items.length === 0 ? '{}' : `{ ${items.join(', ')} }`;
 }
 
 /// Rust's Display of an f64 (shortest round-trip digits, never an exponent), as TOML writes a

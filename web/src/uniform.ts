@@ -202,7 +202,12 @@ export function packParams(
   d: Dispatch,
   layout: Layout = PARAMS_LAYOUT,
 ): Uint8Array<ArrayBuffer> {
-  const values = traceParams(s);
+  return packDispatch(layout, traceParams(s), d);
+}
+
+/// A uniform of a dispatch: its fields from `values`, the per-dispatch ones from `d` (a
+/// uniform has those of them its layout names: the 2D view's has no samples).
+function packDispatch(layout: Layout, values: Map<string, number | number[]>, d: Dispatch): Uint8Array<ArrayBuffer> {
   const perDispatch = new Map<string, number>([
     ['row_offset', d.rowOffset],
     ['row_count', d.rowCount],
@@ -238,14 +243,7 @@ export function packJulia2d(
   d: Dispatch,
   layout: Layout = JULIA2D_LAYOUT,
 ): Uint8Array<ArrayBuffer> {
-  const values = julia2dParams(s);
-  const perDispatch = new Map<string, number>([
-    ['row_offset', d.rowOffset],
-    ['row_count', d.rowCount],
-    ['row_stride', d.rowStride],
-    ['out_row', d.outRow],
-  ]);
-  return pack(layout, (f) => (f.per_dispatch ? perDispatch : values).get(f.name));
+  return packDispatch(layout, julia2dParams(s), d);
 }
 
 /// The path tracer's `PathParams` in f32 (PathParams::new, then GpuPathParams::new), by name.

@@ -101,7 +101,10 @@ impl SceneLoader {
         }
         let value = parse_set_value(text.trim());
         match value {
-            Value::Table(table) => self.insert_table(key, table, &source),
+            // An empty inline table where a value belongs is kept, to be refused.
+            Value::Table(table) if !table.is_empty() || is_table_name(key) => {
+                self.insert_table(key, table, &source)
+            }
             value => self.insert(key.to_string(), value, source),
         }
         Ok(())
@@ -116,6 +119,9 @@ impl SceneLoader {
             };
             match v {
                 Value::Table(t) if !t.is_empty() => self.insert_table(&key, t, source),
+                // A table with no keys (a template whose keys are commented out) sets nothing;
+                // an empty table where a value belongs is kept, to be refused.
+                Value::Table(_) if is_table_name(&key) => {}
                 v => self.insert(key, v, source.clone()),
             }
         }
@@ -196,6 +202,11 @@ impl Preset {
             .and_then(|()| loader.clone().build())
             .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
     }
+}
+
+/// Whether `key` names a table of the scene file (`[animation]` included).
+fn is_table_name(key: &str) -> bool {
+    key == "animation" || super::TABLES.iter().any(|t| t.name == key)
 }
 
 /// Takes typed values out of the merged layers, remembering where each came from.
