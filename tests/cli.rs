@@ -714,3 +714,64 @@ fn info_lists_the_presets() {
         );
     }
 }
+
+#[test]
+fn overlong_scene_text_is_refused_before_it_is_read_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A scene file of 2 MiB (comments), a --set of 100 KB, and a PNG whose compressed scene
+    // chunk inflates to 16 MiB (a few KB on disk).
+    let mut long = String::from("[fractal]\nepsilon = 0.01\n");
+    while long.len() < 2 << 20 {
+        long.push_str("# a comment to make the file long, long, long, long, long, long\n");
+    }
+    std::fs::write(d.join("long.toml"), &long).unwrap();
+    let bomb = {
+        use png::text_metadata::EncodableTextChunk;
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgb);
+        let mut writer = encoder.write_header().unwrap();
+        // The compressed chunk, written by hand before the image data.
+        let mut chunk = png::text_metadata::ITXtChunk::new(
+            qjulia::scene::SCENE_PNG_KEYWORD,
+            " ".repeat(16 << 20),
+        );
+        chunk.compressed = true;
+        let mut encoded = Vec::new();
+        chunk.encode(&mut encoded).unwrap();
+        writer
+            .write_chunk(
+                png::chunk::ChunkType(*b"iTXt"),
+                &encoded[8..encoded.len() - 4],
+            )
+            .unwrap();
+        writer.write_image_data(&[0, 0, 0]).unwrap();
+        writer.finish().unwrap();
+        bytes
+    };
+    assert!(bomb.len() < 100_000, "{} bytes", bomb.len());
+    std::fs::write(d.join("bomb.png"), &bomb).unwrap();
+    let big_set = format!("fractal.c=[{}]", "0.0, ".repeat(20_000));
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["--scene", "long.toml"],
+            "long.toml: the scene is longer than a scene may be (1048576 bytes)",
+        ),
+        (&["--set", &big_set], "more than a --set may be (65536)"),
+        (
+            &["--scene", "bomb.png"],
+            "bomb.png: its qjulia-scene chunk inflates to more than a scene may be (1048576 bytes)",
+        ),
+    ];
+    for (args, expected) in cases {
+        let mut all = vec!["render", "-o", "x.png"];
+        all.extend_from_slice(args);
+        let out = qjulia(d, &all);
+        assert_eq!(out.status.code(), Some(2), "{expected}: {}", stderr(&out));
+        let line = error_line(&out);
+        assert!(line.contains(expected), "expected {expected:?} in {line:?}");
+        assert!(line.len() < 300, "a long line: {line}");
+        assert!(!d.join("x.png").exists());
+    }
+}

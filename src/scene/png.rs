@@ -13,21 +13,45 @@ pub fn scene_from_png(path: &Path) -> Result<String, SceneError> {
     let source = SceneSource::File(path.to_path_buf());
     let file = std::fs::File::open(path)
         .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?;
-    let reader = png::Decoder::new(std::io::BufReader::new(file))
+    // The chunks before the image data are held in memory: cap what that may take.
+    let limits = png::Limits {
+        bytes: 4 * super::load::SCENE_TEXT_LIMIT,
+    };
+    let reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
         .read_info()
         .map_err(|e| SceneError::general(&source, format!("not a readable PNG: {e}")))?;
-    let chunk = reader
+    let mut chunk = reader
         .info()
         .utf8_text
         .iter()
         .find(|c| c.keyword == SCENE_PNG_KEYWORD)
+        .cloned()
         .ok_or_else(|| {
             SceneError::general(
                 &source,
                 "holds no qjulia scene (no qjulia-scene iTXt chunk)",
             )
         })?;
+    // A compressed chunk is inflated to at most the longest scene the loader takes.
+    let unreadable = |e: png::DecodingError| {
+        SceneError::general(&source, format!("unreadable qjulia-scene chunk: {e}"))
+    };
     chunk
-        .get_text()
-        .map_err(|e| SceneError::general(&source, format!("unreadable qjulia-scene chunk: {e}")))
+        .decompress_text_with_limit(super::load::SCENE_TEXT_LIMIT)
+        .map_err(|e| {
+            // png's words for the limit ("Out of decompression space. Try with a larger
+            // limit.") name a limit the user cannot set: say what it is.
+            if e.to_string().contains("decompression space") {
+                SceneError::general(
+                    &source,
+                    format!(
+                        "its qjulia-scene chunk inflates to more than a scene may be ({} bytes)",
+                        super::load::SCENE_TEXT_LIMIT
+                    ),
+                )
+            } else {
+                unreadable(e)
+            }
+        })?;
+    chunk.get_text().map_err(unreadable)
 }

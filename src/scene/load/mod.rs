@@ -65,9 +65,9 @@ impl SceneLoader {
         } else if extension("exr") {
             scene_from_exr(path)?
         } else {
-            std::fs::read_to_string(path)
-                .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?
+            read_scene_text(path, &source)?
         };
+        check_scene_length(&text, &source)?;
         self.toml_str(&text, source)
     }
 
@@ -88,6 +88,17 @@ impl SceneLoader {
     /// Adds one `--set KEY=VALUE`: VALUE in TOML syntax, a bare word that is not TOML taken as
     /// a string.
     pub fn set(&mut self, raw: &str) -> Result<(), SceneError> {
+        if raw.len() > SET_LIMIT {
+            // The message quotes its start only.
+            let start: String = raw.chars().take(40).collect();
+            return Err(SceneError::general(
+                &SceneSource::Set(format!("{start}...")),
+                format!(
+                    "is {} bytes, more than a --set may be ({SET_LIMIT})",
+                    raw.len()
+                ),
+            ));
+        }
         let source = SceneSource::Set(raw.to_string());
         let Some((key, text)) = raw.split_once('=') else {
             return Err(SceneError::general(&source, "expected KEY=VALUE"));
@@ -202,6 +213,48 @@ impl Preset {
             .and_then(|()| loader.clone().build())
             .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
     }
+}
+
+/// The most bytes of scene text (a file, or the scene a PNG or EXR carries) the loader takes:
+/// scenes are a few kilobytes, a long keyframed animation a few hundred.
+pub const SCENE_TEXT_LIMIT: usize = 1 << 20;
+/// The most bytes one `--set KEY=VALUE` may have.
+pub const SET_LIMIT: usize = 1 << 16;
+
+/// A scene file's text, refused before it is read where it is longer than
+/// [`SCENE_TEXT_LIMIT`].
+fn read_scene_text(path: &Path, source: &SceneSource) -> Result<String, SceneError> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| SceneError::general(source, format!("cannot read: {e}"));
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let mut bytes = Vec::new();
+    file.take(SCENE_TEXT_LIMIT as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() > SCENE_TEXT_LIMIT {
+        return Err(too_long(source));
+    }
+    String::from_utf8(bytes).map_err(|_| {
+        cannot(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "stream did not contain valid UTF-8",
+        ))
+    })
+}
+
+/// Scene text longer than [`SCENE_TEXT_LIMIT`] is refused.
+pub fn check_scene_length(text: &str, source: &SceneSource) -> Result<(), SceneError> {
+    if text.len() > SCENE_TEXT_LIMIT {
+        return Err(too_long(source));
+    }
+    Ok(())
+}
+
+fn too_long(source: &SceneSource) -> SceneError {
+    SceneError::general(
+        source,
+        format!("the scene is longer than a scene may be ({SCENE_TEXT_LIMIT} bytes)"),
+    )
 }
 
 /// Whether `key` names a table of the scene file (`[animation]` included).
