@@ -9,6 +9,7 @@ mod kernels;
 mod params;
 pub mod params_json;
 pub mod path;
+pub mod pipeline_cache;
 mod sampler;
 pub mod shaders;
 mod sobol_probe;
@@ -169,6 +170,8 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// The start-up check of f64, run once per device on first use ([`Self::f64_support`]).
     f64_check: Arc<OnceLock<std::result::Result<F64Support, String>>>,
+    /// The persistent pipeline cache, where the device has one ([`pipeline_cache`]).
+    pub pipeline_cache: Option<Arc<pipeline_cache::DiskPipelineCache>>,
 }
 
 impl GpuContext {
@@ -186,12 +189,14 @@ impl GpuContext {
         let (device, queue) =
             pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))
                 .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
+        let pipeline_cache = pipeline_cache::DiskPipelineCache::open(&device, &info).map(Arc::new);
         Ok(Self {
             adapter,
             device,
             queue,
             info,
             f64_check: Arc::default(),
+            pipeline_cache,
         })
     }
 
@@ -212,12 +217,14 @@ impl GpuContext {
     /// A device made elsewhere (the explorer's window's), on its adapter.
     pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
         let info = adapter.get_info();
+        let pipeline_cache = pipeline_cache::DiskPipelineCache::open(&device, &info).map(Arc::new);
         Self {
             adapter,
             device,
             queue,
             info,
             f64_check: Arc::default(),
+            pipeline_cache,
         }
     }
 
@@ -316,7 +323,9 @@ pub fn choose_adapter(mut adapters: Vec<wgpu::Adapter>) -> Result<wgpu::Adapter>
 /// The device qjulia asks for: the adapter's own limits (the defaults cap buffers at 256 MiB
 /// and, on GL, leave compute out) and the optional features it uses where present.
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
-    let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::SHADER_F64;
+    let wanted = wgpu::Features::TIMESTAMP_QUERY
+        | wgpu::Features::SHADER_F64
+        | wgpu::Features::PIPELINE_CACHE;
     wgpu::DeviceDescriptor {
         label: Some("qjulia"),
         required_features: adapter.features() & wanted,

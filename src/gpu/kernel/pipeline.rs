@@ -32,13 +32,16 @@ impl Kernel {
                 constants,
                 ..Default::default()
             },
-            cache: None,
+            cache: self.ctx.pipeline_cache.as_deref().map(|c| c.cache()),
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!(
                 "the {} pipeline {constants:?} was rejected: {e}",
                 self.spec.name
             )));
+        }
+        if let Some(c) = &self.ctx.pipeline_cache {
+            c.save();
         }
         cache.insert(key, (pipeline.clone(), false));
         Ok(pipeline)
