@@ -1340,3 +1340,48 @@ fn a_denoised_export_writes_the_bytes_of_qjulia_render() {
     harness.step();
     assert_export_is_render(&mut harness, "explorer_denoised_phong_export", &phong);
 }
+
+#[test]
+fn a_scene_file_changed_on_disk_is_not_overwritten_unasked() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, "[fractal]\nmax_iterations = 9\n").unwrap();
+    let mut app = ExplorerApp::with_scene(qjulia::Scene::default());
+    app.open(&path);
+    assert_eq!(app.scene.fractal.max_iterations, 9);
+    // Unchanged on disk: Save writes at once.
+    app.state.scene.fractal.max_iterations = 11;
+    app.save(&path);
+    assert!(
+        std::fs::read_to_string(&path)
+            .unwrap()
+            .contains("max_iterations = 11")
+    );
+    // Another program writes the file (later, and longer).
+    let newer = "# edited elsewhere\n[fractal]\nmax_iterations = 12\n";
+    std::fs::write(&path, newer).unwrap();
+    let later = std::time::SystemTime::now() + std::time::Duration::from_secs(5);
+    std::fs::File::options()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_modified(later)
+        .unwrap();
+    // The view keeps its scene; the first Save says so and writes nothing.
+    app.state.scene.fractal.max_iterations = 13;
+    app.save(&path);
+    let (message, error) = app.message().unwrap();
+    assert!(
+        error && message.contains("changed on disk since it was opened"),
+        "{message}"
+    );
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), newer);
+    assert_eq!(app.scene.fractal.max_iterations, 13);
+    // The second overwrites it.
+    app.save(&path);
+    assert!(
+        std::fs::read_to_string(&path)
+            .unwrap()
+            .contains("max_iterations = 13")
+    );
+}

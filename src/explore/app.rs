@@ -51,6 +51,31 @@ pub struct Runtime {
     pub timeline_panel: TimelinePanel,
     /// The "Render animation…" window.
     pub render_window: RenderWindow,
+    /// The scene file as the explorer last read or wrote it, to tell when it changed on disk.
+    pub file: Option<FileStamp>,
+    /// A file that changed on disk and that the user was told about: the next Save to it
+    /// overwrites it.
+    pub overwrite_told: Option<PathBuf>,
+}
+
+/// A file's path, modification time and length, as last read or written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileStamp {
+    pub path: PathBuf,
+    modified: Option<std::time::SystemTime>,
+    len: u64,
+}
+
+impl FileStamp {
+    /// The file as it is now, where it exists.
+    pub fn of(path: &Path) -> Option<Self> {
+        let meta = std::fs::metadata(path).ok()?;
+        Some(Self {
+            path: path.to_path_buf(),
+            modified: meta.modified().ok(),
+            len: meta.len(),
+        })
+    }
 }
 
 /// The explorer: what the user edits, and what runs it. It dereferences to its
@@ -195,6 +220,8 @@ impl ExplorerApp {
             dialog: old.dialog,
             render: old.render,
             render_window: old.render_window,
+            file: old.file,
+            overwrite_told: old.overwrite_told,
             ..Runtime::default()
         };
     }
@@ -230,6 +257,8 @@ impl ExplorerApp {
             Ok((scene, animation)) => {
                 let keys = animation.keys.len();
                 self.set_scene(scene.clone());
+                self.runtime.file = FileStamp::of(path);
+                self.runtime.overwrite_told = None;
                 self.state.timeline = Timeline::new(scene, animation);
                 let window = std::mem::take(&mut self.runtime.render_window);
                 self.runtime.render_window = RenderWindow {
@@ -248,9 +277,32 @@ impl ExplorerApp {
 
     /// Saves the scene as TOML with the timeline's `[animation]` (as `qjulia animate --scene`
     /// reads it), after checking that it reads back; a file it would refuse is not written.
+    /// Where the file was opened (or last saved) here and has changed on disk since, the first
+    /// Save says so and writes nothing (the view keeps the scene it shows); the next overwrites
+    /// it.
     pub fn save(&mut self, path: &Path) {
+        let now = FileStamp::of(path);
+        let changed = self
+            .runtime
+            .file
+            .as_ref()
+            .is_some_and(|f| f.path == path && now.is_some() && now.as_ref() != Some(f));
+        if changed && self.runtime.overwrite_told.as_deref() != Some(path) {
+            self.runtime.overwrite_told = Some(path.to_path_buf());
+            let text = format!(
+                "{} changed on disk since it was opened: the view keeps its scene; Save again \
+                 to overwrite the newer file",
+                path.display()
+            );
+            self.tell(text, true);
+            return;
+        }
         let state = &mut self.state;
         let (text, error) = persistence::write_scene_file(&mut state.timeline, &state.scene, path);
+        if !error {
+            self.runtime.file = FileStamp::of(path);
+            self.runtime.overwrite_told = None;
+        }
         self.tell(text, error);
     }
 
