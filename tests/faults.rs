@@ -102,6 +102,23 @@ fn a_full_disk_under_render_writes_nothing() {
     assert_eq!(names(disk.path()), Vec::<String>::new());
 }
 
+/// 24 frames of about 7 KB each into `frames`.
+const ANIMATE: &[&str] = &[
+    "animate",
+    "--preset",
+    "rabbit",
+    "--set",
+    "animation.frames=24",
+    "--backend",
+    "cpu",
+    "--width",
+    "64",
+    "--height",
+    "64",
+    "--out",
+    "frames",
+];
+
 #[test]
 fn a_full_disk_under_animate_keeps_the_complete_frames() {
     let Some(disk) = FullDisk::mount("animate on a full disk") else {
@@ -109,47 +126,13 @@ fn a_full_disk_under_animate_keeps_the_complete_frames() {
     };
     // Frames of about 7 KB: the disk holds some, not all.
     let frames = disk.path().join("frames");
-    let out = qjulia(
-        disk.path(),
-        &[
-            "animate",
-            "--preset",
-            "rabbit",
-            "--set",
-            "animation.frames=24",
-            "--backend",
-            "cpu",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--out",
-            "frames",
-        ],
-    );
+    let out = qjulia(disk.path(), ANIMATE);
     assert_one_line_of_no_space(&out, "frame-");
     let kept = names(&frames);
     assert!(!kept.is_empty() && kept.len() < 24, "{kept:?}");
     // Each frame kept is whole: the same bytes a render of it elsewhere writes.
     let elsewhere = tempfile::tempdir().unwrap();
-    let whole = qjulia(
-        elsewhere.path(),
-        &[
-            "animate",
-            "--preset",
-            "rabbit",
-            "--set",
-            "animation.frames=24",
-            "--backend",
-            "cpu",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--out",
-            "frames",
-        ],
-    );
+    let whole = qjulia(elsewhere.path(), ANIMATE);
     assert!(whole.status.success());
     for name in &kept {
         assert!(
