@@ -12,14 +12,12 @@
 //!
 //! The book's chapter "Denoising" (docs/book/denoise.md) gives every formula.
 
-use std::time::Instant;
-
 use rayon::prelude::*;
 
 use crate::algebra::Vec3;
 use crate::cpu::denoise::{DenoiseParams, Pass, luminance};
-use crate::error::Result;
 use crate::frame::Frame;
+#[cfg(feature = "gpu")]
 use crate::gpu::GpuKernels;
 use crate::scene::Scene;
 
@@ -274,8 +272,9 @@ pub fn pack_phong(linear: &[[f32; 3]]) -> Vec<u32> {
 
 /// `scene`'s denoiser over a whole `frame` (with its AOVs): on `gpu` where there is one and the
 /// image fits its buffers, else on the CPU.
-pub fn denoise(frame: &Frame, scene: &Scene, gpu: Option<&GpuKernels>) -> Result<Denoised> {
-    let start = Instant::now();
+#[cfg(feature = "gpu")]
+pub fn denoise(frame: &Frame, scene: &Scene, gpu: Option<&GpuKernels>) -> crate::Result<Denoised> {
+    let start = std::time::Instant::now();
     let prepared = prepare(frame, scene.image.samples);
     let passes = passes(scene, frame.width, frame.height);
     let (image, gpu_seconds, backend) = match gpu {

@@ -7,7 +7,7 @@ use crate::scene::SceneError;
 /// A bad command-line flag that is not a scene key (`--resolution`, `--box`, `--scale`,
 /// `--frames`, an output's extension): one line naming the flag as typed and the reason.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{flag}: {message}")]
+#[error("{}", one_line(&format!("{flag}: {message}")))]
 pub struct FlagError {
     /// The flag and its value, as typed, e.g. `--resolution 3`.
     pub flag: String,
@@ -21,6 +21,18 @@ impl FlagError {
             message: message.into(),
         }
     }
+}
+
+/// `text` as one line: each control character (a newline, a NUL, ...) written as its Rust
+/// escape (`\n`, `\0`, `\u{1b}`), so that a message quoting what the user typed, or a file's
+/// name, stays the one line an error is. Other characters are kept as they are.
+pub fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_debug().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
 }
 
 /// How to get an adapter on a machine without a GPU, for every "no adapter" message.
@@ -37,8 +49,21 @@ pub enum Error {
     Flag(#[from] FlagError),
     /// Bad input: a part given to `merge` (unreadable, not a partial, of another scene,
     /// overlapping another). Exit 2.
-    #[error("{}: {message}", path.display())]
+    #[error("{}", one_line(&format!("{}: {message}", path.display())))]
     Part { path: PathBuf, message: String },
+    /// A whole-image job whose buffers would not fit in the memory available
+    /// ([`crate::memory`]), refused before anything is allocated. Exit 2: the input asks for
+    /// more than this machine has.
+    #[error(
+        "{what} would need {needed} bytes ({}) of memory, more than the {available} bytes ({}) available",
+        crate::memory::human(*needed),
+        crate::memory::human(*available)
+    )]
+    Memory {
+        what: String,
+        needed: u64,
+        available: u64,
+    },
     /// wgpu found no adapter (or none matching WGPU_ADAPTER_NAME). Exit 1.
     #[error("no GPU adapter: {0}; {INSTALL_ADAPTER_HINT}")]
     NoAdapter(String),
@@ -57,7 +82,7 @@ pub enum Error {
     Video(String),
     /// Reading or writing a file. Exit 1. The I/O error is part of the message and not a
     /// `source`, so that a chain printed in full (`{:#}`) says it once.
-    #[error("{}: {cause}", path.display())]
+    #[error("{}", one_line(&format!("{}: {cause}", path.display())))]
     Io {
         path: PathBuf,
         cause: std::io::Error,
@@ -68,7 +93,7 @@ impl Error {
     /// The process exit code for this error: 2 for bad input, 1 for anything else.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scene(_) | Error::Flag(_) | Error::Part { .. } => 2,
+            Error::Scene(_) | Error::Flag(_) | Error::Part { .. } | Error::Memory { .. } => 2,
             _ => 1,
         }
     }

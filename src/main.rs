@@ -53,7 +53,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", qjulia::error::one_line(&format!("{e:#}")));
             let code = e
                 .downcast_ref::<qjulia::Error>()
                 .map_or(1, qjulia::Error::exit_code);

@@ -291,6 +291,13 @@ impl StreamingOutputs {
     /// As [`Self::create`], with a PNG of `png_size` pixels (a view with a legend strip).
     pub fn create_sized(paths: &OutputPaths, scene: &Scene, png_size: [u32; 2]) -> Result<Self> {
         let (width, height) = (scene.image.width, scene.image.height);
+        if paths.hdr.is_some() {
+            // The EXR is held whole until it is written: refused before any file is made.
+            crate::memory::check(
+                &format!("--hdr's {width}x{height} image"),
+                u64::from(width) * u64::from(height) * crate::memory::HDR_BYTES_PER_PIXEL,
+            )?;
+        }
         let png = match &paths.png {
             Some(path) => {
                 let (temp, path, file) = temp_writer(path)?;

@@ -253,29 +253,49 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
 }
 
 /// Reads and checks one partial EXR.
-fn read_part(path: &Path) -> Result<Part> {
+fn read_part(path: &Path, memory: Option<u64>) -> Result<Part> {
+    let file = std::fs::File::open(path).map_err(|e| bad(path, format!("cannot read: {e}")))?;
+    read_part_from(std::io::BufReader::new(file), path, memory)
+}
+
+/// Reads the partial EXR held in `bytes` as `merge` reads a file (the fuzz target's way in),
+/// `path` naming it in the errors, with `memory` bytes to hold its pixels in; Ok when it is a
+/// whole part.
+pub fn check_part_bytes(bytes: &[u8], path: &Path, memory: u64) -> Result<()> {
+    read_part_from(std::io::Cursor::new(bytes), path, Some(memory)).map(|_| ())
+}
+
+/// The bytes a part's pixel holds while it is read: its channels as the EXR reader gives them,
+/// and again in the [`Frame`] made of them.
+const PART_BYTES_PER_PIXEL: u64 = 2 * 4 * (FLOAT_CHANNELS.len() + UINT_CHANNELS.len()) as u64;
+
+/// The part read from `input`, the file at `path`. Its header is read and checked first
+/// (partial, scene, tile, windows), and its pixels only when they fit in `memory` bytes (None:
+/// unknown): a header cannot make the reader allocate more than its own scene's rows.
+fn read_part_from(
+    mut input: impl std::io::Read + std::io::Seek,
+    path: &Path,
+    memory: Option<u64>,
+) -> Result<Part> {
     use exr::prelude::traits::*;
-    // Pedantic: a truncated or damaged file is an error, not a part with holes.
-    let image = exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .pedantic()
-        .from_file(path)
-        .map_err(|e| match e {
-            exr::error::Error::Io(e) => bad(path, format!("cannot read: {e}")),
-            e => bad(path, format!("not a readable OpenEXR file: {e}")),
-        })?;
-    let layer = &image.layer_data;
+    let unreadable = |e: exr::error::Error| match e {
+        exr::error::Error::Io(e) => bad(path, format!("cannot read: {e}")),
+        e => bad(path, format!("not a readable OpenEXR file: {e}")),
+    };
+    let meta = exr::meta::MetaData::read_from_buffered(&mut input, true).map_err(unreadable)?;
+    let [header] = meta.headers.as_slice() else {
+        return Err(bad(
+            path,
+            format!("has {} layers; a partial has one", meta.headers.len()),
+        ));
+    };
     let attribute = |name: &str| {
         let name = Text::from(name);
-        layer
-            .attributes
+        header
+            .own_attributes
             .other
             .get(&name)
-            .or_else(|| image.attributes.other.get(&name))
+            .or_else(|| header.shared_attributes.other.get(&name))
     };
     let text = |name: &str| match attribute(name) {
         Some(AttributeValue::Text(t)) => String::from_utf8(t.bytes().to_vec())
@@ -304,7 +324,7 @@ fn read_part(path: &Path) -> Result<Part> {
     let scene = loader.build()?;
     let tile = text(TILE)?;
     let (width, height) = (scene.image.width, scene.image.height);
-    let display = image.attributes.display_window;
+    let display = header.shared_attributes.display_window;
     if display.position != Vec2(0, 0) || display.size != Vec2(width as usize, height as usize) {
         return Err(bad(
             path,
@@ -322,9 +342,10 @@ fn read_part(path: &Path) -> Result<Part> {
             )
         })?
         .rows(height);
-    let start = layer.attributes.layer_position;
-    let rows = start.1.max(0) as u32..start.1.max(0) as u32 + layer.size.1 as u32;
-    if start.0 != 0 || layer.size.0 != width as usize || rows != expected_rows {
+    let start = header.own_attributes.layer_position;
+    let size = header.layer_size;
+    let rows = start.1.max(0) as u32..(start.1.max(0) as u32).saturating_add(size.1 as u32);
+    if start.0 != 0 || size.0 != width as usize || rows != expected_rows {
         return Err(bad(
             path,
             format!(
@@ -332,6 +353,28 @@ fn read_part(path: &Path) -> Result<Part> {
                 expected_rows.start, expected_rows.end
             ),
         ));
+    }
+    crate::memory::check_within(
+        &format!("{}'s {width}x{} rows", path.display(), rows.len()),
+        u64::from(width) * rows.len() as u64 * PART_BYTES_PER_PIXEL,
+        memory,
+    )?;
+    input
+        .seek(std::io::SeekFrom::Start(0))
+        .map_err(|e| bad(path, format!("cannot read: {e}")))?;
+    // Pedantic: a truncated or damaged file is an error, not a part with holes.
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .pedantic()
+        .from_buffered(input)
+        .map_err(unreadable)?;
+    let layer = &image.layer_data;
+    if layer.size != size {
+        return Err(bad(path, "its pixels are not those of its header"));
     }
     let pixels = width as usize * rows.len();
     let channel = |name: &str| {
@@ -415,9 +458,19 @@ fn read_part(path: &Path) -> Result<Part> {
 /// `render_seconds` is the sum of the parts', `gpu_seconds` too (null if a part has none).
 /// Any bad part is an error naming its file.
 pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
-    let mut parts = Vec::with_capacity(paths.len());
+    let memory = crate::memory::available();
+    let mut parts: Vec<Part> = Vec::with_capacity(paths.len());
     for path in paths {
-        let part = read_part(path)?;
+        let part = read_part(path, memory)?;
+        if parts.is_empty() {
+            // The parts, then the whole frame made of them: refused before a second is read.
+            let (width, height) = (part.scene.image.width, part.scene.image.height);
+            crate::memory::check_within(
+                &format!("merge's {width}x{height} image"),
+                u64::from(width) * u64::from(height) * PART_BYTES_PER_PIXEL,
+                memory,
+            )?;
+        }
         if let Some(first) = parts.first() {
             check_same(first, &part)?;
         }

@@ -775,3 +775,123 @@ fn overlong_scene_text_is_refused_before_it_is_read_whole() {
         assert!(!d.join("x.png").exists());
     }
 }
+
+/// Runs qjulia in `dir` with `QJULIA_MEMORY_LIMIT` (bytes) set.
+fn qjulia_with_memory(dir: &Path, limit: u64, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(args)
+        .current_dir(dir)
+        .env("QJULIA_MEMORY_LIMIT", limit.to_string())
+        .output()
+        .expect("run qjulia")
+}
+
+#[test]
+fn a_whole_image_job_that_would_not_fit_is_refused_before_it_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 64x64 pixels: the EXR alone holds 52 bytes a pixel (212,992 bytes); 100,000 are allowed.
+    let size = ["--width", "64", "--height", "64"];
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--hdr", "x.exr"],
+            "--hdr's 64x64 image would need 212992 bytes (208.0 KiB) of memory, more than the \
+             100000 bytes (97.7 KiB) available",
+        ),
+        (
+            &["-o", "x.png", "--set", "image.denoise=\"atrous\""],
+            "the denoised 64x64 image would need 589824 bytes",
+        ),
+        (
+            &["-o", "x.png", "--view", "steps"],
+            "the 64x64 heat map would need 278528 bytes",
+        ),
+        (
+            &["--tile", "0/2", "--hdr", "x.exr"],
+            "tile 0/2's 64x32 rows would need 245760 bytes",
+        ),
+    ];
+    for (args, expected) in cases {
+        let mut all = vec!["render", "--backend", "cpu"];
+        all.extend_from_slice(&size);
+        all.extend_from_slice(args);
+        let out = qjulia_with_memory(d, 100_000, &all);
+        assert_eq!(out.status.code(), Some(2), "{expected}: {}", stderr(&out));
+        let line = error_line(&out);
+        assert!(line.contains(expected), "expected {expected:?} in {line:?}");
+        assert!(files_in(d).is_empty(), "{args:?} wrote {:?}", files_in(d));
+    }
+    // A streamed PNG holds a band at a time: never refused.
+    let out = qjulia_with_memory(
+        d,
+        100_000,
+        &[
+            "render",
+            "--backend",
+            "cpu",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "-o",
+            "x.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    // merge: the whole image of its parts.
+    for k in 0..2 {
+        let tile = format!("{k}/2");
+        let part = format!("part{k}.exr");
+        let out = qjulia(
+            d,
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--width",
+                "64",
+                "--height",
+                "64",
+                "--tile",
+                &tile,
+                "--hdr",
+                &part,
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let out = qjulia_with_memory(
+        d,
+        100_000,
+        &["merge", "part0.exr", "part1.exr", "-o", "merged.png"],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let line = error_line(&out);
+    assert!(
+        line.contains("would need") && line.contains("bytes"),
+        "{line}"
+    );
+    assert!(!d.join("merged.png").exists());
+}
+
+#[test]
+fn an_error_quoting_what_was_typed_is_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    // A newline and an escape character typed into the arguments (fuzz/regressions/).
+    let cases: [(&[&str], &str); 2] = [
+        (
+            &["render", "--set", "fractal.c\nx=1"],
+            "--set fractal.c\\nx=1",
+        ),
+        (
+            &["mesh", "--box", "0,0,0\n\u{1b},1,1,1"],
+            "--box 0,0,0\\n\\u{1b},1,1,1",
+        ),
+    ];
+    for (args, expected) in cases {
+        let out = qjulia(dir.path(), args);
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+        assert!(error_line(&out).contains(expected), "{}", stderr(&out));
+    }
+}

@@ -45,6 +45,11 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     };
     if heat_map {
         // A heat map is scaled to the whole image's steps: rendered whole, then written.
+        let (width, height) = (scene.image.width, scene.image.height);
+        qjulia::memory::check(
+            &format!("the {width}x{height} heat map"),
+            u64::from(width) * u64::from(height) * qjulia::memory::FRAME_BYTES_PER_PIXEL,
+        )?;
         let notice = &mut |n: &str| eprintln!("qjulia: {n}");
         let plan = args.tracer.planner().plan(&scene, picture.into(), notice)?;
         paths.depth_f64 = plan.decision.precision == Precision::F64;
@@ -112,6 +117,13 @@ fn render_tile(args: &RenderArgs, scene: &qjulia::Scene, text: &str) -> anyhow::
         return Err(flag("writes a partial EXR: give --hdr FILE.exr").into());
     };
     let rows = tile.rows(scene.image.height);
+    // The tile's rows are held whole, then written as one EXR.
+    qjulia::memory::check(
+        &format!("tile {tile}'s {}x{} rows", scene.image.width, rows.len()),
+        u64::from(scene.image.width)
+            * rows.len() as u64
+            * (qjulia::memory::FRAME_BYTES_PER_PIXEL + qjulia::memory::HDR_BYTES_PER_PIXEL),
+    )?;
     let notice = &mut |n: &str| eprintln!("qjulia: {n}");
     let picture = Picture::SHADED;
     let plan = args.tracer.planner().plan(scene, picture.into(), notice)?;

@@ -14,7 +14,6 @@ pub mod extract;
 pub mod write;
 
 use std::path::Path;
-use std::time::Instant;
 
 use serde::Serialize;
 
@@ -24,7 +23,9 @@ pub use write::Format;
 use crate::algebra::Vec3;
 use crate::error::{FlagError, Result};
 use crate::params::TraceParams;
-use crate::render::{Renderer, Work};
+use crate::picture::Work;
+#[cfg(feature = "gpu")]
+use crate::render::Renderer;
 use crate::scene::Scene;
 
 /// Grid points per axis: the default, and the range `--resolution` accepts.
@@ -147,13 +148,14 @@ pub struct MeshStats {
 pub type Progress<'a> = &'a mut dyn FnMut(u32, u32);
 
 /// Meshes a validated scene on `renderer`'s backend and precision (a plan of [`work`]).
+#[cfg(feature = "gpu")]
 pub fn make_mesh(
     renderer: &Renderer,
     scene: &Scene,
     options: &MeshOptions,
     progress: Progress<'_>,
 ) -> Result<(Mesh, MeshStats)> {
-    let start = Instant::now();
+    let start = std::time::Instant::now();
     let mut stats = MeshStats {
         backend: renderer.backend_name().into(),
         adapter: renderer.adapter(),

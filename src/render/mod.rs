@@ -107,6 +107,13 @@ impl Renderer {
         if picture != Picture::SHADED || scene.image.denoise == Denoiser::None {
             return self.render_rows(scene, picture, readback, all, sink);
         }
+        let (width, height) = (scene.image.width, scene.image.height);
+        crate::memory::check(
+            &format!("the denoised {width}x{height} image"),
+            u64::from(width)
+                * u64::from(height)
+                * (crate::memory::FRAME_BYTES_PER_PIXEL + crate::memory::DENOISE_BYTES_PER_PIXEL),
+        )?;
         let mut whole = Frame::empty(scene.image.width);
         let mut stats = self.render_rows(scene, picture, Readback::Hdr, all, &mut |band| {
             whole.append(band);

@@ -35,7 +35,7 @@ impl fmt::Display for SceneSource {
 
 /// A bad scene: one line naming the source (file or flag), the key and the reason.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{origin}: {message}")]
+#[error("{}", crate::error::one_line(&format!("{origin}: {message}")))]
 pub struct SceneError {
     /// Where the bad value came from.
     pub origin: SceneSource,

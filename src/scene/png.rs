@@ -1,6 +1,7 @@
 //! The scene a qjulia PNG carries: the keyword of its iTXt chunk, written by
 //! [`crate::output`] and read back here for `--scene FILE.png`.
 
+use std::io::{BufRead, Seek};
 use std::path::Path;
 
 use super::error::{SceneError, SceneSource};
@@ -13,11 +14,26 @@ pub fn scene_from_png(path: &Path) -> Result<String, SceneError> {
     let source = SceneSource::File(path.to_path_buf());
     let file = std::fs::File::open(path)
         .map_err(|e| SceneError::general(&source, format!("cannot read: {e}")))?;
+    read_scene_chunk(std::io::BufReader::new(file), &source)
+}
+
+/// [`scene_from_png`] of a PNG held in memory (the fuzz target's way in); `source` names it in
+/// the errors.
+pub fn scene_from_png_bytes(bytes: &[u8], source: &SceneSource) -> Result<String, SceneError> {
+    read_scene_chunk(std::io::Cursor::new(bytes), source)
+}
+
+/// The scene of the PNG read from `input`: its chunks up to the image data, no pixels.
+fn read_scene_chunk(
+    input: impl BufRead + Seek,
+    source: &SceneSource,
+) -> Result<String, SceneError> {
+    let source = source.clone();
     // The chunks before the image data are held in memory: cap what that may take.
     let limits = png::Limits {
         bytes: 4 * super::load::SCENE_TEXT_LIMIT,
     };
-    let reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
+    let reader = png::Decoder::new_with_limits(input, limits)
         .read_info()
         .map_err(|e| SceneError::general(&source, format!("not a readable PNG: {e}")))?;
     let mut chunk = reader

@@ -339,6 +339,11 @@ function blame(keys: string[], used: Map<string, [Value, Source]>): string {
 /// How far from orthonormal a slice basis may be and still be re-orthonormalised.
 export const SLICE_ORTHONORMAL_TOLERANCE = 1e-3;
 
+/// How far from orthonormal a slice basis may be and be kept exactly as given: Gram-Schmidt's
+/// own output is orthonormal to a few ulps, so a saved scene's slice loads back unchanged
+/// (re-orthonormalising it would move it by an ulp each time).
+export const SLICE_EXACT_TOLERANCE = 1e-14;
+
 /// Range and consistency checks over the whole scene once every layer is in (Rust's
 /// `check_scene`): the key at fault and the reason, or null; the slice basis is
 /// re-orthonormalised in place.
@@ -372,14 +377,18 @@ function checkScene(s: Scene, blameOf: (keys: string[]) => string): [string, str
   }
   const keys = ['slice.x', 'slice.y', 'slice.z'];
   const basis = keys.map((k) => s.get(k) as number[]);
+  let worst = 0;
   for (let i = 0; i < 3; i++) {
     for (let j = 0; j <= i; j++) {
       const expected = i === j ? 1 : 0;
-      if (Math.abs(dot(basis[i], basis[j]) - expected) > SLICE_ORTHONORMAL_TOLERANCE) {
+      const error = Math.abs(dot(basis[i], basis[j]) - expected);
+      if (error > SLICE_ORTHONORMAL_TOLERANCE) {
         return [blameOf(keys.slice(0, i + 1)), 'makes the slice basis (x, y, z) not orthonormal'];
       }
+      worst = Math.max(worst, error);
     }
   }
+  if (worst <= SLICE_EXACT_TOLERANCE) return null;
   const made = orthonormalise(basis);
   if (made === null) return [blameOf(keys), 'makes the slice basis degenerate'];
   made.forEach((v, a) => s.set(keys[a], v));

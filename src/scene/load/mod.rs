@@ -388,6 +388,11 @@ fn number(v: &Value) -> Option<f64> {
 /// How far from orthonormal a slice basis may be and still be re-orthonormalised.
 pub const SLICE_ORTHONORMAL_TOLERANCE: f64 = 1e-3;
 
+/// How far from orthonormal a slice basis may be and be kept exactly as given: Gram-Schmidt's
+/// own output is orthonormal to a few ulps, so a saved scene's slice loads back unchanged
+/// (re-orthonormalising it would move it by an ulp each time).
+pub const SLICE_EXACT_TOLERANCE: f64 = 1e-14;
+
 /// Range and consistency checks over the whole scene, once all layers are in.
 fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
     // The camera's and the slice's checks blame the later-given of the keys involved.
@@ -464,17 +469,23 @@ fn check_scene(s: &mut Scene, blame: impl Fn(&[&str]) -> String) -> Result<(), (
     // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
     let keys = ["slice.x", "slice.y", "slice.z"];
     let basis = [&s.slice.x, &s.slice.y, &s.slice.z];
+    let mut worst: f64 = 0.0;
     for i in 0..3 {
         for j in 0..=i {
             let expected = if i == j { 1.0 } else { 0.0 };
-            if (super::dot(basis[i], basis[j]) - expected).abs() > SLICE_ORTHONORMAL_TOLERANCE {
+            let error = (super::dot(basis[i], basis[j]) - expected).abs();
+            if error > SLICE_ORTHONORMAL_TOLERANCE {
                 let key = blame(&keys[..=i]);
                 return Err(fail(
                     &key,
                     "makes the slice basis (x, y, z) not orthonormal",
                 ));
             }
+            worst = worst.max(error);
         }
+    }
+    if worst <= SLICE_EXACT_TOLERANCE {
+        return Ok(());
     }
     let [x, y, z] = super::orthonormalise(basis.map(|v| v.as_slice()))
         .ok_or_else(|| fail(&blame(&keys), "makes the slice basis degenerate"))?;

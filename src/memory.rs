@@ -1,0 +1,105 @@
+//! The memory a whole-image job would hold, checked against the host's before anything is
+//! allocated: a PNG, a denoise or a merge that cannot fit is refused (exit 2, with the bytes it
+//! would need) rather than left to the allocator. Streamed work, whose memory is bounded by a
+//! band, is never refused.
+
+use crate::error::{Error, Result};
+
+/// Overrides the memory qjulia takes to be available, in bytes (tests, and a user who wants a
+/// lower ceiling than the host's).
+pub const MEMORY_LIMIT_VAR: &str = "QJULIA_MEMORY_LIMIT";
+
+/// A whole [`crate::Frame`] with every AOV, in host memory: colour, depth, steps, samples and
+/// M2 (4 bytes each), the linear mean, albedo, normal and the noisy mean (12 each).
+pub const FRAME_BYTES_PER_PIXEL: u64 = 5 * 4 + 4 * 12;
+
+/// The whole-image EXR of `--hdr` ([`crate::hdr::HdrImage`]) until it is written, with the
+/// noisy layer: 13 float32 channels.
+pub const HDR_BYTES_PER_PIXEL: u64 = 13 * 4;
+
+/// The denoiser's buffers beside the frame ([`crate::denoise`]): the illumination, the guide
+/// and a pass's output (16 bytes each), the albedo divided out and the denoised image (12
+/// each), and the colour made of it (4).
+pub const DENOISE_BYTES_PER_PIXEL: u64 = 3 * 16 + 2 * 12 + 4;
+
+/// The bytes a whole-image job may hold: `QJULIA_MEMORY_LIMIT` where set, else the host's
+/// available memory (Linux's `MemAvailable`), else None (not known: nothing is refused).
+pub fn available() -> Option<u64> {
+    if let Some(limit) = std::env::var(MEMORY_LIMIT_VAR)
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+    {
+        return Some(limit);
+    }
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    meminfo_available(&meminfo)
+}
+
+/// `MemAvailable` of a /proc/meminfo text, in bytes.
+fn meminfo_available(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// Ok when `needed` bytes fit in `available` (None: unknown, so Ok); else the error that says
+/// what would not fit (`what`, e.g. "render's 65536x65536 image") and the bytes.
+pub fn check_within(what: &str, needed: u64, available: Option<u64>) -> Result<()> {
+    match available {
+        Some(available) if needed > available => Err(Error::Memory {
+            what: what.to_string(),
+            needed,
+            available,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// [`check_within`] the memory [`available`] now.
+pub fn check(what: &str, needed: u64) -> Result<()> {
+    check_within(what, needed, available())
+}
+
+/// Bytes as a person reads them: "5.0 GiB", "12.3 MiB", "900 bytes".
+pub fn human(bytes: u64) -> String {
+    const UNITS: [(&str, f64); 3] = [("GiB", 1073741824.0), ("MiB", 1048576.0), ("KiB", 1024.0)];
+    let b = bytes as f64;
+    UNITS
+        .iter()
+        .find(|(_, size)| b >= *size)
+        .map_or(format!("{bytes} bytes"), |(unit, size)| {
+            format!("{:.1} {unit}", b / size)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn meminfo_gives_the_available_bytes() {
+        let text = "MemTotal:       24000000 kB\nMemFree:  100 kB\nMemAvailable:   20000000 kB\n";
+        assert_eq!(meminfo_available(text), Some(20_000_000 * 1024));
+        assert_eq!(meminfo_available("MemTotal: 5 kB\n"), None);
+    }
+
+    #[test]
+    fn a_job_over_the_limit_is_refused_with_its_bytes() {
+        assert!(check_within("x", 10, Some(10)).is_ok());
+        assert!(check_within("x", 10, None).is_ok());
+        let e = check_within("render's 8x8 image", 11, Some(10)).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert_eq!(
+            e.to_string(),
+            "render's 8x8 image would need 11 bytes (11 bytes) of memory, more than the 10 bytes \
+             (10 bytes) available"
+        );
+    }
+
+    #[test]
+    fn bytes_read_as_a_person_reads_them() {
+        assert_eq!(human(900), "900 bytes");
+        assert_eq!(human(5 << 30), "5.0 GiB");
+        assert_eq!(human(3 << 19), "1.5 MiB");
+    }
+}
