@@ -76,7 +76,7 @@ TOML
     cp "$scratch"/part*.exr fuzz/corpus/exr_scene/
     for target in "${TARGETS[@]}"; do
         mkdir -p "$scratch/min-$target"
-        fuzz cmin "$target" "fuzz/corpus/$target" -- "${LIMITS[@]}" >/dev/null 2>&1 || true
+        fuzz cmin -O "$target" "$PWD/fuzz/corpus/$target" -- "${LIMITS[@]}" >/dev/null 2>&1 || true
     done
     du -sh fuzz/corpus
 }
@@ -120,7 +120,7 @@ grow() {
     for target in "${targets[@]}"; do
         local log start=$SECONDS
         log=$(mktemp)
-        if ! fuzz run -O "$target" "fuzz/corpus/$target" -- "${LIMITS[@]}" "-runs=$runs" \
+        if ! fuzz run -O "$target" "$PWD/fuzz/corpus/$target" -- "${LIMITS[@]}" "-runs=$runs" \
             -print_final_stats=1 >"$log" 2>&1; then
             status=1
             echo "$target: FAILED (fuzz/artifacts/$target/):"
@@ -130,7 +130,7 @@ grow() {
         done=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
         peak=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
         grown=$(ls "fuzz/corpus/$target" | wc -l)
-        fuzz cmin -O "$target" "fuzz/corpus/$target" -- "${LIMITS[@]}" >/dev/null 2>&1 || true
+        fuzz cmin -O "$target" "$PWD/fuzz/corpus/$target" -- "${LIMITS[@]}" >/dev/null 2>&1 || true
         printf '%s: %s executions in %d s, peak RSS %s MB, no finding: %s; corpus %s, minimised to %s\n' \
             "$target" "${done:-?}" "$((SECONDS - start))" "${peak:-?}" \
             "$([ "$status" = 0 ] && echo yes || echo NO)" "$grown" "$(ls "fuzz/corpus/$target" | wc -l)"

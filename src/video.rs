@@ -207,8 +207,14 @@ impl VideoWriter {
     /// The error of a failed ffmpeg: what it did and the last line it wrote.
     fn failure(&mut self, what: &str) -> Error {
         drop(self.stdin.take());
+        // How it ended, where it has (killed, crashed, failed): said with the reason.
+        let ended = self.child.try_wait().ok().flatten();
         let _ = self.child.kill();
         let _ = self.child.wait();
+        let what = match ended {
+            Some(status) if !what.contains("exited") => format!("{what} ({status})"),
+            _ => what.to_string(),
+        };
         let log = self
             .log
             .take()
