@@ -1,16 +1,17 @@
 //! Where a process's start-up goes (issue 22, "a start-up that does not recompile"): the phases
 //! of a 16x16 render on the GPU, timed one by one in one process, as `qjulia render` goes
 //! through them: the instance and its adapters, the device, the tracer's module (naga's WGSL
-//! front end and validation), the scene's pipeline (naga's back end for the override constants,
-//! then the driver; lavapipe compiles at the first dispatch instead), the first render (the
-//! first dispatch), and a second render of the same scene (what is left once all is built).
+//! front end and validation), the scene's pipeline (its constants applied and the branches they
+//! decide cut, src/gpu/kernel/specialise.rs, then naga's back end and the driver), the first
+//! render (the first dispatch: lavapipe compiles the rest here), and a second render of the same
+//! scene (what is left once all is built).
 //! Run it with Mesa's shader cache on and off (`MESA_SHADER_CACHE_DISABLE=1`):
 //!
 //!     cargo run --release --example startup
 
 use std::time::Instant;
 
-use qjulia::gpu::{GpuContext, GpuKernels, Kernel, TRACE_KERNEL, Variant};
+use qjulia::gpu::{GpuContext, GpuKernels};
 use qjulia::params::TraceParams;
 use qjulia::{Backend, Picture, Planner, PrecisionChoice, Scene};
 
@@ -35,18 +36,17 @@ fn main() -> qjulia::Result<()> {
             .contains(wgpu::Features::PIPELINE_CACHE),
         wgpu::util::pipeline_cache_key(&ctx.info)
     );
-    let kernel = Kernel::new(ctx.clone(), TRACE_KERNEL)?;
+    let kernels = std::sync::Arc::new(GpuKernels::new(ctx));
+    let tracer = kernels.tracer()?;
     phase("tracer module (naga front end)");
     let mut scene = Scene::default();
     scene.image.width = 16;
     scene.image.height = 16;
-    let variant = Variant::of(&TraceParams::<f32>::new(&scene), true);
-    kernel.pipeline(&variant.constants())?;
-    phase("its pipeline (naga back end, driver)");
-    drop(kernel);
-    let kernels = std::sync::Arc::new(GpuKernels::new(ctx));
+    let variant = tracer.variant_for(&TraceParams::<f32>::new(&scene), true);
+    tracer.pipeline(variant)?;
+    phase("the scene's pipeline (specialised, driver)");
     let mut planner = Planner::on_device(kernels, Backend::Gpu, PrecisionChoice::F32);
-    for run in ["first render (module, pipeline, dispatch)", "second render"] {
+    for run in ["first render (first dispatch)", "second render"] {
         let plan = planner.plan(&scene, Picture::SHADED.into(), &mut |_| {})?;
         plan.renderer
             .render(&scene, Picture::SHADED, &mut |_| Ok(()))?;

@@ -26,7 +26,7 @@ pub use sobol_probe::{SOBOL_PROBE_KERNEL, sobol_probe};
 pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::algebra::Real;
 use crate::error::{Error, Result};
@@ -161,6 +161,33 @@ impl GpuReal for f64 {
     }
 }
 
+/// Records, instead of wgpu's default panic, why a device of ours stopped working: its loss
+/// (the first reason kept), or an error no error scope caught.
+fn watch_for_faults(device: &wgpu::Device) -> Arc<Mutex<Option<String>>> {
+    let fault: Arc<Mutex<Option<String>>> = Arc::default();
+    let keep = |fault: &Arc<Mutex<Option<String>>>, why: String| {
+        fault.lock().expect("device fault").get_or_insert(why);
+    };
+    let lost = fault.clone();
+    device.set_device_lost_callback(move |reason, message| {
+        let why = match reason {
+            wgpu::DeviceLostReason::Destroyed => "destroyed".to_string(),
+            _ => format!("{reason:?}"),
+        };
+        let message = if message.is_empty() {
+            String::new()
+        } else {
+            format!(": {message}")
+        };
+        keep(&lost, format!("the GPU device was lost ({why}){message}"));
+    });
+    let uncaught = fault.clone();
+    device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+        keep(&uncaught, format!("the GPU failed: {e}"));
+    }));
+    fault
+}
+
 /// An adapter, its device and queue, and what they can do.
 #[derive(Clone, Debug)]
 pub struct GpuContext {
@@ -172,6 +199,8 @@ pub struct GpuContext {
     f64_check: Arc<OnceLock<std::result::Result<F64Support, String>>>,
     /// The persistent pipeline cache, where the device has one ([`pipeline_cache`]).
     pub pipeline_cache: Option<Arc<pipeline_cache::DiskPipelineCache>>,
+    /// Why the device stopped working, once it has: lost, or an error no scope caught.
+    fault: Arc<Mutex<Option<String>>>,
 }
 
 impl GpuContext {
@@ -190,6 +219,7 @@ impl GpuContext {
             pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))
                 .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
         let pipeline_cache = pipeline_cache::DiskPipelineCache::open(&device, &info).map(Arc::new);
+        let fault = watch_for_faults(&device);
         Ok(Self {
             adapter,
             device,
@@ -197,7 +227,21 @@ impl GpuContext {
             info,
             f64_check: Arc::default(),
             pipeline_cache,
+            fault,
         })
+    }
+
+    /// Why the device stopped working (lost, or an error no scope caught), once it has: the
+    /// kernels check it after each wait, so that a lost device ends the work with this one
+    /// line rather than a panic in wgpu's default handler.
+    pub fn fault(&self) -> Option<String> {
+        self.fault.lock().expect("device fault").clone()
+    }
+
+    /// The test hook of a lost device (`QJULIA_FAULT_LOSE_DEVICE`): destroys the device, as a
+    /// GPU reset or a driver crash would lose it.
+    pub fn lose_device(&self) {
+        self.device.destroy();
     }
 
     /// Whether f64 kernels run right on this device, and with which repairs: the start-up check
@@ -218,6 +262,7 @@ impl GpuContext {
     pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
         let info = adapter.get_info();
         let pipeline_cache = pipeline_cache::DiskPipelineCache::open(&device, &info).map(Arc::new);
+        // The window's device keeps its owner's handlers (eframe's).
         Self {
             adapter,
             device,
@@ -225,6 +270,7 @@ impl GpuContext {
             info,
             f64_check: Arc::default(),
             pipeline_cache,
+            fault: Arc::default(),
         }
     }
 

@@ -74,8 +74,8 @@ pub struct GpuRender {
 }
 
 impl GpuTracer<f32> {
-    /// The f32 tracer: builds the module and the generic pipeline; a shader the device rejects
-    /// is an error.
+    /// The f32 tracer: builds the module (and the generic pipeline, where scenes do not get
+    /// their own); a shader the device rejects is an error.
     pub fn new(ctx: GpuContext) -> Result<Self> {
         Self::build(ctx)
     }
@@ -100,7 +100,13 @@ impl<F: GpuReal> GpuTracer<F> {
             device_constants,
             precision: std::marker::PhantomData,
         };
-        tracer.kernel.pipeline(&tracer.device_constants)?;
+        // The generic pipeline is the whole kernel, every branch compiled: built now only where
+        // it is what scenes will run (specialisation off). With specialisation, each scene's
+        // own is built when it first renders, and costs a fraction (start-up: a 16x16 render on
+        // lavapipe spent half its time building a generic pipeline it never ran).
+        if !tracer.specialise {
+            tracer.kernel.pipeline(&tracer.device_constants)?;
+        }
         Ok(tracer)
     }
 

@@ -13,16 +13,18 @@
 //! and building its module and layouts ([`Kernel::new`]). Its parts: `pipeline.rs`, the
 //! pipelines cached per specialisation, bind groups, one pass's encoding and the band size;
 //! `buffers.rs`, a band's device buffers and their readback; `stream.rs`, running bands as a
-//! stream of steps, two in flight.
+//! stream of steps, two in flight; `specialise.rs`, a specialisation's branches cut before the
+//! driver sees them.
 
 mod buffers;
 mod pipeline;
+mod specialise;
 mod stream;
 
 pub use stream::{Step, StepDone};
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use super::GpuContext;
 use super::shaders::ShaderModuleSource;
@@ -126,6 +128,8 @@ pub struct Kernel {
     pipeline_layout: wgpu::PipelineLayout,
     /// Pipelines by their constants, and whether each has run once (warmed up).
     pipelines: Mutex<HashMap<ConstantsKey, (wgpu::ComputePipeline, bool)>>,
+    /// The source parsed once, for specialisations ([`specialise`]); built at the first.
+    parsed: OnceLock<Option<specialise::Parsed>>,
     /// The last run's buffers, kept for the next run of the same band size and readback (an
     /// animation's frames, the explorer's views): allocating and clearing them anew each time
     /// costs more than a fast GPU's whole render (a 4 Mpixel band is 128 MiB of outputs).
@@ -137,23 +141,11 @@ impl Kernel {
     pub fn new(ctx: GpuContext, spec: KernelSpec) -> Result<Self> {
         let device = &ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let descriptor = wgpu::ShaderModuleDescriptor {
-            label: Some(spec.module.name),
-            source: wgpu::ShaderSource::Wgsl(spec.module.source().into()),
-        };
-        let module = if spec.trusted {
-            // SAFETY: a trusted kernel bounds every loop by its uniform's counts and checks
-            // every index against the grid before it writes (KernelSpec::trusted), so wgpu's
-            // injected bounds checks and loop bounding would only repeat its own.
-            unsafe {
-                device.create_shader_module_trusted(
-                    descriptor,
-                    wgpu::ShaderRuntimeChecks::unchecked(),
-                )
-            }
-        } else {
-            device.create_shader_module(descriptor)
-        };
+        let module = create_module(
+            device,
+            &spec,
+            wgpu::ShaderSource::Wgsl(spec.module.source().into()),
+        );
         let entry = |binding, ty, min_binding_size| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -201,6 +193,7 @@ impl Kernel {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(HashMap::new()),
+            parsed: OnceLock::new(),
             spare: Mutex::new(Vec::new()),
         })
     }
@@ -211,6 +204,28 @@ impl Kernel {
 
     pub fn spec(&self) -> &KernelSpec {
         &self.spec
+    }
+}
+
+/// A shader module of the kernel's, from WGSL or from a specialised naga module.
+fn create_module(
+    device: &wgpu::Device,
+    spec: &KernelSpec,
+    source: wgpu::ShaderSource,
+) -> wgpu::ShaderModule {
+    let descriptor = wgpu::ShaderModuleDescriptor {
+        label: Some(spec.module.name),
+        source,
+    };
+    if spec.trusted {
+        // SAFETY: a trusted kernel bounds every loop by its uniform's counts and checks
+        // every index against the grid before it writes (KernelSpec::trusted), so wgpu's
+        // injected bounds checks and loop bounding would only repeat its own.
+        unsafe {
+            device.create_shader_module_trusted(descriptor, wgpu::ShaderRuntimeChecks::unchecked())
+        }
+    } else {
+        device.create_shader_module(descriptor)
     }
 }
 

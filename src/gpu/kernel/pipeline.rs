@@ -23,13 +23,26 @@ impl Kernel {
         }
         let device = &self.ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        // A specialisation runs its own module, its branches cut ([`super::specialise`]),
+        // with no constants left to set.
+        let specialised = match self.specialised_module(constants) {
+            Ok(module) => module,
+            Err(e) => {
+                let _ = pollster::block_on(scope.pop());
+                return Err(e);
+            }
+        };
+        let (module, left) = match &specialised {
+            Some(module) => (module, &[][..]),
+            None => (&self.module, constants),
+        };
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.spec.name),
             layout: Some(&self.pipeline_layout),
-            module: &self.module,
+            module,
             entry_point: Some(self.spec.entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants,
+                constants: left,
                 ..Default::default()
             },
             cache: self.ctx.pipeline_cache.as_deref().map(|c| c.cache()),
@@ -45,6 +58,37 @@ impl Kernel {
         }
         cache.insert(key, (pipeline.clone(), false));
         Ok(pipeline)
+    }
+
+    /// The module of a specialisation (constants given), its branches cut; None for the
+    /// generic pipeline, or where naga cannot parse the source itself (the plain module then
+    /// reports why).
+    fn specialised_module(
+        &self,
+        constants: &[(&'static str, f64)],
+    ) -> Result<Option<wgpu::ShaderModule>> {
+        if constants.is_empty() {
+            return Ok(None);
+        }
+        let parsed = self
+            .parsed
+            .get_or_init(|| super::specialise::Parsed::new(&self.spec.module.source()));
+        let Some(parsed) = parsed else {
+            return Ok(None);
+        };
+        let module = parsed
+            .specialise(self.spec.entry_point, constants)
+            .map_err(|e| {
+                Error::Gpu(format!(
+                    "the {} pipeline {constants:?} could not be specialised: {e}",
+                    self.spec.name
+                ))
+            })?;
+        Ok(Some(super::create_module(
+            &self.ctx.device,
+            &self.spec,
+            wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+        )))
     }
 
     /// Whether the pipeline of these constants has run once; marks it so.

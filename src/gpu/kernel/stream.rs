@@ -35,6 +35,22 @@ pub struct StepDone<T> {
     pub gpu_seconds: Option<f64>,
 }
 
+/// The test hook of a lost device: `QJULIA_FAULT_LOSE_DEVICE=N` destroys the device once the
+/// process has submitted its Nth band (from 1), before that band is read back.
+fn lose_device_now() -> bool {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static AFTER: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    static SUBMITTED: AtomicU64 = AtomicU64::new(0);
+    let Some(after) = *AFTER.get_or_init(|| {
+        std::env::var("QJULIA_FAULT_LOSE_DEVICE")
+            .ok()
+            .and_then(|v| v.parse().ok())
+    }) else {
+        return false;
+    };
+    SUBMITTED.fetch_add(1, Ordering::Relaxed) + 1 == after
+}
+
 /// A step submitted and not yet read back.
 struct InFlight {
     step: Step,
@@ -253,6 +269,9 @@ impl Kernel {
         }
         let items = step.rows as u64 * step.width as u64;
         let (index, mapped) = self.copy_out(&buffers, items);
+        if lose_device_now() {
+            self.ctx.lose_device();
+        }
         Ok(InFlight {
             step,
             buffers,
@@ -275,18 +294,25 @@ impl Kernel {
             index,
             mapped,
         } = flight;
-        self.ctx
-            .device
-            .poll(wgpu::PollType::Wait {
-                submission_index: Some(index),
-                timeout: None,
-            })
-            .map_err(|e| Error::Gpu(format!("waiting for the GPU: {e}")))?;
+        let waited = self.ctx.device.poll(wgpu::PollType::Wait {
+            submission_index: Some(index),
+            timeout: None,
+        });
+        // A lost device fails whatever was waiting on it: say why once, as the device said.
+        let fault = || self.ctx.fault().map(Error::Gpu);
+        waited.map_err(|e| {
+            fault().unwrap_or_else(|| Error::Gpu(format!("waiting for the GPU: {e}")))
+        })?;
         for result in mapped {
             result
                 .recv()
-                .map_err(|_| Error::Gpu("the device was lost".into()))?
-                .map_err(|e| Error::Gpu(format!("mapping a result buffer: {e}")))?;
+                .map_err(|_| fault().unwrap_or_else(|| Error::Gpu("the device was lost".into())))?
+                .map_err(|e| {
+                    fault().unwrap_or_else(|| Error::Gpu(format!("mapping a result buffer: {e}")))
+                })?;
+        }
+        if let Some(e) = fault() {
+            return Err(e);
         }
         let items = step.rows as u64 * step.width as u64;
         let made = {

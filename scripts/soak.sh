@@ -1,0 +1,188 @@
+#!/bin/bash
+# The explorer's soak (issue 22): `qjulia explore` under Xvfb on the GPU (lavapipe where there is
+# no other), driven for SECONDS (default 600) by random input through xdotool: drags (orbit,
+# pan), the wheel, keys (arrows, + and -, R, M for 2D/3D, Space to play c), preset switches,
+# timeline scrubs and window resizes. Every 2 s it samples the explorer's resident memory.
+#
+#     scripts/soak.sh [SECONDS] [SEED] [--timing]
+#
+# The checks, each printed with its figure:
+#   - no panic in the explorer's log, and its window alive at the end;
+#   - resident memory after the first minute (or the first sixth, in a short soak) grows by at
+#     most 50 MB;
+#   - with --timing only: the 95th percentile of the frames' own work is within 2x of its median
+#     (the explorer's per-frame log, QJULIA_EXPLORE_LOG=frames). CI runs a 60 s soak without
+#     --timing: on a shared machine, timing is no test.
+# Exit 0 when every check passes, 1 when one fails, 2 when the soak cannot start.
+# Needs Xvfb and xdotool (Debian: xvfb, xdotool); the binary is target/release/qjulia (QJULIA).
+set -u
+cd "$(dirname "$0")/.."
+SECONDS_TOTAL=${1:-600}
+SEED=${2:-22}
+TIMING=0
+[ "${3:-}" = "--timing" ] && TIMING=1
+QJULIA=${QJULIA:-target/release/qjulia}
+for tool in Xvfb xdotool; do
+    command -v "$tool" >/dev/null || { echo "soak: $tool is missing (apt-get install xvfb xdotool)"; exit 2; }
+done
+[ -x "$QJULIA" ] || { echo "soak: $QJULIA is missing (cargo build --release)"; exit 2; }
+
+WORK=$(mktemp -d)
+DISPLAY_NUM=:$((90 + RANDOM % 9))
+Xvfb "$DISPLAY_NUM" -screen 0 1600x1000x24 -nolisten tcp >"$WORK/xvfb.log" 2>&1 &
+XVFB=$!
+cleanup() {
+    [ -n "${APP:-}" ] && kill "$APP" 2>/dev/null
+    kill "$XVFB" 2>/dev/null
+    wait 2>/dev/null
+    rm -rf "$WORK"
+}
+trap cleanup EXIT
+export DISPLAY=$DISPLAY_NUM
+sleep 1
+mkdir -p "$WORK/home" "$WORK/xdg"
+chmod 700 "$WORK/xdg"
+# A fresh home: no saved window or scene from an earlier run.
+HOME="$WORK/home" XDG_RUNTIME_DIR="$WORK/xdg" QJULIA_EXPLORE_LOG=frames \
+    "$QJULIA" explore >"$WORK/explore.log" 2>&1 &
+APP=$!
+WIN=""
+for _ in $(seq 60); do
+    WIN=$(xdotool search --pid "$APP" 2>/dev/null | tail -1)
+    [ -n "$WIN" ] && break
+    sleep 1
+done
+[ -n "$WIN" ] || { echo "soak: the explorer's window never showed"; cat "$WORK/explore.log"; exit 2; }
+xdotool windowsize "$WIN" 1280 800
+sleep 3
+
+RANDOM=$SEED
+rss() { awk '/^VmRSS/ {print $2}' "/proc/$APP/status" 2>/dev/null; }
+geometry() {
+    eval "$(xdotool getwindowgeometry --shell "$WIN")"
+    W=$WIDTH
+    H=$HEIGHT
+}
+# A point in the view: right of the control panel (345 pixels), below the menu bar, above the
+# timeline and the status line.
+view_point() {
+    X=$((360 + RANDOM % (W - 380)))
+    Y=$((40 + RANDOM % (H - 160)))
+}
+drag() {
+    local button=$1
+    view_point
+    xdotool mousemove --window "$WIN" "$X" "$Y" mousedown "$button"
+    for _ in $(seq $((3 + RANDOM % 6))); do
+        X=$((X + RANDOM % 61 - 30))
+        Y=$((Y + RANDOM % 61 - 30))
+        sleep 0.05
+        xdotool mousemove --window "$WIN" "$X" "$Y"
+    done
+    sleep 0.05
+    xdotool mouseup "$button"
+}
+wheel() {
+    view_point
+    xdotool mousemove --window "$WIN" "$X" "$Y"
+    for _ in $(seq $((1 + RANDOM % 4))); do xdotool click $((4 + RANDOM % 2)); done
+}
+keys=(Left Right Up Down plus minus r m space)
+key() {
+    xdotool windowfocus "$WIN" 2>/dev/null
+    xdotool key --window "$WIN" "${keys[RANDOM % ${#keys[@]}]}"
+}
+# The Presets menu of the menu bar, and one of its 14 entries (23 pixels apart).
+preset() {
+    xdotool mousemove --window "$WIN" 62 12 click 1
+    sleep 0.3
+    xdotool mousemove --window "$WIN" 95 $((39 + 23 * (RANDOM % 14))) click 1
+}
+# The timeline's strip: the band above the status line, the window's width.
+scrub() {
+    local y=$((H - 45))
+    X=$((20 + RANDOM % (W - 40)))
+    xdotool mousemove --window "$WIN" "$X" "$y" mousedown 1
+    for _ in $(seq 4); do
+        X=$((20 + RANDOM % (W - 40)))
+        sleep 0.05
+        xdotool mousemove --window "$WIN" "$X" "$y"
+    done
+    xdotool mouseup 1
+}
+resize() {
+    xdotool windowsize "$WIN" $((900 + RANDOM % 600)) $((600 + RANDOM % 350))
+}
+
+START=$(date +%s)
+MINUTE=$(( SECONDS_TOTAL / 6 < 60 ? SECONDS_TOTAL / 6 : 60 ))
+RSS_BASE=""
+RSS_MAX=0
+ACTIONS=0
+LAST_SAMPLE=0
+while :; do
+    NOW=$(date +%s)
+    ELAPSED=$((NOW - START))
+    [ "$ELAPSED" -ge "$SECONDS_TOTAL" ] && break
+    kill -0 "$APP" 2>/dev/null || break
+    geometry
+    case $((RANDOM % 10)) in
+        0 | 1 | 2) drag 1 ;;
+        3) drag 3 ;;
+        4) wheel ;;
+        5 | 6) key ;;
+        7) preset ;;
+        8) scrub ;;
+        9) [ $((RANDOM % 3)) = 0 ] && resize || key ;;
+    esac
+    ACTIONS=$((ACTIONS + 1))
+    sleep 0.$((1 + RANDOM % 4))
+    if [ $((NOW - LAST_SAMPLE)) -ge 2 ]; then
+        LAST_SAMPLE=$NOW
+        R=$(rss)
+        [ -z "$R" ] && continue
+        if [ "$ELAPSED" -ge "$MINUTE" ]; then
+            [ -z "$RSS_BASE" ] && RSS_BASE=$R
+            [ "$R" -gt "$RSS_MAX" ] && RSS_MAX=$R
+        fi
+        echo "$ELAPSED $R" >>"$WORK/rss"
+    fi
+done
+
+FAIL=0
+if kill -0 "$APP" 2>/dev/null && xdotool getwindowname "$WIN" >/dev/null 2>&1; then
+    echo "soak: alive after ${ELAPSED} s and $ACTIONS random actions: yes"
+else
+    echo "soak: alive after ${ELAPSED} s and $ACTIONS random actions: NO"
+    FAIL=1
+fi
+PANICS=$(grep -c "panicked" "$WORK/explore.log")
+echo "soak: panics: $PANICS"
+[ "$PANICS" = 0 ] || { FAIL=1; grep -m3 -A3 panicked "$WORK/explore.log"; }
+if [ -n "$RSS_BASE" ]; then
+    GROWTH=$(( (RSS_MAX - RSS_BASE) / 1024 ))
+    FIRST=$(head -1 "$WORK/rss" | cut -d' ' -f2)
+    echo "soak: resident memory ${FIRST} kB at the start, ${RSS_BASE} kB after ${MINUTE} s, at most ${RSS_MAX} kB after: growth ${GROWTH} MB (limit 50)"
+    [ "$GROWTH" -le 50 ] || FAIL=1
+else
+    echo "soak: no memory sample after ${MINUTE} s"
+    FAIL=1
+fi
+FRAMES=$(grep -c "^explore frame" "$WORK/explore.log")
+# The frames' own work (ms), sorted: median and 95th percentile.
+grep "^explore frame" "$WORK/explore.log" | sed 's/.*: \([0-9.]*\) ms work.*/\1/' | sort -g >"$WORK/work"
+if [ "$FRAMES" -gt 0 ]; then
+    MEDIAN=$(awk -v n="$FRAMES" 'NR == int((n + 1) / 2) {print; exit}' "$WORK/work")
+    P95=$(awk -v n="$FRAMES" 'NR == int(n * 0.95 + 0.999) {print; exit}' "$WORK/work")
+    MAX=$(tail -1 "$WORK/work")
+    echo "soak: $FRAMES frames; their own work: median $MEDIAN ms, 95th percentile $P95 ms, max $MAX ms"
+    if [ "$TIMING" = 1 ]; then
+        awk -v m="$MEDIAN" -v p="$P95" 'BEGIN {exit !(p <= 2 * m)}' || FAIL=1
+        echo "soak: 95th percentile within 2x of the median: $([ $FAIL = 0 ] && echo yes || echo checked above)"
+    fi
+else
+    echo "soak: no frame logged"
+    FAIL=1
+fi
+[ "$FAIL" = 0 ] && echo "soak: passed" || echo "soak: FAILED"
+exit "$FAIL"
