@@ -174,8 +174,13 @@ impl VideoWriter {
         );
         let stdin = self.stdin.as_mut().expect("open until finish");
         if stdin.write_all(rgb).is_err() {
-            // ffmpeg stopped reading: it failed, and says why.
-            return Err(self.failure("stopped reading frames"));
+            // ffmpeg stopped reading: it failed, and says why; how it ended too, where it has
+            // (killed, crashed, failed).
+            let what = match self.child.try_wait().ok().flatten() {
+                Some(status) => format!("stopped reading frames ({status})"),
+                None => "stopped reading frames".to_string(),
+            };
+            return Err(self.failure(&what));
         }
         self.frames += 1;
         Ok(())
@@ -207,14 +212,8 @@ impl VideoWriter {
     /// The error of a failed ffmpeg: what it did and the last line it wrote.
     fn failure(&mut self, what: &str) -> Error {
         drop(self.stdin.take());
-        // How it ended, where it has (killed, crashed, failed): said with the reason.
-        let ended = self.child.try_wait().ok().flatten();
         let _ = self.child.kill();
         let _ = self.child.wait();
-        let what = match ended {
-            Some(status) if !what.contains("exited") => format!("{what} ({status})"),
-            _ => what.to_string(),
-        };
         let log = self
             .log
             .take()

@@ -10,18 +10,9 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{SKIP_GPU_ENV, files_in, stderr};
+use common::{files_in, gpu_skipped, stderr};
 
 const LOST: &str = "error: GPU: the GPU device was lost (destroyed)";
-
-/// Whether the GPU tests run (else the test says it skipped).
-fn gpu_tests(test: &str) -> bool {
-    let skip = std::env::var(SKIP_GPU_ENV).is_ok_and(|v| v == "1");
-    if skip {
-        eprintln!("{test}: skipped because {SKIP_GPU_ENV}=1");
-    }
-    !skip
-}
 
 /// qjulia in `dir`, with the device lost after `lose_after` bands (None: never), bands of 32x32
 /// pixels.
@@ -49,7 +40,7 @@ fn assert_lost(name: &str, out: &Output) {
 
 #[test]
 fn a_lost_device_ends_render_with_one_line_and_no_file() {
-    if !gpu_tests("a_lost_device_ends_render_with_one_line_and_no_file") {
+    if gpu_skipped("a_lost_device_ends_render_with_one_line_and_no_file") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -83,7 +74,7 @@ fn a_lost_device_ends_render_with_one_line_and_no_file() {
 
 #[test]
 fn a_lost_device_ends_animate_with_its_complete_frames_kept() {
-    if !gpu_tests("a_lost_device_ends_animate_with_its_complete_frames_kept") {
+    if gpu_skipped("a_lost_device_ends_animate_with_its_complete_frames_kept") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

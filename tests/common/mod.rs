@@ -13,11 +13,20 @@ use qjulia::{Frame, Scene};
 /// Set to 1 to run the suite without GPU tests (they then say so, one line each).
 pub const SKIP_GPU_ENV: &str = "QJULIA_SKIP_GPU_TESTS";
 
+/// Whether the GPU tests are opted out of (`QJULIA_SKIP_GPU_TESTS=1`); if so, says that `test`
+/// skipped its GPU part.
+pub fn gpu_skipped(test: &str) -> bool {
+    let skip = std::env::var(SKIP_GPU_ENV).is_ok_and(|v| v == "1");
+    if skip {
+        eprintln!("{test}: GPU part skipped because {SKIP_GPU_ENV}=1");
+    }
+    skip
+}
+
 /// The shared GPU tracer. Panics with how to get an adapter when wgpu finds none, unless
 /// `QJULIA_SKIP_GPU_TESTS=1`, in which case it returns None and the test says it skipped.
 pub fn gpu(test: &str) -> Option<&'static GpuTracer> {
-    if std::env::var(SKIP_GPU_ENV).is_ok_and(|v| v == "1") {
-        eprintln!("{test}: GPU part skipped because {SKIP_GPU_ENV}=1");
+    if gpu_skipped(test) {
         return None;
     }
     static TRACER: OnceLock<Result<GpuTracer, String>> = OnceLock::new();

@@ -299,8 +299,6 @@ fn visit(block: &Block, f: &mut dyn FnMut(&Statement)) {
     }
 }
 
-/// The number of statements in a module's functions and entry points, nested ones counted: a
-/// measure of what the driver is handed.
 /// The statements the driver meets once it has inlined every call (as drivers do): those of
 /// the entry points, each call counted as the statements of the function it calls.
 #[cfg(test)]

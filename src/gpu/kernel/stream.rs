@@ -299,20 +299,16 @@ impl Kernel {
             timeout: None,
         });
         // A lost device fails whatever was waiting on it: say why once, as the device said.
-        let fault = || self.ctx.fault().map(Error::Gpu);
-        waited.map_err(|e| {
-            fault().unwrap_or_else(|| Error::Gpu(format!("waiting for the GPU: {e}")))
-        })?;
+        let failed = |otherwise: String| Error::Gpu(self.ctx.fault().unwrap_or(otherwise));
+        waited.map_err(|e| failed(format!("waiting for the GPU: {e}")))?;
         for result in mapped {
             result
                 .recv()
-                .map_err(|_| fault().unwrap_or_else(|| Error::Gpu("the device was lost".into())))?
-                .map_err(|e| {
-                    fault().unwrap_or_else(|| Error::Gpu(format!("mapping a result buffer: {e}")))
-                })?;
+                .map_err(|_| failed("the device was lost".into()))?
+                .map_err(|e| failed(format!("mapping a result buffer: {e}")))?;
         }
-        if let Some(e) = fault() {
-            return Err(e);
+        if let Some(why) = self.ctx.fault() {
+            return Err(Error::Gpu(why));
         }
         let items = step.rows as u64 * step.width as u64;
         let made = {
