@@ -693,7 +693,8 @@ fn assert_export_is_render(
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("export.png");
     harness.state_mut().start_export(path.clone());
-    wait_for_message(harness, "exported");
+    // This export's own message: an earlier export's "exported" may still be showing.
+    wait_for_message(harness, &format!("exported {}", path.display()));
     let mut all = vec!["render"];
     all.extend_from_slice(args);
     all.extend_from_slice(&["-o", "cli.png"]);

@@ -279,6 +279,24 @@ impl GpuContext {
         adapter_label(&self.info)
     }
 
+    /// Whether the kernels bind their params as read-only storage rather than as uniforms:
+    /// on lavapipe (Vulkan on a CPU adapter). Mesa 22.3's lavapipe "inlines" a uniform that an
+    /// `if` or a loop tests: where that shrinks the shader by half (the tracer's params do), it
+    /// compiles a new variant of the shader at every bind of the pipeline, each render, and
+    /// never frees it: 30 KB of code and about 0.6 MB of the process's memory a render
+    /// (examples/driver_leak.rs; docs/book/robustness.md). It inlines uniforms only, so the
+    /// same bytes bound as storage are left alone. `QJULIA_UNIFORMS_AS_STORAGE` (0 or 1)
+    /// overrides the choice, to measure.
+    pub fn uniforms_as_storage(&self) -> bool {
+        let lavapipe = self.info.device_type == wgpu::DeviceType::Cpu
+            && self.info.backend == wgpu::Backend::Vulkan;
+        match std::env::var("QJULIA_UNIFORMS_AS_STORAGE").as_deref() {
+            Ok("1") => true,
+            Ok("0") => false,
+            _ => lavapipe,
+        }
+    }
+
     /// Whether GPU time can be measured with timestamp queries.
     pub fn has_timestamps(&self) -> bool {
         self.device

@@ -128,8 +128,12 @@ pub struct Kernel {
     pipeline_layout: wgpu::PipelineLayout,
     /// Pipelines by their constants, and whether each has run once (warmed up).
     pipelines: Mutex<HashMap<ConstantsKey, (wgpu::ComputePipeline, bool)>>,
-    /// The source parsed once, for specialisations ([`specialise`]); built at the first.
+    /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
+    /// at [`Kernel::new`] where the params are bound as storage.
     parsed: OnceLock<Option<specialise::Parsed>>,
+    /// Whether the params (binding 0 and the second uniform) are bound as read-only storage
+    /// ([`GpuContext::uniforms_as_storage`]).
+    uniforms_as_storage: bool,
     /// The last run's buffers, kept for the next run of the same band size and readback (an
     /// animation's frames, the explorer's views): allocating and clearing them anew each time
     /// costs more than a fast GPU's whole render (a 4 Mpixel band is 128 MiB of outputs).
@@ -141,11 +145,29 @@ impl Kernel {
     pub fn new(ctx: GpuContext, spec: KernelSpec) -> Result<Self> {
         let device = &ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = create_module(
-            device,
-            &spec,
-            wgpu::ShaderSource::Wgsl(spec.module.source().into()),
-        );
+        // Where the params go in as storage, the source is parsed here (the base of every
+        // specialisation too), and the plain module made of it.
+        let parsed = OnceLock::new();
+        if ctx.uniforms_as_storage() {
+            let _ = parsed.set(specialise::Parsed::new(&spec.module.source(), true));
+        }
+        let uniforms_as_storage = matches!(parsed.get(), Some(Some(_)));
+        let module = match parsed.get() {
+            Some(Some(p)) => create_module(
+                device,
+                &spec,
+                wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(p.module().clone())),
+            ),
+            _ => create_module(
+                device,
+                &spec,
+                wgpu::ShaderSource::Wgsl(spec.module.source().into()),
+            ),
+        };
+        let params = match uniforms_as_storage {
+            true => wgpu::BufferBindingType::Storage { read_only: true },
+            false => wgpu::BufferBindingType::Uniform,
+        };
         let entry = |binding, ty, min_binding_size| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -157,20 +179,14 @@ impl Kernel {
             count: None,
         };
         let storage = wgpu::BufferBindingType::Storage { read_only: false };
-        let entries: Vec<_> = std::iter::once(entry(
-            0,
-            wgpu::BufferBindingType::Uniform,
-            wgpu::BufferSize::new(spec.uniform_bytes),
-        ))
-        .chain((1..=spec.outputs.len() as u32).map(|b| entry(b, storage, None)))
-        .chain(spec.second_uniform.map(|u| {
-            entry(
-                u.binding,
-                wgpu::BufferBindingType::Uniform,
-                wgpu::BufferSize::new(u.bytes),
-            )
-        }))
-        .collect();
+        let entries: Vec<_> =
+            std::iter::once(entry(0, params, wgpu::BufferSize::new(spec.uniform_bytes)))
+                .chain((1..=spec.outputs.len() as u32).map(|b| entry(b, storage, None)))
+                .chain(
+                    spec.second_uniform
+                        .map(|u| entry(u.binding, params, wgpu::BufferSize::new(u.bytes))),
+                )
+                .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(spec.name),
             entries: &entries,
@@ -193,7 +209,8 @@ impl Kernel {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(HashMap::new()),
-            parsed: OnceLock::new(),
+            parsed,
+            uniforms_as_storage,
             spare: Mutex::new(Vec::new()),
         })
     }

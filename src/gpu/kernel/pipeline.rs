@@ -72,7 +72,7 @@ impl Kernel {
         }
         let parsed = self
             .parsed
-            .get_or_init(|| super::specialise::Parsed::new(&self.spec.module.source()));
+            .get_or_init(|| super::specialise::Parsed::new(&self.spec.module.source(), false));
         let Some(parsed) = parsed else {
             return Ok(None);
         };
@@ -108,7 +108,10 @@ impl Kernel {
         self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: match self.uniforms_as_storage {
+                true => wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                false => wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            },
             mapped_at_creation: false,
         })
     }
@@ -137,7 +140,11 @@ impl Kernel {
     /// Where the second uniform starts in the uniform buffer: after the first, at the device's
     /// alignment of uniform offsets.
     pub fn second_uniform_offset(&self) -> u64 {
-        let align = self.ctx.device.limits().min_uniform_buffer_offset_alignment as u64;
+        let limits = self.ctx.device.limits();
+        let align = match self.uniforms_as_storage {
+            true => limits.min_storage_buffer_offset_alignment,
+            false => limits.min_uniform_buffer_offset_alignment,
+        } as u64;
         self.spec.uniform_bytes.next_multiple_of(align)
     }
 

@@ -26,14 +26,23 @@ pub(super) struct Parsed {
 }
 
 impl Parsed {
-    /// Parses and validates `source`; `None` where naga refuses it (wgpu then reports why
-    /// through the plain path).
-    pub(super) fn new(source: &str) -> Option<Self> {
-        let module = naga::front::wgsl::parse_str(source).ok()?;
+    /// Parses and validates `source`, its uniforms made read-only storage where
+    /// `uniforms_as_storage` ([`uniforms_as_storage`]); `None` where naga refuses it (wgpu then
+    /// reports why through the plain path).
+    pub(super) fn new(source: &str, uniforms_as_storage: bool) -> Option<Self> {
+        let mut module = naga::front::wgsl::parse_str(source).ok()?;
+        if uniforms_as_storage {
+            self::uniforms_as_storage(&mut module);
+        }
         let info = valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all())
             .validate(&module)
             .ok()?;
         Some(Self { module, info })
+    }
+
+    /// The module as parsed, no constants applied (the generic pipeline's).
+    pub(super) fn module(&self) -> &Module {
+        &self.module
     }
 
     /// The module with these constants applied and the branches they decide removed, for the
@@ -56,6 +65,19 @@ impl Parsed {
         prune_module(&mut module);
         naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
         Ok(module)
+    }
+}
+
+/// Every uniform of the module made a read-only storage buffer, its layout unchanged (the
+/// member offsets are explicit, and a uniform's layout rules are the stricter): what the host
+/// binds on a device whose driver mistreats uniforms ([`crate::gpu::GpuContext::uniforms_as_storage`]).
+pub(super) fn uniforms_as_storage(module: &mut Module) {
+    for (_, global) in module.global_variables.iter_mut() {
+        if global.space == naga::AddressSpace::Uniform {
+            global.space = naga::AddressSpace::Storage {
+                access: naga::StorageAccess::LOAD,
+            };
+        }
     }
 }
 
@@ -373,7 +395,7 @@ mod tests {
                 }
                 out[id.x] = x;
             }";
-        let parsed = Parsed::new(source).expect("parses");
+        let parsed = Parsed::new(source, false).expect("parses");
         let generic = parsed.specialise("main", &[("A", 1.0)]).unwrap();
         let cut = parsed
             .specialise("main", &[("A", 0.0), ("B", 0.0)])
@@ -406,7 +428,7 @@ mod tests {
     /// driver meets it: every call inlined.
     #[test]
     fn the_default_scene_hands_the_driver_a_fraction_of_the_tracer() {
-        let parsed = Parsed::new(&TRACE_MODULE.source()).expect("the tracer parses");
+        let parsed = Parsed::new(&TRACE_MODULE.source(), false).expect("the tracer parses");
         let fixed = [interleave_constant(2), compact_constant(true)];
         let whole = parsed.specialise("main", &fixed).unwrap();
         let scene = crate::Scene::default();
