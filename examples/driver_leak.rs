@@ -287,6 +287,7 @@ fn main() {
         "uniform-value" => UNIFORM_VALUE,
         "uniform-branch" => UNIFORM_BRANCH,
         "tracer" => return tracer(dispatches),
+        "variants" => return variants(dispatches),
         other => {
             eprintln!("error: no variant {other:?} (see the file's opening comment)");
             std::process::exit(2);
@@ -414,6 +415,60 @@ fn tracer(renders: u32) {
             .expect("a render");
     }
     mappings();
+}
+
+/// Scenes of 24 distinct variants (five features on and off; a light's radius matters only
+/// with shadows), each rendered once in turn, `rounds` times: the resident memory after each
+/// scene, and the pipelines the tracer holds. Past [`qjulia::gpu::kernel::MAX_PIPELINES`] the
+/// tracer drops the one used longest ago: whether the driver then gives its memory back.
+fn variants(rounds: u32) {
+    use qjulia::{Backend, Picture, Planner, PrecisionChoice, scene::SceneLoader};
+    qjulia::gpu::give_a_runtime_dir();
+    let ctx = qjulia::gpu::GpuContext::new().expect("a device");
+    println!("adapter: {}", ctx.adapter_label());
+    let kernels = std::sync::Arc::new(qjulia::gpu::GpuKernels::new(ctx));
+    let tracer = kernels.tracer().expect("the tracer");
+    let features = [
+        "shading.shadows=false",
+        "shading.occlusion=0.5",
+        "shading.colouring=\"orbit_trap\"",
+        "cut.enabled=true",
+        "light.radius=0.2",
+    ];
+    let scenes: Vec<_> = (0..1u32 << features.len())
+        .filter(|mask| mask & 1 == 0 || mask & 16 == 0)
+        .map(|mask| {
+            let mut loader = SceneLoader::new();
+            for set in ["image.width=16", "image.height=16"].into_iter().chain(
+                (0..features.len())
+                    .filter(|k| mask & (1 << k) != 0)
+                    .map(|k| features[k]),
+            ) {
+                loader.set(set).expect("a set");
+            }
+            loader.build().expect("a scene")
+        })
+        .collect();
+    println!(
+        "{} scenes, at most {} pipelines held",
+        scenes.len(),
+        qjulia::gpu::kernel::MAX_PIPELINES
+    );
+    for round in 0..rounds.max(1) {
+        for (n, scene) in scenes.iter().enumerate() {
+            let plan = Planner::on_device(kernels.clone(), Backend::Gpu, PrecisionChoice::F32)
+                .plan(scene, Picture::SHADED.into(), &mut |_| {})
+                .expect("a plan");
+            plan.renderer
+                .render(scene, Picture::SHADED, &mut |_| Ok(()))
+                .expect("a render");
+            println!(
+                "variants  round {round} scene {n:>2}  pipelines {:>2}  resident {:>8.1} MB",
+                tracer.pipelines_held(),
+                resident_mb()
+            );
+        }
+    }
 }
 
 /// The process's anonymous mappings, summed by permissions (where the growth lies: heap,

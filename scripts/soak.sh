@@ -16,7 +16,8 @@
 # --memory-reported prints the memory figures without failing on them: CI's soak, while the
 # growth the soak found on lavapipe (docs/book/robustness.md, "The explorer, soaked") is open.
 # QJULIA_SOAK_ONLY=drag (or wheel, key, preset, scrub, resize) repeats that one action, to find
-# which one a figure comes from.
+# which one a figure comes from. QJULIA_SOAK_KEEP=FILE keeps the explorer's log in FILE and the
+# memory samples (seconds, kB) in FILE.rss.
 # Exit 0 when every check passes, 1 when one fails, 2 when the soak cannot start.
 # Needs Xvfb and xdotool (Debian: xvfb, xdotool); the binary is target/release/qjulia (QJULIA).
 set -u
@@ -45,7 +46,10 @@ cleanup() {
     [ -n "${APP:-}" ] && kill "$APP" 2>/dev/null
     kill "$XVFB" 2>/dev/null
     wait 2>/dev/null
-    [ -n "${QJULIA_SOAK_KEEP:-}" ] && cp "$WORK/explore.log" "$QJULIA_SOAK_KEEP"
+    if [ -n "${QJULIA_SOAK_KEEP:-}" ]; then
+        cp "$WORK/explore.log" "$QJULIA_SOAK_KEEP"
+        cp "$WORK/rss" "$QJULIA_SOAK_KEEP.rss" 2>/dev/null
+    fi
     rm -rf "$WORK"
 }
 trap cleanup EXIT

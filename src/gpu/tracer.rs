@@ -128,6 +128,11 @@ impl<F: GpuReal> GpuTracer<F> {
         self.specialise.then(|| Variant::of(params, shade))
     }
 
+    /// How many pipelines (variants) the tracer holds: at most [`super::kernel::MAX_PIPELINES`].
+    pub fn pipelines_held(&self) -> usize {
+        self.kernel.pipelines_held()
+    }
+
     /// The pipeline of a variant (None: generic), built on first use and cached.
     pub fn pipeline(&self, variant: Option<Variant>) -> Result<wgpu::ComputePipeline> {
         self.pipeline_reading(variant, Readback::All)

@@ -21,16 +21,15 @@ mod pipeline;
 mod specialise;
 mod stream;
 
+pub use pipeline::MAX_PIPELINES;
 pub use stream::{Step, StepDone};
 
-use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 
 use super::GpuContext;
 use super::shaders::ShaderModuleSource;
 use crate::error::{Error, Result};
 use buffers::RunBuffers;
-use pipeline::ConstantsKey;
 
 /// Invocations per workgroup in x and y, in every kernel's `@workgroup_size`: 8 wide, since
 /// lavapipe packs 8 lanes along x. A test checks each shader against it.
@@ -126,8 +125,9 @@ pub struct Kernel {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Pipelines by their constants, and whether each has run once (warmed up).
-    pipelines: Mutex<HashMap<ConstantsKey, (wgpu::ComputePipeline, bool)>>,
+    /// Pipelines by their constants, whether each has run once (warmed up), and the least
+    /// recently used dropped past [`pipeline::MAX_PIPELINES`].
+    pipelines: Mutex<pipeline::Pipelines>,
     /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
     /// at [`Kernel::new`] where the params are bound as storage.
     parsed: OnceLock<Option<specialise::Parsed>>,
@@ -208,7 +208,7 @@ impl Kernel {
             module,
             layout,
             pipeline_layout,
-            pipelines: Mutex::new(HashMap::new()),
+            pipelines: Mutex::new(pipeline::Pipelines::default()),
             parsed,
             uniforms_as_storage,
             spare: Mutex::new(Vec::new()),

@@ -1,8 +1,11 @@
-//! A kernel's pipelines, cached per specialisation (override constants) and warmed up once;
+//! A kernel's pipelines, cached per specialisation (override constants), the cache bounded,
+//! and warmed up once;
 //! its uniform and output buffers and their bind group; one compute pass's encoding; the rows
 //! of a band.
 
 use super::{Kernel, WORKGROUP_SIZE, buffer};
+use std::collections::HashMap;
+
 use crate::error::{Error, Result};
 
 /// Override constants as a hash key (the values' bits).
@@ -12,14 +15,72 @@ pub(super) fn constants_key(constants: &[(&'static str, f64)]) -> ConstantsKey {
     constants.iter().map(|&(n, v)| (n, v.to_bits())).collect()
 }
 
+/// The most pipelines a kernel keeps. An explorer session that visits every preset and turns
+/// features on and off meets a new variant at each step, and a driver holds a pipeline's
+/// compiled code (megabytes a variant, on lavapipe) until it is destroyed:
+/// unbounded, the cache grew the explorer's memory for as long as it ran. Past this many, the
+/// one used longest ago is dropped and built again if it comes back. 16 holds a working set
+/// (a scene's preview, shaded and final variants, each with and without the denoiser's AOVs)
+/// several times over.
+pub const MAX_PIPELINES: usize = 16;
+
+/// A kernel's pipelines by their constants.
+#[derive(Default)]
+pub(super) struct Pipelines {
+    held: HashMap<ConstantsKey, Held>,
+    /// Counts uses, to order them.
+    clock: u64,
+}
+
+/// A pipeline held, whether it has run once, and when it was last asked for.
+struct Held {
+    pipeline: wgpu::ComputePipeline,
+    warmed: bool,
+    used: u64,
+}
+
+impl Pipelines {
+    /// The pipeline of `key`, if held, marked as used now.
+    fn get(&mut self, key: &ConstantsKey) -> Option<wgpu::ComputePipeline> {
+        self.clock += 1;
+        let held = self.held.get_mut(key)?;
+        held.used = self.clock;
+        Some(held.pipeline.clone())
+    }
+
+    /// Holds a new pipeline, dropping the least recently used past [`MAX_PIPELINES`] (a
+    /// pass that still runs it keeps its own reference until it is done).
+    fn insert(&mut self, key: ConstantsKey, pipeline: wgpu::ComputePipeline) {
+        self.clock += 1;
+        let used = self.clock;
+        self.held.insert(
+            key,
+            Held {
+                pipeline,
+                warmed: false,
+                used,
+            },
+        );
+        while self.held.len() > MAX_PIPELINES {
+            let oldest = self
+                .held
+                .iter()
+                .min_by_key(|(_, h)| h.used)
+                .map(|(k, _)| k.clone())
+                .expect("more than none held");
+            self.held.remove(&oldest);
+        }
+    }
+}
+
 impl Kernel {
     /// The pipeline for these override constants (empty: generic), built on first use and
     /// cached.
     pub fn pipeline(&self, constants: &[(&'static str, f64)]) -> Result<wgpu::ComputePipeline> {
         let key = constants_key(constants);
         let mut cache = self.pipelines.lock().expect("pipeline cache");
-        if let Some((p, _)) = cache.get(&key) {
-            return Ok(p.clone());
+        if let Some(p) = cache.get(&key) {
+            return Ok(p);
         }
         let device = &self.ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -56,7 +117,7 @@ impl Kernel {
         if let Some(c) = &self.ctx.pipeline_cache {
             c.save();
         }
-        cache.insert(key, (pipeline.clone(), false));
+        cache.insert(key, pipeline.clone());
         Ok(pipeline)
     }
 
@@ -91,12 +152,21 @@ impl Kernel {
         )))
     }
 
-    /// Whether the pipeline of these constants has run once; marks it so.
+    /// Whether the pipeline of these constants has run once; marks it so. One dropped from
+    /// the cache since it was asked for (another thread's variants pushed it out) counts as
+    /// not warmed.
     pub(super) fn warmed(&self, constants: &[(&'static str, f64)]) -> bool {
         let key = constants_key(constants);
         let mut cache = self.pipelines.lock().expect("pipeline cache");
-        let entry = cache.get_mut(&key).expect("built before it runs");
-        std::mem::replace(&mut entry.1, true)
+        cache
+            .held
+            .get_mut(&key)
+            .is_some_and(|held| std::mem::replace(&mut held.warmed, true))
+    }
+
+    /// How many pipelines the kernel holds (at most [`MAX_PIPELINES`]).
+    pub fn pipelines_held(&self) -> usize {
+        self.pipelines.lock().expect("pipeline cache").held.len()
     }
 
     /// A uniform buffer for this kernel's params (and its second uniform's, after them).
