@@ -109,12 +109,13 @@ key() {
     xdotool windowfocus "$WIN" 2>/dev/null
     xdotool key --window "$WIN" "${keys[RANDOM % ${#keys[@]}]}"
 }
-# The Presets menu of the menu bar, and one of its 14 entries (23 pixels apart).
-preset() {
+# The Presets menu of the menu bar, and its entry K of 14 (23 pixels apart); preset: one at random.
+preset_number() {
     xdotool mousemove --window "$WIN" 62 12 click 1
     sleep 0.3
-    xdotool mousemove --window "$WIN" 95 $((39 + 23 * (RANDOM % 14))) click 1
+    xdotool mousemove --window "$WIN" 95 $((39 + 23 * $1)) click 1
 }
+preset() { preset_number $((RANDOM % 14)); }
 # The timeline's strip: the band above the status line, the window's width.
 scrub() {
     local y=$((H - 45))
@@ -137,9 +138,7 @@ resize() {
 # preset the random walk met late. QJULIA_SOAK_TOUR=0 leaves it out.
 if [ "${QJULIA_SOAK_TOUR:-1}" != 0 ]; then
     for k in $(seq 0 13); do
-        xdotool mousemove --window "$WIN" 62 12 click 1
-        sleep 0.3
-        xdotool mousemove --window "$WIN" 95 $((39 + 23 * k)) click 1
+        preset_number "$k"
         sleep 2
         xdotool windowfocus "$WIN" 2>/dev/null
         xdotool key --window "$WIN" m

@@ -152,18 +152,11 @@ impl Kernel {
             let _ = parsed.set(specialise::Parsed::new(&spec.module.source(), true));
         }
         let uniforms_as_storage = matches!(parsed.get(), Some(Some(_)));
-        let module = match parsed.get() {
-            Some(Some(p)) => create_module(
-                device,
-                &spec,
-                wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(p.module().clone())),
-            ),
-            _ => create_module(
-                device,
-                &spec,
-                wgpu::ShaderSource::Wgsl(spec.module.source().into()),
-            ),
+        let source = match parsed.get() {
+            Some(Some(p)) => wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(p.module().clone())),
+            _ => wgpu::ShaderSource::Wgsl(spec.module.source().into()),
         };
+        let module = create_module(device, &spec, source);
         let params = match uniforms_as_storage {
             true => wgpu::BufferBindingType::Storage { read_only: true },
             false => wgpu::BufferBindingType::Uniform,

@@ -19,9 +19,9 @@ pub(super) fn constants_key(constants: &[(&'static str, f64)]) -> ConstantsKey {
 /// features on and off meets a new variant at each step, and a driver holds a pipeline's
 /// compiled code (megabytes a variant, on lavapipe) until it is destroyed:
 /// unbounded, the cache grew the explorer's memory for as long as it ran. Past this many, the
-/// one used longest ago is dropped and built again if it comes back. 16 holds a working set
-/// (a scene's preview, shaded and final variants, each with and without the denoiser's AOVs)
-/// several times over.
+/// one used longest ago is dropped and built again if it comes back. 16 holds a scene's
+/// preview, shaded and final variants, each with and without the denoiser's AOVs, for two
+/// scenes at once.
 pub const MAX_PIPELINES: usize = 16;
 
 /// A kernel's pipelines by their constants.
@@ -70,6 +70,14 @@ impl Pipelines {
                 .expect("more than none held");
             self.held.remove(&oldest);
         }
+    }
+
+    /// Whether the pipeline of `key` has run once; marks it so. One not held (dropped since it
+    /// was asked for) has not.
+    fn mark_warmed(&mut self, key: &ConstantsKey) -> bool {
+        self.held
+            .get_mut(key)
+            .is_some_and(|held| std::mem::replace(&mut held.warmed, true))
     }
 }
 
@@ -131,9 +139,9 @@ impl Kernel {
         if constants.is_empty() {
             return Ok(None);
         }
-        let parsed = self
-            .parsed
-            .get_or_init(|| super::specialise::Parsed::new(&self.spec.module.source(), false));
+        let parsed = self.parsed.get_or_init(|| {
+            super::specialise::Parsed::new(&self.spec.module.source(), self.uniforms_as_storage)
+        });
         let Some(parsed) = parsed else {
             return Ok(None);
         };
@@ -157,11 +165,10 @@ impl Kernel {
     /// not warmed.
     pub(super) fn warmed(&self, constants: &[(&'static str, f64)]) -> bool {
         let key = constants_key(constants);
-        let mut cache = self.pipelines.lock().expect("pipeline cache");
-        cache
-            .held
-            .get_mut(&key)
-            .is_some_and(|held| std::mem::replace(&mut held.warmed, true))
+        self.pipelines
+            .lock()
+            .expect("pipeline cache")
+            .mark_warmed(&key)
     }
 
     /// How many pipelines the kernel holds (at most [`MAX_PIPELINES`]).
@@ -178,10 +185,11 @@ impl Kernel {
         self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
-            usage: match self.uniforms_as_storage {
-                true => wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                false => wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            },
+            usage: wgpu::BufferUsages::COPY_DST
+                | match self.uniforms_as_storage {
+                    true => wgpu::BufferUsages::STORAGE,
+                    false => wgpu::BufferUsages::UNIFORM,
+                },
             mapped_at_creation: false,
         })
     }
