@@ -17,8 +17,8 @@
 # to tell a leak from the working set (tests/repeated_renders.rs holds the leak the soak found;
 # docs/book/robustness.md, "The explorer, soaked").
 # QJULIA_SOAK_ONLY=drag (or wheel, key, preset, scrub, resize) repeats that one action, to find
-# which one a figure comes from. QJULIA_SOAK_KEEP=FILE keeps the explorer's log in FILE and the
-# memory samples (seconds, kB) in FILE.rss.
+# which one a figure comes from. QJULIA_SOAK_KEEP=FILE keeps the explorer's log in FILE, the
+# memory samples (seconds, kB) in FILE.rss and the actions (seconds, action) in FILE.actions.
 # Before the timed part, a tour visits every preset in 3D and 2D (QJULIA_SOAK_TOUR=0: none).
 # Exit 0 when every check passes, 1 when one fails, 2 when the soak cannot start.
 # Needs Xvfb and xdotool (Debian: xvfb, xdotool); the binary is target/release/qjulia (QJULIA).
@@ -51,6 +51,7 @@ cleanup() {
     if [ -n "${QJULIA_SOAK_KEEP:-}" ]; then
         cp "$WORK/explore.log" "$QJULIA_SOAK_KEEP"
         cp "$WORK/rss" "$QJULIA_SOAK_KEEP.rss" 2>/dev/null
+        cp "$WORK/actions" "$QJULIA_SOAK_KEEP.actions" 2>/dev/null
     fi
     rm -rf "$WORK"
 }
@@ -107,7 +108,8 @@ wheel() {
 keys=(Left Right Up Down plus minus r m space)
 key() {
     xdotool windowfocus "$WIN" 2>/dev/null
-    xdotool key --window "$WIN" "${keys[RANDOM % ${#keys[@]}]}"
+    DETAIL=${keys[RANDOM % ${#keys[@]}]}
+    xdotool key --window "$WIN" "$DETAIL"
 }
 # The Presets menu of the menu bar, and its entry K of 14 (23 pixels apart); preset: one at random.
 preset_number() {
@@ -115,7 +117,10 @@ preset_number() {
     sleep 0.3
     xdotool mousemove --window "$WIN" 95 $((39 + 23 * $1)) click 1
 }
-preset() { preset_number $((RANDOM % 14)); }
+preset() {
+    DETAIL=$((RANDOM % 14))
+    preset_number "$DETAIL"
+}
 # The timeline's strip: the band above the status line, the window's width.
 scrub() {
     local y=$((H - 45))
@@ -129,7 +134,8 @@ scrub() {
     xdotool mouseup 1
 }
 resize() {
-    xdotool windowsize "$WIN" $((900 + RANDOM % 600)) $((600 + RANDOM % 350))
+    DETAIL="$((900 + RANDOM % 600)) $((600 + RANDOM % 350))"
+    xdotool windowsize "$WIN" $DETAIL
 }
 
 # The tour, before the timed part: every preset once, in 3D and in 2D, so that the scenes'
@@ -162,16 +168,19 @@ while :; do
     kill -0 "$APP" 2>/dev/null || break
     geometry
     if [ -n "${QJULIA_SOAK_ONLY:-}" ]; then
-        $QJULIA_SOAK_ONLY
+        ACTION=$QJULIA_SOAK_ONLY
     else case $((RANDOM % 10)) in
-        0 | 1 | 2) drag 1 ;;
-        3) drag 3 ;;
-        4) wheel ;;
-        5 | 6) key ;;
-        7) preset ;;
-        8) scrub ;;
-        9) [ $((RANDOM % 3)) = 0 ] && resize || key ;;
+        0 | 1 | 2) ACTION="drag 1" ;;
+        3) ACTION="drag 3" ;;
+        4) ACTION=wheel ;;
+        5 | 6) ACTION=key ;;
+        7) ACTION=preset ;;
+        8) ACTION=scrub ;;
+        9) [ $((RANDOM % 3)) = 0 ] && ACTION=resize || ACTION=key ;;
     esac; fi
+    DETAIL=""
+    $ACTION
+    echo "$ELAPSED $ACTION $DETAIL" >>"$WORK/actions"
     ACTIONS=$((ACTIONS + 1))
     sleep 0.$((1 + RANDOM % 4))
     if [ $((NOW - LAST_SAMPLE)) -ge 2 ]; then

@@ -15,6 +15,7 @@ use std::time::Instant;
 use super::command::Command;
 use super::export::Export;
 use super::file_dialog::FileDialog;
+use super::frame_spans::span;
 use super::julia2d_texture::Julia2dTexture;
 use super::persistence::{self, load_persisted, load_persisted_timeline};
 use super::slice_texture::SliceTexture;
@@ -448,15 +449,19 @@ impl ExplorerApp {
         let dt = self.runtime.status.tick(now);
         let ctx = ui.ctx().clone();
         let s = &mut self.state;
-        let keys = input::shortcuts(&ctx, &mut s.mode, &mut s.scene, &s.home_camera);
-        let mut acted = self.apply_all(keys);
+        let keys = span("keys", || {
+            input::shortcuts(&ctx, &mut s.mode, &mut s.scene, &s.home_camera)
+        });
+        let mut acted = span("commands", || self.apply_all(keys));
         self.state.advance(dt);
-        self.poll_render();
-        self.poll_export();
+        span("jobs", || {
+            self.poll_render();
+            self.poll_export();
+        });
         let panels = self.panels(ui);
-        acted |= self.apply_all(panels);
-        let windows = self.windows(&ctx);
-        acted |= self.apply_all(windows);
+        acted |= span("commands", || self.apply_all(panels));
+        let windows = span("windows", || self.windows(&ctx));
+        acted |= span("commands", || self.apply_all(windows));
         self.runtime.status.log(now, &self.runtime.viewport);
         if acted || self.state.playing() || self.runtime.export.is_some() || self.rendering() {
             ctx.request_repaint();
@@ -468,27 +473,37 @@ impl ExplorerApp {
     fn panels(&mut self, ui: &mut egui::Ui) -> Vec<Command> {
         let mut commands = Vec::new();
         let (s, r) = (&mut self.state, &mut self.runtime);
-        egui::Panel::top("menu").show(ui, |ui| {
-            commands.extend(menu::menu_bar(ui, &mut s.mode, &mut s.mesh_resolution));
+        span("menu", || {
+            egui::Panel::top("menu").show(ui, |ui| {
+                commands.extend(menu::menu_bar(ui, &mut s.mode, &mut s.mesh_resolution));
+            })
         });
-        egui::Panel::bottom("status").show(ui, |ui| {
-            r.status.ui(ui, &r.viewport, s, r.export.as_ref());
+        span("status line", || {
+            egui::Panel::bottom("status").show(ui, |ui| {
+                r.status.ui(ui, &r.viewport, s, r.export.as_ref());
+            })
         });
-        egui::Panel::bottom("timeline").show(ui, |ui| {
-            let panel = &mut r.timeline_panel;
-            commands.extend(panel.ui(ui, &mut s.timeline, r.render.as_ref()));
+        span("timeline", || {
+            egui::Panel::bottom("timeline").show(ui, |ui| {
+                let panel = &mut r.timeline_panel;
+                commands.extend(panel.ui(ui, &mut s.timeline, r.render.as_ref()));
+            })
         });
-        egui::Panel::left("controls")
-            .resizable(true)
-            .default_size(320.0)
-            .show(ui, |ui| commands.extend(panels::controls(ui, s)));
+        span("controls", || {
+            egui::Panel::left("controls")
+                .resizable(true)
+                .default_size(320.0)
+                .show(ui, |ui| commands.extend(panels::controls(ui, s)))
+        });
         let options = ViewOptions {
             mode: s.mode,
             resolution_scale: s.resolution_scale,
             preview_samples: s.preview_samples,
             playing: s.playing(),
         };
-        egui::CentralPanel::no_frame().show(ui, |ui| r.viewport.ui(ui, &mut s.scene, options));
+        span("view", || {
+            egui::CentralPanel::no_frame().show(ui, |ui| r.viewport.ui(ui, &mut s.scene, options))
+        });
         commands
     }
 

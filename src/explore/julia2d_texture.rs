@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use super::frame_spans::span;
 use super::kernel_texture::KernelTarget;
 use super::precision_switch::{Either, PrecisionSwitch};
 use crate::gpu::{GpuJulia2d, GpuKernels, GpuReal};
@@ -86,13 +87,13 @@ impl<F: GpuReal> Julia2dView<F> {
         if [params.width, params.height] != size {
             return;
         }
-        self.ensure_target(size);
+        span("target", || self.ensure_target(size));
         let Some(t) = &self.target else { return };
         let device = &self.julia.context().device;
         let band = F::julia2d_view_uniform(&params, t.row_stride);
         let queue = &self.julia.context().queue;
         queue.write_buffer(&self.uniform, 0, &band);
-        let Ok(pipeline) = self.julia.pipeline() else {
+        let Ok(pipeline) = span("pipeline", || self.julia.pipeline()) else {
             return;
         };
         let mut encoder = device.create_command_encoder(&Default::default());

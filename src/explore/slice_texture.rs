@@ -42,8 +42,10 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::frame_spans::span;
 use super::denoise_worker::{DenoiseKey, DenoiseWorker, Request};
 use super::kernel_texture::KernelTarget;
+use super::pipeline_builder;
 use super::precision_switch::{Either, PrecisionSwitch};
 use crate::cpu::path::PathParams;
 use crate::denoise::Denoiser;
@@ -63,11 +65,13 @@ pub const INTERACTIVE_FPS: f64 = 15.0;
 /// Share of a frame's time the tracer may take while interacting (the rest is the UI's).
 const INTERACTIVE_SHARE: f64 = 0.45;
 /// Estimated GPU time one tile may take: the longest the UI can wait behind one.
-const TILE_SECONDS: f64 = 0.025;
-/// Estimated GPU time submitted per UI frame while the view changes, and while it refines
-/// (the UI then runs slower, but every tile still comes back within TILE_SECONDS).
-const FRAME_SECONDS: f64 = 0.035;
-const IDLE_FRAME_SECONDS: f64 = 0.08;
+const TILE_SECONDS: f64 = 0.015;
+/// Estimated GPU time submitted per UI frame, while the view changes and while it refines
+/// alike: at least one tile, and no tile past it. On a CPU adapter (lavapipe) a submission
+/// runs on the thread that submits it, so this is the frame's own share of the tracer; one
+/// figure for both keeps the frames even, and the UI as quick to answer while the view refines
+/// as while it moves. (A refining frame once took 80 ms and more: the soak's 95th percentile.)
+const FRAME_SECONDS: f64 = 0.03;
 /// Submissions in flight at most.
 const MAX_IN_FLIGHT: u32 = 4;
 /// How long the scene must stay unchanged before the full-resolution render starts.
@@ -126,6 +130,7 @@ pub struct TextureStats {
 
 /// The kernel a view runs: the tracer (Phong shading, and the step views' depth and steps) or
 /// the path tracer (path mode's shaded view).
+#[derive(Clone)]
 pub enum ViewKernel<F: GpuReal> {
     Phong(Arc<GpuTracer<F>>),
     Path(Arc<GpuPathTracer<F>>),
@@ -146,6 +151,41 @@ impl<F: GpuReal> ViewKernel<F> {
     fn is_path(&self) -> bool {
         matches!(self, ViewKernel::Path(_))
     }
+
+    /// The pipeline of a job's pipeline request where it is built, else None (nothing is
+    /// built).
+    fn held(&self, request: &PipelineRequest<F>) -> Option<wgpu::ComputePipeline> {
+        let (params, shade, readback) = request;
+        match self {
+            ViewKernel::Phong(tracer) => {
+                tracer.held_pipeline_reading(tracer.variant_for(params, *shade), *readback)
+            }
+            ViewKernel::Path(tracer) => tracer.held_pipeline_reading(params, *readback),
+        }
+    }
+
+    /// Builds the pipeline of a request (and holds it), or says why it cannot.
+    fn build(&self, request: &PipelineRequest<F>) -> crate::Result<wgpu::ComputePipeline> {
+        let (params, shade, readback) = request;
+        match self {
+            ViewKernel::Phong(tracer) => {
+                tracer.pipeline_reading(tracer.variant_for(params, *shade), *readback)
+            }
+            ViewKernel::Path(tracer) => tracer.pipeline_reading(params, *readback),
+        }
+    }
+}
+
+/// What a job's pipeline is made for: its params (their variant), whether it shades (the
+/// tracer's step views do not) and what it reads back.
+type PipelineRequest<F> = (TraceParams<F>, bool, Readback);
+
+/// A pipeline being built on the builder's thread ([`pipeline_builder`]): a new variant costs
+/// a compile (on lavapipe about half a second, more for the path tracer) that the UI's frame
+/// must not wait for. The view shows what it showed until the build is done.
+struct PipelineBuild<F: GpuReal> {
+    request: PipelineRequest<F>,
+    pending: pipeline_builder::Pending<crate::Result<wgpu::ComputePipeline>>,
 }
 
 /// A render in progress: which target, what, and how far.
@@ -290,6 +330,9 @@ pub struct SliceView<F: GpuReal = f32> {
     /// The last readback's buffer, unmapped, for the next.
     spare_readback: Option<wgpu::Buffer>,
     kept: Option<KeptRadiance>,
+    /// The pipeline being built, and the last request whose build failed (not asked again).
+    build: Option<PipelineBuild<F>>,
+    failed_build: Option<PipelineRequest<F>>,
     /// Tiles dispatched, and images encoded on the host (path mode), since the view was made.
     dispatches: u64,
     encodes: u64,
@@ -328,6 +371,8 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             radiance_readback: None,
             spare_readback: None,
             kept: None,
+            build: None,
+            failed_build: None,
             dispatches: 0,
             encodes: 0,
         }
@@ -339,6 +384,12 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
 
     pub fn stats(&self) -> &TextureStats {
         &self.stats
+    }
+
+    /// Whether a pipeline is being built for the scene asked for (the view shows the last
+    /// image meanwhile).
+    pub fn building_pipeline(&self) -> bool {
+        self.build.is_some()
     }
 
     /// Tiles dispatched since the view was made: a trace, however small, adds to it.
@@ -369,6 +420,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             .as_ref()
             .is_some_and(|(.., q)| *q == Quality::Preview);
         self.job.is_some()
+            || self.build.is_some()
             || self.in_flight.load(Ordering::Acquire) > 0
             || self.readback.is_some()
             || self.radiance_readback.is_some()
@@ -408,18 +460,21 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     /// call once per UI frame. `interacting` says the user is dragging or animating.
     pub fn update(&mut self, scene: &Scene, size: [u32; 2], interacting: bool) {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
-        self.kernel.context().device.poll(wgpu::PollType::Poll).ok();
+        span("poll", || {
+            self.kernel.context().device.poll(wgpu::PollType::Poll).ok()
+        });
         self.learn_cost();
+        self.reap_build();
         self.asked = scene.clone();
         self.display = Display::of(scene);
-        self.collect_radiance();
-        self.collect_denoised();
-        self.finish_job();
-        self.collect_readback();
+        span("collect mean", || self.collect_radiance());
+        span("collect denoised", || self.collect_denoised());
+        span("finish job", || self.finish_job());
+        span("collect steps", || self.collect_readback());
         // Path mode: a new display transform encodes the radiance shown again, at once; with a
         // denoiser, new keys denoise the mean shown again (and it is shown once denoised).
         if self.kept.as_ref().is_some_and(|k| self.to_encode(k)) {
-            self.show_kept();
+            span("show mean", || self.show_kept());
         }
         let scene = &traced_scene(scene);
 
@@ -467,11 +522,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 self.start(Quality::Full, scene, size, size);
             }
         }
-        self.submit_tiles(if interacting {
-            FRAME_SECONDS
-        } else {
-            IDLE_FRAME_SECONDS
-        });
+        span("submit", || self.submit_tiles(FRAME_SECONDS));
     }
 
     /// Learns the device's cost per pixel from the tiles finished since the last frame, as
@@ -493,8 +544,10 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             .clamp(1.0 / 16.0, 1.0)
     }
 
+    /// Starts a render of `scene` at `size` (the view's full size `full`) once its pipeline is
+    /// built; until then the view shows what it showed, and the next frame asks again.
     fn start(&mut self, quality: Quality, scene: &Scene, size: [u32; 2], full: [u32; 2]) {
-        self.last_start = Some((scene.clone(), full, quality));
+        let asked = scene;
         let mut scene = scene.clone();
         scene.image.width = size[0];
         scene.image.height = size[1];
@@ -508,27 +561,24 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             true => Readback::Hdr,
             false => Readback::All,
         };
+        let params = TraceParams::<F>::new(&scene);
+        // The step views show the steps alone: no shading needed.
+        let shade = scene.image.view.needs_shading();
+        let Some((pipeline, (params, ..))) = self.pipeline_for((params, shade, readback)) else {
+            return;
+        };
+        self.last_start = Some((asked.clone(), full, quality));
         if !self.kernel.is_path() && !aovs {
             // Phong mode's mean goes straight to the texture: nothing kept to show.
             self.kept = None;
         }
-        self.ensure_target(quality, size, aovs);
-        let params = TraceParams::<F>::new(&scene);
-        let (pipeline, path_uniform) = match &self.kernel {
-            ViewKernel::Phong(tracer) => {
-                // The step views show the steps alone: no shading needed.
-                let shade = scene.image.view.needs_shading();
-                let variant = tracer.variant_for(&params, shade);
-                (tracer.pipeline_reading(variant, readback), Vec::new())
-            }
-            ViewKernel::Path(tracer) => {
+        span("target", || self.ensure_target(quality, size, aovs));
+        let path_uniform = match &self.kernel {
+            ViewKernel::Phong(_) => Vec::new(),
+            ViewKernel::Path(_) => {
                 let path = GpuPathParams::new(&PathParams::<F>::new(&scene));
-                let bytes = bytemuck::bytes_of(&path).to_vec();
-                (tracer.pipeline_reading(&params, readback), bytes)
+                bytemuck::bytes_of(&path).to_vec()
             }
-        };
-        let Ok(pipeline) = pipeline else {
-            return;
         };
         let adaptive = params.adaptive();
         self.job = Some(Job {
@@ -546,7 +596,44 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         });
     }
 
-    /// Submits tiles of the current job: about `budget` seconds of GPU work.
+    /// The pipeline of `request` where it is built, with the request back; else None, and it
+    /// is built on the builder's thread, one build of the view's at a time ([`PipelineBuild`]).
+    /// A request whose build failed is not built again.
+    fn pipeline_for(
+        &mut self,
+        request: PipelineRequest<F>,
+    ) -> Option<(wgpu::ComputePipeline, PipelineRequest<F>)> {
+        if let Some(pipeline) = span("pipeline", || self.kernel.held(&request)) {
+            return Some((pipeline, request));
+        }
+        if self.build.is_some() || self.failed_build.as_ref() == Some(&request) {
+            return None;
+        }
+        let kernel = self.kernel.clone();
+        let asked = request.clone();
+        let pending = pipeline_builder::build(move || kernel.build(&asked));
+        self.build = Some(PipelineBuild { request, pending });
+        None
+    }
+
+    /// Ends a finished pipeline build: its pipeline is held by the kernel; a failure is kept,
+    /// so that its request is not built again, and said on stderr once.
+    fn reap_build(&mut self) {
+        if !self.build.as_ref().is_some_and(|b| b.pending.is_finished()) {
+            return;
+        }
+        let PipelineBuild { request, pending } = self.build.take().expect("checked above");
+        let failure = match pending.take() {
+            Some(Ok(Ok(_))) => return,
+            Some(Ok(Err(e))) => e.to_string(),
+            _ => "the build panicked".to_string(),
+        };
+        eprintln!("qjulia explore: the view's pipeline was not built: {failure}");
+        self.failed_build = Some(request);
+    }
+
+    /// Submits tiles of the current job: at most `budget` seconds of GPU work by the cost
+    /// learned, and at least one tile.
     fn submit_tiles(&mut self, budget: f64) {
         let Some(job) = &mut self.job else { return };
         let Some(target) = self.targets[job.quality as usize].as_ref() else {
@@ -555,15 +642,19 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let kernel = self.kernel.kernel();
         let (device, queue) = (&kernel.context().device, &kernel.context().queue);
         let width = target.width;
-        let tile_rows = ((TILE_SECONDS / (self.seconds_per_pixel * width as f64)) as u32)
-            .next_multiple_of(WORKGROUP_SIZE.1)
+        let row_seconds = self.seconds_per_pixel * width as f64;
+        let tile_rows = ((TILE_SECONDS / row_seconds) as u32 / WORKGROUP_SIZE.1 * WORKGROUP_SIZE.1)
             .max(WORKGROUP_SIZE.1);
         let mut budget = budget;
+        let mut first = true;
         while job.next_row < target.height
-            && budget > 0.0
             && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
         {
             let rows = tile_rows.min(target.height - job.next_row);
+            if !first && rows as f64 * row_seconds > budget {
+                break;
+            }
+            first = false;
             let band = Band {
                 row: job.next_row,
                 rows,
@@ -1214,6 +1305,11 @@ impl SliceTexture {
 
     pub fn stats(&self) -> &TextureStats {
         on_shown!(self.shown(), view => view.stats())
+    }
+
+    /// Whether the view shown waits for its pipeline to be built.
+    pub fn building_pipeline(&self) -> bool {
+        on_shown!(self.shown(), view => view.building_pipeline())
     }
 
     pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {

@@ -87,6 +87,12 @@ impl StatusLine {
                     if s.refined { "" } else { " (preview)" }
                 ));
                 ui.label(format!("render {:.0} ms", s.render_seconds * 1e3));
+                if view.building_pipeline() {
+                    ui.label("building the pipeline…").on_hover_text(
+                        "a new variant of the kernel is compiled off the UI's thread; the view \
+                         shows the last image meanwhile",
+                    );
+                }
                 // The precision the view runs in: f64 by itself where f32 cannot resolve it.
                 let precision = match view.precision() {
                     crate::precision::Precision::F64 => "f64 (deep zoom)",
@@ -165,8 +171,9 @@ impl StatusLine {
     /// shows (for measuring the explorer where no one watches it). With
     /// `QJULIA_EXPLORE_LOG=frames`, one line a frame instead: its number, the time the frame's
     /// own work took (from `now`, its start, to this call at its end: input, jobs polled,
-    /// panels and view) and the time since the last frame began (idle waits included), as
-    /// `explore frame 12: 3.41 ms work, 16.70 ms since the last`.
+    /// panels and view) and the time since the last frame began (idle waits included), then
+    /// the frame's spans of a millisecond or more ([`super::frame_spans`]), as
+    /// `explore frame 12: 3.41 ms work, 16.70 ms since the last; controls 1.20, view 2.05`.
     pub fn log(&mut self, now: Instant, viewport: &Viewport) {
         let mode = std::env::var_os("QJULIA_EXPLORE_LOG");
         if mode.as_ref().is_some_and(|v| v == "frames") {
@@ -174,9 +181,14 @@ impl StatusLine {
             let since = self
                 .last_logged
                 .map_or(0.0, |t| now.duration_since(t).as_secs_f64() * 1e3);
+            // The first frame logged turns the spans on; each frame's of a millisecond or
+            // more follow its figures.
+            super::frame_spans::keep(true);
+            let spans = super::frame_spans::take(1.0);
             eprintln!(
-                "explore frame {}: {work:.2} ms work, {since:.2} ms since the last",
-                self.frames_logged
+                "explore frame {}: {work:.2} ms work, {since:.2} ms since the last{}{spans}",
+                self.frames_logged,
+                if spans.is_empty() { "" } else { "; " }
             );
             self.frames_logged += 1;
             self.last_logged = Some(now);

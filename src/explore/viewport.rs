@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use super::frame_spans::span;
 use super::heat_texture::HeatTexture;
 use super::input;
 use super::julia2d_texture::Julia2dTexture;
@@ -17,6 +18,9 @@ use crate::scene::{Scene, View};
 
 /// The whole texture.
 const FULL_UV: egui::Rect = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+
+/// How often the view looks whether the pipeline it waits for is built.
+const BUILD_POLL: std::time::Duration = std::time::Duration::from_millis(20);
 
 /// How the view is drawn, besides the scene.
 #[derive(Clone, Copy, Debug)]
@@ -211,13 +215,19 @@ impl Viewport {
                 _ => stats.steps.as_ref().map(|s| (s, stats.steps_generation)),
             };
             if let Some(((values, size), generation)) = values {
-                HeatTexture::refresh(&mut self.heat, ui.ctx(), shown, values, *size, generation);
+                span("heat map", || {
+                    HeatTexture::refresh(&mut self.heat, ui.ctx(), shown, values, *size, generation)
+                });
             }
             if let Some(heat) = self.heat.as_ref().filter(|h| h.shows(shown)) {
                 heat.paint(ui.painter(), rect);
             }
         }
-        if view.busy() {
+        // Waiting for a pipeline alone is no work: look again soon, rather than spin frames
+        // beside the build on the same cores.
+        if view.building_pipeline() {
+            ui.ctx().request_repaint_after(BUILD_POLL);
+        } else if view.busy() {
             ui.ctx().request_repaint();
         }
     }

@@ -326,9 +326,30 @@ impl<F: GpuReal> GpuPathTracer<F> {
         params: &TraceParams<F>,
         readback: Readback,
     ) -> Result<wgpu::ComputePipeline> {
+        self.kernel
+            .pipeline(&self.constants_reading(params, readback))
+    }
+
+    /// As [`Self::pipeline_reading`] where that pipeline is built, else None: nothing is built
+    /// (the explorer's frame builds elsewhere).
+    pub fn held_pipeline_reading(
+        &self,
+        params: &TraceParams<F>,
+        readback: Readback,
+    ) -> Option<wgpu::ComputePipeline> {
+        self.kernel
+            .held_pipeline(&self.constants_reading(params, readback))
+    }
+
+    /// The constants of a scene's pipeline computing what `readback` reads.
+    fn constants_reading(
+        &self,
+        params: &TraceParams<F>,
+        readback: Readback,
+    ) -> Vec<(&'static str, f64)> {
         let mut constants = self.constants(params);
         constants.extend_from_slice(readback.constants());
-        self.kernel.pipeline(&constants)
+        constants
     }
 
     /// The override constants of a scene's pipeline: its path variant's (none where

@@ -145,9 +145,30 @@ impl<F: GpuReal> GpuTracer<F> {
         variant: Option<Variant>,
         readback: Readback,
     ) -> Result<wgpu::ComputePipeline> {
+        self.kernel
+            .pipeline(&self.constants_reading(variant, readback))
+    }
+
+    /// As [`Self::pipeline_reading`] where that pipeline is built, else None: nothing is built
+    /// (the explorer's frame builds elsewhere).
+    pub fn held_pipeline_reading(
+        &self,
+        variant: Option<Variant>,
+        readback: Readback,
+    ) -> Option<wgpu::ComputePipeline> {
+        self.kernel
+            .held_pipeline(&self.constants_reading(variant, readback))
+    }
+
+    /// The constants of a variant's pipeline computing what `readback` reads.
+    fn constants_reading(
+        &self,
+        variant: Option<Variant>,
+        readback: Readback,
+    ) -> Vec<(&'static str, f64)> {
         let mut constants = self.with_device_constants(variant);
         constants.extend_from_slice(readback.constants());
-        self.kernel.pipeline(&constants)
+        constants
     }
 
     /// A variant's constants (None: generic), the interleaving, the compaction and the

@@ -128,6 +128,8 @@ pub struct Kernel {
     /// Pipelines by their constants, whether each has run once (warmed up), and the least
     /// recently used dropped past [`pipeline::MAX_PIPELINES`].
     pipelines: Mutex<pipeline::Pipelines>,
+    /// Held while a pipeline is built ([`Kernel::pipeline`]).
+    building: Mutex<()>,
     /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
     /// at [`Kernel::new`] where the params are bound as storage.
     parsed: OnceLock<Option<specialise::Parsed>>,
@@ -202,6 +204,7 @@ impl Kernel {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(pipeline::Pipelines::default()),
+            building: Mutex::new(()),
             parsed,
             uniforms_as_storage,
             spare: Mutex::new(Vec::new()),

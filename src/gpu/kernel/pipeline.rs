@@ -84,12 +84,17 @@ impl Pipelines {
 impl Kernel {
     /// The pipeline for these override constants (empty: generic), built on first use and
     /// cached.
+    /// One build at a time: a second thread asking for the same pipeline waits for it rather
+    /// than building it again, and [`Self::held_pipeline`] never waits behind a build.
     pub fn pipeline(&self, constants: &[(&'static str, f64)]) -> Result<wgpu::ComputePipeline> {
-        let key = constants_key(constants);
-        let mut cache = self.pipelines.lock().expect("pipeline cache");
-        if let Some(p) = cache.get(&key) {
+        if let Some(p) = self.held_pipeline(constants) {
             return Ok(p);
         }
+        let _building = self.building.lock().expect("pipeline builds");
+        if let Some(p) = self.held_pipeline(constants) {
+            return Ok(p);
+        }
+        let key = constants_key(constants);
         let device = &self.ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // A specialisation runs its own module, its branches cut ([`super::specialise`]),
@@ -125,8 +130,16 @@ impl Kernel {
         if let Some(c) = &self.ctx.pipeline_cache {
             c.save();
         }
+        let mut cache = self.pipelines.lock().expect("pipeline cache");
         cache.insert(key, pipeline.clone());
         Ok(pipeline)
+    }
+
+    /// The pipeline for these override constants if it is built, else None: a caller that
+    /// must not wait for a build (the explorer's frame) builds it elsewhere.
+    pub fn held_pipeline(&self, constants: &[(&'static str, f64)]) -> Option<wgpu::ComputePipeline> {
+        let key = constants_key(constants);
+        self.pipelines.lock().expect("pipeline cache").get(&key)
     }
 
     /// The module of a specialisation (constants given), its branches cut; None for the
