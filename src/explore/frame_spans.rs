@@ -55,9 +55,13 @@ mod tests {
     #[test]
     fn spans_sum_by_name_within_a_frame_and_start_afresh() {
         keep(true);
-        span("a", || std::thread::sleep(std::time::Duration::from_millis(2)));
+        span("a", || {
+            std::thread::sleep(std::time::Duration::from_millis(2))
+        });
         span("b", || ());
-        span("a", || std::thread::sleep(std::time::Duration::from_millis(2)));
+        span("a", || {
+            std::thread::sleep(std::time::Duration::from_millis(2))
+        });
         let line = take(0.0);
         let a: f64 = line
             .split(", ")

@@ -116,6 +116,15 @@ impl<F: GpuReal> Julia2dView<F> {
         self.submitted = Some(params);
     }
 
+    /// Gives back the memory of a view not shown: its target (its egui texture freed). Shown
+    /// again, it renders afresh.
+    pub fn release(&mut self) {
+        if let Some(target) = self.target.take() {
+            self.renderer.write().free_texture(&target.texture_id);
+        }
+        self.submitted = None;
+    }
+
     /// Makes sure the target has this size, re-creating it if not.
     fn ensure_target(&mut self, size: [u32; 2]) {
         if self
@@ -179,6 +188,14 @@ impl Julia2dTexture {
                 view.render_seconds
             }
         };
+        self.views
+            .release_hidden(false, Julia2dView::release, Julia2dView::release);
+    }
+
+    /// Gives back the memory of both views (3D mode shows neither).
+    pub fn release(&mut self) {
+        self.views
+            .release_hidden(true, Julia2dView::release, Julia2dView::release);
     }
 
     /// The precision of the view shown.

@@ -73,6 +73,24 @@ impl<A, B> PrecisionSwitch<A, B> {
         Either::F32(&mut self.f32_view)
     }
 
+    /// Calls `release` on each view built that is not the one shown (`all`: on every view).
+    pub fn release_hidden(
+        &mut self,
+        all: bool,
+        release_f32: impl FnOnce(&mut A),
+        release_f64: impl FnOnce(&mut B),
+    ) {
+        let active = self.active;
+        if all || active != Precision::F32 {
+            release_f32(&mut self.f32_view);
+        }
+        if let Some(Ok(view)) = &mut self.f64_view
+            && (all || active != Precision::F64)
+        {
+            release_f64(view);
+        }
+    }
+
     /// The view shown now.
     pub fn shown(&self) -> Either<&A, &B> {
         match (&self.active, &self.f64_view) {

@@ -42,8 +42,8 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use super::frame_spans::span;
 use super::denoise_worker::{DenoiseKey, DenoiseWorker, Request};
+use super::frame_spans::span;
 use super::kernel_texture::KernelTarget;
 use super::pipeline_builder;
 use super::precision_switch::{Either, PrecisionSwitch};
@@ -392,6 +392,37 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         self.build.is_some()
     }
 
+    /// Gives back the memory of a view no longer shown (the other precision, the other
+    /// tracer, or the 3D view in 2D mode): its targets (their egui textures freed), its
+    /// readbacks and its kept mean. The kernel, its pipelines and the cost learned stay; shown
+    /// again, the view renders afresh. Without it each view kept its buffers at the last size
+    /// it was shown at, and the explorer's memory rose with every new pairing of a view and a
+    /// window size (the soak's working set).
+    pub fn release(&mut self) {
+        if self.targets.iter().all(Option::is_none)
+            && self.spare_readback.is_none()
+            && self.kept.is_none()
+            && self.radiance_readback.is_none()
+        {
+            return;
+        }
+        {
+            let mut renderer = self.renderer.write();
+            for target in self.targets.iter_mut().filter_map(Option::take) {
+                renderer.free_texture(&target.texture_id);
+            }
+        }
+        self.worker.drop_queued();
+        self.job = None;
+        self.shown = None;
+        self.wanted = None;
+        self.last_start = None;
+        self.readback = None;
+        self.radiance_readback = None;
+        self.spare_readback = None;
+        self.kept = None;
+    }
+
     /// Tiles dispatched since the view was made: a trace, however small, adds to it.
     pub fn dispatches(&self) -> u64 {
         self.dispatches
@@ -647,8 +678,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             .max(WORKGROUP_SIZE.1);
         let mut budget = budget;
         let mut first = true;
-        while job.next_row < target.height
-            && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
+        while job.next_row < target.height && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
         {
             let rows = tile_rows.min(target.height - job.next_row);
             if !first && rows as f64 * row_seconds > budget {
@@ -1258,6 +1288,7 @@ impl SliceTexture {
                     Either::F32(view) => view.update(scene, size, interacting),
                     Either::F64(view) => view.update(scene, size, interacting),
                 }
+                self.release_hidden();
                 return;
             }
         }
@@ -1272,6 +1303,26 @@ impl SliceTexture {
         match self.views.pick(scene, Picture::SHADED, build) {
             Either::F32(view) => view.update(scene, size, interacting),
             Either::F64(view) => view.update(scene, size, interacting),
+        }
+        self.release_hidden();
+    }
+
+    /// Gives back the memory of every view but the one shown ([`SliceView::release`]).
+    fn release_hidden(&mut self) {
+        let path = self.path_shown;
+        self.views
+            .release_hidden(path, SliceView::release, SliceView::release);
+        if let Some(Ok(views)) = &mut self.path_views {
+            views.release_hidden(!path, SliceView::release, SliceView::release);
+        }
+    }
+
+    /// Gives back the memory of every view (2D mode shows none of them).
+    pub fn release(&mut self) {
+        self.views
+            .release_hidden(true, SliceView::release, SliceView::release);
+        if let Some(Ok(views)) = &mut self.path_views {
+            views.release_hidden(true, SliceView::release, SliceView::release);
         }
     }
 

@@ -171,14 +171,21 @@ impl Viewport {
             (rect.width() * ppp).round().max(1.0) as u32,
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
+        // The mode not shown gives its views' memory back.
         match options.mode {
             Mode::Slice3d => {
                 input::mouse_3d(ui, rect, &response, &mut scene.camera);
                 self.view_3d(ui, rect, &response, scene, options);
+                if let Some(view2d) = &mut self.julia2d_texture {
+                    view2d.release();
+                }
             }
             Mode::Julia2d => {
                 input::mouse_2d(ui, rect, &response, &mut scene.view2d);
                 self.view_2d(ui, rect, scene, options);
+                if let Some(view) = &mut self.slice_texture {
+                    view.release();
+                }
             }
         }
     }

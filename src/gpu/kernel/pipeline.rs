@@ -137,7 +137,10 @@ impl Kernel {
 
     /// The pipeline for these override constants if it is built, else None: a caller that
     /// must not wait for a build (the explorer's frame) builds it elsewhere.
-    pub fn held_pipeline(&self, constants: &[(&'static str, f64)]) -> Option<wgpu::ComputePipeline> {
+    pub fn held_pipeline(
+        &self,
+        constants: &[(&'static str, f64)],
+    ) -> Option<wgpu::ComputePipeline> {
         let key = constants_key(constants);
         self.pipelines.lock().expect("pipeline cache").get(&key)
     }
