@@ -192,6 +192,53 @@ fn the_view_shows_the_headless_render_and_interaction_changes_it() {
     );
 }
 
+/// A mode not shown gives its view's memory back (its texture is gone), and shown again it
+/// renders afresh, the same picture.
+#[test]
+fn the_mode_not_shown_gives_its_memory_back_and_renders_again() {
+    let Some(mut harness) = harness("explorer_release") else {
+        return;
+    };
+    settle(&mut harness);
+    let first = shown_view(&mut harness);
+    assert!(harness.state().slice_texture().unwrap().texture().is_some());
+
+    harness.state_mut().mode = Mode::Julia2d;
+    settle(&mut harness);
+    assert!(
+        harness
+            .state()
+            .julia2d_texture()
+            .unwrap()
+            .texture()
+            .is_some()
+    );
+    assert!(
+        harness.state().slice_texture().unwrap().texture().is_none(),
+        "the 3D view kept its texture in 2D mode"
+    );
+
+    harness.state_mut().mode = Mode::Slice3d;
+    settle(&mut harness);
+    assert!(
+        harness
+            .state()
+            .julia2d_texture()
+            .unwrap()
+            .texture()
+            .is_none(),
+        "the 2D view kept its texture in 3D mode"
+    );
+    let again = shown_view(&mut harness);
+    common::assert_agree("explorer_release", &first, &again, &EXACT);
+    common::assert_agree(
+        "explorer_release_headless",
+        &headless(&harness),
+        &again,
+        &qjulia::compare::CONTRACT_TOLERANCE,
+    );
+}
+
 /// The picture `render2d` draws of the view's scene, on the same kernel (depth zeroed, as the
 /// screen has none).
 fn headless_2d(harness: &Harness<'static, ExplorerApp>) -> Frame {

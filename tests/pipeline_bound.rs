@@ -68,3 +68,27 @@ fn the_tracer_holds_at_most_max_pipelines_and_a_dropped_one_renders_the_same_byt
     assert_eq!(bits(&first), bits(&again), "the rebuilt pipeline's depths");
     assert_eq!(first.steps, again.steps, "the rebuilt pipeline's steps");
 }
+
+/// What the explorer's frame asks of a kernel: a pipeline not built is None, and nothing is
+/// built by asking; once built (on another thread, as the explorer's builder does), it is held.
+#[test]
+fn a_held_pipeline_is_only_looked_up_and_a_build_on_another_thread_is_held() {
+    let Some(kernels) = common::kernels("held pipeline") else {
+        return;
+    };
+    let tracer = kernels.tracer().expect("the tracer");
+    let scene = common::scene(&["image.width=16", "image.height=16", "cut.enabled=true"]);
+    let params = qjulia::TraceParams::<f32>::new(&scene);
+    let variant = tracer.variant_for(&params, true);
+    let readback = qjulia::gpu::Readback::All;
+    let held = tracer.pipelines_held();
+    assert!(tracer.held_pipeline_reading(variant, readback).is_none());
+    assert_eq!(tracer.pipelines_held(), held, "asking built a pipeline");
+    let builder = tracer.clone();
+    std::thread::spawn(move || builder.pipeline_reading(variant, readback).map(|_| ()))
+        .join()
+        .expect("the build's thread")
+        .expect("the build");
+    assert!(tracer.held_pipeline_reading(variant, readback).is_some());
+    assert_eq!(tracer.pipelines_held(), held + 1);
+}

@@ -179,14 +179,12 @@ fn fractal(ui: &mut egui::Ui, f: &mut Fractal) -> Option<Command> {
 fn view2d(ui: &mut egui::Ui, c: &[f64], v: &mut View2d) {
     ui.label(format!("c = {:.4} {:+.4} i (c real, c i)", c[0], c[1]));
     let speed = 0.002 * v.extent;
-    ui.horizontal(|ui| {
-        ui.add(egui::DragValue::new(&mut v.center[0]).speed(speed));
-        ui.label("centre real");
-    });
-    ui.horizontal(|ui| {
-        ui.add(egui::DragValue::new(&mut v.center[1]).speed(speed));
-        ui.label("centre imaginary");
-    });
+    for (value, name) in v.center.iter_mut().zip(["centre real", "centre imaginary"]) {
+        ui.horizontal(|ui| {
+            let drag = ui.add(egui::DragValue::new(value).speed(speed));
+            drag.labelled_by(ui.label(name).id);
+        });
+    }
     ui.add(key_slider(&mut v.extent, "view2d.extent").text("extent (width)"));
     ui.add(key_slider_u32(&mut v.max_iterations, "view2d.max_iterations").text("2D iterations"));
     ui.label("Drag to pan, wheel to zoom about the pointer.");
@@ -466,15 +464,21 @@ fn direction(ui: &mut egui::Ui, v: &mut [f64; 3], name: &str) {
 fn linear_colour(ui: &mut egui::Ui, colour: &mut [f64; 3], name: &str) {
     ui.horizontal(|ui| {
         colour_edit(ui, colour);
-        for c in colour.iter_mut() {
-            ui.add(
-                egui::DragValue::new(c)
-                    .speed(0.005)
-                    .range(0.0..=f64::INFINITY)
-                    .max_decimals(3),
-            );
+        let drags: Vec<egui::Response> = colour
+            .iter_mut()
+            .map(|c| {
+                ui.add(
+                    egui::DragValue::new(c)
+                        .speed(0.005)
+                        .range(0.0..=f64::INFINITY)
+                        .max_decimals(3),
+                )
+            })
+            .collect();
+        let label = ui.label(name).id;
+        for drag in drags {
+            drag.labelled_by(label);
         }
-        ui.label(name);
     });
 }
 

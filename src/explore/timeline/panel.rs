@@ -52,9 +52,10 @@ impl TimelinePanel {
                 commands.push(Command::ToggleTimelinePlay);
             }
             let mut frame = timeline.frame;
-            ui.label("frame");
+            let label = ui.label("frame").id;
             if ui
                 .add(egui::DragValue::new(&mut frame).range(0..=last))
+                .labelled_by(label)
                 .changed()
             {
                 commands.push(Command::ShowFrame(frame));
@@ -62,26 +63,29 @@ impl TimelinePanel {
             ui.label(format!("/ {last}"));
             ui.separator();
             let mut frames = timeline.animation.frames;
-            ui.label("frames");
+            let label = ui.label("frames").id;
             if ui
                 .add(egui::DragValue::new(&mut frames).range(FRAMES_MIN..=FRAMES_MAX))
+                .labelled_by(label)
                 .on_hover_text("frame count (not below the last keyframe)")
                 .changed()
             {
                 timeline.set_frames(frames);
             }
-            ui.label("fps");
+            let label = ui.label("fps").id;
             ui.add(
                 egui::DragValue::new(&mut timeline.animation.fps)
                     .range(0.1..=1000.0)
                     .speed(0.1),
-            );
-            ui.label("c path radius");
+            )
+            .labelled_by(label);
+            let label = ui.label("c path radius").id;
             ui.add(
                 egui::DragValue::new(&mut timeline.animation.path_radius)
                     .range(0.0..=10.0)
                     .speed(0.001),
             )
+            .labelled_by(label)
             .on_hover_text("c's closed loop when no keyframe sets c");
             ui.separator();
             if ui
@@ -93,9 +97,10 @@ impl TimelinePanel {
             }
             if let Some(selected) = timeline.selected {
                 let mut to = selected;
-                ui.label("key at");
+                let label = ui.label("key at").id;
                 if ui
                     .add(egui::DragValue::new(&mut to).range(0..=last))
+                    .labelled_by(label)
                     .on_hover_text("move the selected keyframe")
                     .changed()
                     && !timeline.move_key(selected, to)
@@ -325,10 +330,12 @@ impl RenderWindow {
                 let mut last = r.last.unwrap_or(last_frame).min(last_frame);
                 r.first = r.first.min(last_frame);
                 ui.horizontal(|ui| {
-                    ui.label("frames");
-                    ui.add(egui::DragValue::new(&mut r.first).range(0..=last_frame));
-                    ui.label("to");
-                    ui.add(egui::DragValue::new(&mut last).range(0..=last_frame));
+                    let label = ui.label("frames").id;
+                    ui.add(egui::DragValue::new(&mut r.first).range(0..=last_frame))
+                        .labelled_by(label);
+                    let label = ui.label("to").id;
+                    ui.add(egui::DragValue::new(&mut last).range(0..=last_frame))
+                        .labelled_by(label);
                     ui.label(format!("(of 0 to {last_frame})"));
                 });
                 r.last = (last != last_frame).then_some(last);
