@@ -176,7 +176,7 @@ impl VideoWriter {
         if stdin.write_all(rgb).is_err() {
             // ffmpeg stopped reading: it failed, and says why; how it ended too, where it has
             // (killed, crashed, failed).
-            let what = match self.child.try_wait().ok().flatten() {
+            let what = match self.ended() {
                 Some(status) => format!("stopped reading frames ({status})"),
                 None => "stopped reading frames".to_string(),
             };
@@ -184,6 +184,22 @@ impl VideoWriter {
         }
         self.frames += 1;
         Ok(())
+    }
+
+    /// How ffmpeg ended, once it has, waiting up to 2 s: a dying process's pipe closes a
+    /// moment before its exit status is there (the kernel closes its files first), and a
+    /// `try_wait` at once could miss a SIGKILL that had already struck.
+    fn ended(&mut self) -> Option<std::process::ExitStatus> {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(2);
+        loop {
+            match self.child.try_wait() {
+                Ok(Some(status)) => return Some(status),
+                Ok(None) if std::time::Instant::now() < deadline => {
+                    std::thread::sleep(std::time::Duration::from_millis(5))
+                }
+                _ => return None,
+            }
+        }
     }
 
     /// Frames pushed so far.
