@@ -81,14 +81,17 @@ fn a_held_pipeline_is_only_looked_up_and_a_build_on_another_thread_is_held() {
     let params = qjulia::TraceParams::<f32>::new(&scene);
     let variant = tracer.variant_for(&params, true);
     let readback = qjulia::gpu::Readback::All;
-    let held = tracer.pipelines_held();
+    // The kernels are shared with the test beside this one: counts of pipelines race, so
+    // asking twice stands for "asking built nothing".
     assert!(tracer.held_pipeline_reading(variant, readback).is_none());
-    assert_eq!(tracer.pipelines_held(), held, "asking built a pipeline");
+    assert!(
+        tracer.held_pipeline_reading(variant, readback).is_none(),
+        "asking built the pipeline"
+    );
     let builder = tracer.clone();
     std::thread::spawn(move || builder.pipeline_reading(variant, readback).map(|_| ()))
         .join()
         .expect("the build's thread")
         .expect("the build");
     assert!(tracer.held_pipeline_reading(variant, readback).is_some());
-    assert_eq!(tracer.pipelines_held(), held + 1);
 }
