@@ -79,7 +79,8 @@ fn a_held_pipeline_is_only_looked_up_and_a_build_on_another_thread_is_held() {
     let tracer = kernels.tracer().expect("the tracer");
     let scene = common::scene(&["image.width=16", "image.height=16", "cut.enabled=true"]);
     let params = qjulia::TraceParams::<f32>::new(&scene);
-    let variant = tracer.variant_for(&params, true);
+    // Unshaded (a step view's variant): the test beside this one renders shaded scenes only.
+    let variant = tracer.variant_for(&params, false);
     let readback = qjulia::gpu::Readback::All;
     // The kernels are shared with the test beside this one: counts of pipelines race, so
     // asking twice stands for "asking built nothing".
