@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Samples per second of path mode against Mandelbulber2 2.20's Monte Carlo mode on the seed's
 # scene, side by side in one run: the two alternate, RUNS times each (default 9), and the medians
-# are printed. MB2 renders ../shared/peers/mandelbulber/qjulia_mc64.fract (global illumination,
+# are printed. MB2 renders benches/peers/mandelbulber/qjulia_mc64.fract (global illumination,
 # 3 bounces, MC soft shadows, 64 samples; its Monte Carlo settings live in the file, since
 # --override ignores them); qjulia renders the default scene in path mode with the same bounces
 # and samples, the sun on along the seed's light direction. Both at SIZE x SIZE (default 128).
@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 q=$(realpath "${1:-target/release/qjulia}")
 runs=${2:-9}
 size=${3:-128}
-fract=$(realpath ../shared/peers/mandelbulber/qjulia_mc64.fract)
+fract=$(realpath benches/peers/mandelbulber/qjulia_mc64.fract)
 command -v mandelbulber2 >/dev/null || { echo "mandelbulber2 is not installed (apt-get install -y mandelbulber2)"; exit 1; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -1,4 +1,4 @@
-// The quaternion Julia set ray tracer of Crane (2005), fixed as CONTRACT.md defines it:
+// The quaternion Julia set ray tracer of Crane (2005), fixed as docs/CONTRACT.md defines it:
 // one invocation per pixel, through the distance estimate, sphere tracing, the normal, Phong
 // shading and the shadow ray.
 //
@@ -860,7 +860,7 @@ fn camera_ray_at(x: Real, y: Real) -> vec3<Real> {
 }
 
 // The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
-// (CONTRACT.md's camera); sample 0 goes through the pixel's centre.
+// (docs/CONTRACT.md's camera); sample 0 goes through the pixel's centre.
 fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
     let s = sample_position(sample);
     return camera_ray_at(Real(i) + s.x, Real(j) + s.y);

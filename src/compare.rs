@@ -21,7 +21,7 @@ pub struct Tolerance {
     pub colour_agreement: f64,
 }
 
-/// CONTRACT.md's tolerance between the GPU and the CPU reference in f32, and between a faster
+/// docs/CONTRACT.md's tolerance between the GPU and the CPU reference in f32, and between a faster
 /// tracing and the seed tracing: masks on 99.5%, depth within 1e-3 on 99% of common hits,
 /// colour within 2/255 on 99% of pixels.
 pub const CONTRACT_TOLERANCE: Tolerance = Tolerance {

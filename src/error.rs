@@ -1,4 +1,4 @@
-//! The library's errors, each knowing the exit code CONTRACT.md gives it.
+//! The library's errors, each knowing the exit code docs/CONTRACT.md gives it.
 
 use std::path::PathBuf;
 

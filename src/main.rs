@@ -1,4 +1,4 @@
-//! The `qjulia` binary: parses the command line and maps errors to CONTRACT.md's exit codes.
+//! The `qjulia` binary: parses the command line and maps errors to docs/CONTRACT.md's exit codes.
 
 mod cli;
 

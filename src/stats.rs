@@ -12,7 +12,7 @@ use crate::frame::Frame;
 /// test checks they agree), the lanes that wait for each other's steps.
 pub const DIVERGENCE_BLOCK: u32 = 8;
 
-/// The figures of a frame (CONTRACT.md's `--stats`).
+/// The figures of a frame (docs/CONTRACT.md's `--stats`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Summary {
     pub hit_fraction: f64,
@@ -41,7 +41,7 @@ impl Summary {
     }
 }
 
-/// What `--stats` writes (CONTRACT.md): how a frame was made and what it holds.
+/// What `--stats` writes (docs/CONTRACT.md): how a frame was made and what it holds.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RenderStats {
     /// "gpu" or "cpu".

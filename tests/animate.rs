@@ -1,4 +1,4 @@
-//! `qjulia animate` through the binary (CONTRACT.md's additions): frames in any split are
+//! `qjulia animate` through the binary (docs/CONTRACT.md's additions): frames in any split are
 //! byte-identical, `--resume` completes an interrupted run with the same bytes, bad ranges exit 2
 //! with nothing written, each frame's PNG renders again to the same bytes, complete frames stay
 //! when a later one fails, and `--stats` has its fields. Small frames (48x32) of a six-frame

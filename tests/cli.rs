@@ -1,4 +1,4 @@
-//! The command line as a user meets it (CONTRACT.md): default output, bad input, atomic writes,
+//! The command line as a user meets it (docs/CONTRACT.md): default output, bad input, atomic writes,
 //! re-rendering from a PNG, the .npy and JSON outputs.
 
 mod common;

@@ -151,7 +151,7 @@ fn hit_point<F: Real>(params: &TraceParams<F>, i: u32, j: u32, t: f64) -> [f64; 
     [0, 1, 2].map(|c| eye[c] + t * dir[c])
 }
 
-/// The seed's Phong (CONTRACT.md) of the plane's normal at p, in f64, as 8-bit channels.
+/// The seed's Phong (docs/CONTRACT.md) of the plane's normal at p, in f64, as 8-bit channels.
 fn plane_phong(scene: &Scene, p: [f64; 3]) -> [f64; 3] {
     let n = normalise(N);
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];

@@ -179,7 +179,7 @@ fn unit_ball_on_the_gpu() {
 }
 
 /// The complex distance estimate, written independently of the quaternion code, with
-/// CONTRACT.md's rule that d = 0 where it cannot be formed (and the documented thresholds).
+/// docs/CONTRACT.md's rule that d = 0 where it cannot be formed (and the documented thresholds).
 fn complex_estimate(
     x: f64,
     y: f64,

@@ -207,7 +207,7 @@ fn cone_tracing_on_both_and_within_tolerance_of_the_seed() {
     );
     // Against the seed's tracing: the same hits, fewer steps. Depth and colour move within the
     // epsilon shell (a ray started elsewhere meets the shell at another sample), beyond
-    // CONTRACT.md's depth tolerance of 1e-3 on many pixels, so the cone is an option measured by
+    // docs/CONTRACT.md's depth tolerance of 1e-3 on many pixels, so the cone is an option measured by
     // the work-precision report, not the default.
     for extra in [
         &[][..],

@@ -156,7 +156,7 @@ fn the_seeds_look_is_closed_inside_its_ball_and_matches_the_renders_silhouette()
         })
         .count();
     assert_eq!(outside, 0, "vertices outside the bounding ball");
-    // Project every vertex with CONTRACT.md's camera and look it up in the render's hit mask.
+    // Project every vertex with docs/CONTRACT.md's camera and look it up in the render's hit mask.
     let (w, h) = (scene.image.width as i64, scene.image.height as i64);
     let mask = hit_mask(&scene);
     let frame = scene.camera_frame();

@@ -1,4 +1,4 @@
-//! The command line (CONTRACT.md): argument parsing and wiring only. This file holds the
+//! The command line (docs/CONTRACT.md): argument parsing and wiring only. This file holds the
 //! arguments and how they become a scene and a planner; `commands` runs each command,
 //! `report` the reports.
 

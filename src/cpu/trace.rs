@@ -827,7 +827,7 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
-    /// (CONTRACT.md's camera); sample 0 goes through the pixel's centre.
+    /// (docs/CONTRACT.md's camera); sample 0 goes through the pixel's centre.
     pub fn camera_ray(&self, i: u32, j: u32, sample: u32) -> Vec3<F> {
         let (sx, sy) = sample_position::<F>(sample);
         self.camera_ray_at(F::lit(i as f64) + sx, F::lit(j as f64) + sy)

@@ -204,7 +204,7 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
-    /// Picks an adapter the way CONTRACT.md asks (honouring `WGPU_BACKEND` and
+    /// Picks an adapter the way docs/CONTRACT.md asks (honouring `WGPU_BACKEND` and
     /// `WGPU_ADAPTER_NAME`) and creates a device with the adapter's own limits and the optional
     /// features qjulia uses (timestamp queries, f64) where it has them.
     pub fn new() -> Result<Self> {

@@ -46,7 +46,7 @@ impl Work {
 /// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
 pub(super) const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
 
-/// Why f64 is refused on a GPU (CONTRACT.md: only where the adapter has SHADER_F64 and the
+/// Why f64 is refused on a GPU (docs/CONTRACT.md: only where the adapter has SHADER_F64 and the
 /// start-up check passes); the check's reason follows it.
 pub const GPU_F64_UNSUPPORTED: &str = "--precision f64 is not available on the GPU";
 

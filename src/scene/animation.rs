@@ -1,6 +1,6 @@
 //! Animation: the scene file's `[animation]` table (frame count, frames per second, keyframes)
 //! and the resolved scene of each frame, a function of the scene options and the frame's index
-//! alone (CONTRACT.md's additions).
+//! alone (docs/CONTRACT.md's additions).
 //!
 //! Each animated value has a track: the keyframes that set it, by frame. Between two of its
 //! keys the track is a cubic Hermite segment with Catmull-Rom tangents (finite differences over

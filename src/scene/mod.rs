@@ -234,7 +234,7 @@ impl PathSampler {
 }
 
 scene_schema! {
-    /// Everything one picture depends on. Defaults reproduce the seed's constants (CONTRACT.md).
+    /// Everything one picture depends on. Defaults reproduce the seed's constants (docs/CONTRACT.md).
     pub struct Scene {
         fractal: Fractal "" {
             /// The algebra z and c live in: quaternions (4D), octonions (8D) or sedenions (16D).
@@ -267,7 +267,7 @@ scene_schema! {
             /// off, the seed's fixed epsilon only).
             pixel_epsilon: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 4.0),
                 "also hit below this many pixel footprints, {range} (0 = off, the seed)";
-            /// "seed": every ray sphere-traced from the bounding ball (CONTRACT.md's
+            /// "seed": every ray sphere-traced from the bounding ball (docs/CONTRACT.md's
             /// definitions, exactly); "cone": each 8x8 block of rays first marches one cone, and
             /// its rays start where the cone stopped.
             tracing: Tracing = Tracing::Seed, choice(),
@@ -552,7 +552,7 @@ impl Scene {
         toml::to_string(self).expect("a scene always serialises to TOML")
     }
 
-    /// The camera's orthonormal frame (forward, right, up) as CONTRACT.md defines it.
+    /// The camera's orthonormal frame (forward, right, up) as docs/CONTRACT.md defines it.
     /// Valid for any validated scene.
     pub fn camera_frame(&self) -> CameraFrame {
         let eye = glam::DVec3::from_array(self.camera.eye);
