@@ -27,7 +27,7 @@ fn main() {
         },
         sun: Sun {
             direction: sun_dir,
-            cos_radius: (2.0f32).to_radians().cos(),
+            one_minus_cos: qjulia::cpu::light::sun_one_minus_cos(2.0) as f32,
             irradiance: Vec3::splat(3.0),
         },
         light_intensity: Vec3::zero(),

@@ -31,7 +31,7 @@ fn probe_sky() -> Sky {
 }
 
 fn probe_sun() -> Sun {
-    return Sun(normalize(vec3<f32>(0.3, 0.8, 0.52)), 0.99, vec3<f32>(3.0, 2.0, 1.0));
+    return Sun(normalize(vec3<f32>(0.3, 0.8, 0.52)), 0.01, vec3<f32>(3.0, 2.0, 1.0));
 }
 
 fn probe_sphere_light() -> SphereLight {

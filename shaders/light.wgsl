@@ -18,11 +18,12 @@ struct Sky {
     intensity: f32,
 }
 
-// The sun (keep in sync with `Sun`): toward the sun, the cosine of its angular radius, its
-// colour times its intensity (0: no sun).
+// The sun (keep in sync with `Sun`): toward the sun, 1 - the cosine of its angular radius (made
+// on the host in f64, where cos(0.01 degrees) does not round to 1), its colour times its
+// intensity (0: no sun).
 struct Sun {
     direction: vec3<f32>,
-    cos_radius: f32,
+    one_minus_cos: f32,
     irradiance: vec3<f32>,
 }
 
@@ -58,16 +59,27 @@ fn sky_radiance(sky: Sky, d: vec3<f32>) -> vec3<f32> {
     return c * sky.intensity;
 }
 
-// The solid angle of a cone of half-angle acos(cos_max): 2 pi (1 - cos_max).
-fn cone_solid_angle(cos_max: f32) -> f32 {
-    return 2.0 * PI * (1.0 - cos_max);
+// The solid angle of a cone of half-angle theta, from 1 - cos(theta): 2 pi (1 - cos(theta)).
+fn cone_solid_angle(one_minus_cos: f32) -> f32 {
+    return 2.0 * PI * one_minus_cos;
 }
 
-// A direction uniform over the cone about `axis` (unit) with cos(theta) >= cos_max, from u in
-// [0, 1)^2: cos(theta) = 1 - u.x (1 - cos_max), phi = 2 pi u.y. Its density is 1 / solid angle.
-fn sample_cone(axis: vec3<f32>, cos_max: f32, u: vec2<f32>) -> vec3<f32> {
-    let c = 1.0 - u.x * (1.0 - cos_max);
-    let s = sqrt(max(1.0 - c * c, 0.0));
+// Whether the unit direction d lies in the cone about `axis` (unit) of half-angle theta, given
+// 1 - cos(theta): 1 - cos(d, axis) = |d - axis|^2 / 2 for unit vectors, a difference that keeps
+// its precision where the cosine itself rounds to 1.
+fn in_cone(axis: vec3<f32>, one_minus_cos: f32, d: vec3<f32>) -> bool {
+    let e = d - axis;
+    return 0.5 * dot(e, e) <= one_minus_cos;
+}
+
+// A direction uniform over the cone about `axis` (unit) of half-angle theta, given 1 - cos(theta),
+// from u in [0, 1)^2: 1 - cos = u.x (1 - cos(theta)), sin = sqrt((1 - cos) (1 + cos)), phi = 2 pi
+// u.y, each formed without cancellation (pbrt-v4's small-angle care). Its density is 1 / solid
+// angle.
+fn sample_cone(axis: vec3<f32>, one_minus_cos: f32, u: vec2<f32>) -> vec3<f32> {
+    let h = u.x * one_minus_cos;
+    let c = 1.0 - h;
+    let s = sqrt(max(h * (2.0 - h), 0.0));
     let phi = 2.0 * PI * u.y;
     let f = basis_from_normal(axis);
     return to_world(f, vec3<f32>(s * cos(phi), s * sin(phi), c));
@@ -75,57 +87,72 @@ fn sample_cone(axis: vec3<f32>, cos_max: f32, u: vec2<f32>) -> vec3<f32> {
 
 // The sun's radiance along d (unit): irradiance / solid angle inside its disc, 0 outside.
 fn sun_radiance(sun: Sun, d: vec3<f32>) -> vec3<f32> {
-    if dot(d, sun.direction) < sun.cos_radius {
+    if !in_cone(sun.direction, sun.one_minus_cos, d) {
         return vec3<f32>(0.0);
     }
-    return sun.irradiance / cone_solid_angle(sun.cos_radius);
+    return sun.irradiance / cone_solid_angle(sun.one_minus_cos);
 }
 
 // A direction toward the sun's disc, uniform over it.
 fn sample_sun(sun: Sun, u: vec2<f32>) -> LightSample {
-    let wi = sample_cone(sun.direction, sun.cos_radius, u);
-    let omega = cone_solid_angle(sun.cos_radius);
+    let wi = sample_cone(sun.direction, sun.one_minus_cos, u);
+    let omega = cone_solid_angle(sun.one_minus_cos);
     return LightSample(wi, sun.irradiance / omega, 1.0 / omega, 3.4e38, false);
 }
 
 // The density with which sample_sun draws d: 1 / solid angle inside the disc, 0 outside.
 fn sun_pdf(sun: Sun, d: vec3<f32>) -> f32 {
-    if dot(d, sun.direction) < sun.cos_radius {
+    if !in_cone(sun.direction, sun.one_minus_cos, d) {
         return 0.0;
     }
-    return 1.0 / cone_solid_angle(sun.cos_radius);
+    return 1.0 / cone_solid_angle(sun.one_minus_cos);
 }
 
-// The nearest t > 0 where origin + t d (d unit) meets the sphere, or -1.
+// The nearest t > 0 where origin + t d (d unit) meets the sphere, or -1. The discriminant is
+// r^2 - |oc - b d|^2 (the squared distance from the centre to the line, not b^2 - c, which
+// cancels for a small or far sphere), and the nearer root comes from the farther one by
+// t0 t1 = c (Ray Tracing Gems, chapter 7).
 fn intersect_sphere(origin: vec3<f32>, d: vec3<f32>, center: vec3<f32>, radius: f32) -> f32 {
     let oc = origin - center;
     let b = dot(oc, d);
     let c = dot(oc, oc) - radius * radius;
-    let disc = b * b - c;
+    let foot = oc - b * d;
+    let disc = radius * radius - dot(foot, foot);
     if disc < 0.0 {
         return -1.0;
     }
     let root = sqrt(disc);
-    let t0 = -b - root;
+    // q = -(b + sign(b) root): its two terms never cancel.
+    var q = -b + root;
+    if b > 0.0 {
+        q = -b - root;
+    }
+    if q == 0.0 {
+        return -1.0;
+    }
+    let t0 = min(q, c / q);
+    let t1 = max(q, c / q);
     if t0 > 0.0 {
         return t0;
     }
-    let t1 = -b + root;
     if t1 > 0.0 {
         return t1;
     }
     return -1.0;
 }
 
-// The cosine of the half-angle the sphere light subtends from p (1 when p is inside it, where
-// it cannot be sampled).
-fn sphere_light_cos_max(light: SphereLight, p: vec3<f32>) -> f32 {
+// 1 - the cosine of the half-angle the sphere light subtends from p, in the stable form
+// (r^2 / d^2) / (1 + cos): sin^2 = r^2 / d^2 and 1 - cos = sin^2 / (1 + cos), which keeps its
+// precision where the cosine rounds to 1 (a small or far light). 0 when p is inside the light,
+// where it cannot be sampled.
+fn sphere_light_one_minus_cos(light: SphereLight, p: vec3<f32>) -> f32 {
     let d2 = dot(light.center - p, light.center - p);
     let r2 = light.radius * light.radius;
     if d2 <= r2 {
-        return 1.0;
+        return 0.0;
     }
-    return sqrt(max(1.0 - r2 / d2, 0.0));
+    let sin2 = r2 / d2;
+    return sin2 / (1.0 + sqrt(max(1.0 - sin2, 0.0)));
 }
 
 // The sphere light's radiance: intensity / (pi r^2), so that it gives `intensity` at distance 1.
@@ -143,39 +170,40 @@ fn sample_sphere_light(light: SphereLight, p: vec3<f32>, u: vec2<f32>) -> LightS
     if light.radius <= 0.0 {
         return LightSample(axis, light.intensity / (d * d), 1.0, d, true);
     }
-    let cos_max = sphere_light_cos_max(light, p);
-    if cos_max >= 1.0 {
+    let one_minus_cos = sphere_light_one_minus_cos(light, p);
+    if one_minus_cos <= 0.0 {
         return LightSample(axis, vec3<f32>(0.0), 0.0, 0.0, false);
     }
-    let wi = sample_cone(axis, cos_max, u);
+    let wi = sample_cone(axis, one_minus_cos, u);
     var t = intersect_sphere(p, wi, light.center, light.radius);
     if t < 0.0 {
         // A direction at the cone's rim by rounding: the tangent point's distance.
         t = sqrt(max(d * d - light.radius * light.radius, 0.0));
     }
-    return LightSample(wi, sphere_light_radiance(light), 1.0 / cone_solid_angle(cos_max), t, false);
+    return LightSample(wi, sphere_light_radiance(light), 1.0 / cone_solid_angle(one_minus_cos), t, false);
 }
 
-// The density with which sample_sphere_light draws wi from p (0 if wi misses the light, or for a
-// point light, which no direction hits).
+// The density with which sample_sphere_light draws wi from p: 1 / solid angle inside the cone
+// the light subtends (in_cone, the region sample_cone draws from), 0 outside it, and 0 for a
+// point light, which no direction hits.
 fn sphere_light_pdf(light: SphereLight, p: vec3<f32>, wi: vec3<f32>) -> f32 {
     if light.radius <= 0.0 {
         return 0.0;
     }
-    let cos_max = sphere_light_cos_max(light, p);
-    if cos_max >= 1.0 || intersect_sphere(p, wi, light.center, light.radius) < 0.0 {
+    let one_minus_cos = sphere_light_one_minus_cos(light, p);
+    if one_minus_cos <= 0.0 || !in_cone(normalize(light.center - p), one_minus_cos, wi) {
         return 0.0;
     }
-    return 1.0 / cone_solid_angle(cos_max);
+    return 1.0 / cone_solid_angle(one_minus_cos);
 }
 
 // The power heuristic (Veach 1997, beta = 2): the weight of a sample drawn with density a
-// against another strategy's density b.
+// against another strategy's density b, a^2 / (a^2 + b^2), formed as 1 / (1 + (b / a)^2) so that
+// the density of a tiny light (1e9 and more) cannot overflow its square.
 fn power_heuristic(a: f32, b: f32) -> f32 {
-    let a2 = a * a;
-    let b2 = b * b;
-    if a2 + b2 <= 0.0 {
+    if a <= 0.0 {
         return 0.0;
     }
-    return a2 / (a2 + b2);
+    let r = b / a;
+    return 1.0 / (1.0 + r * r);
 }

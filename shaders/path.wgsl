@@ -20,7 +20,7 @@ struct PathParams {
     sky_up: vec3<f32>,
     clamp_contribution: f32,
     sun_direction: vec3<f32>,
-    sun_cos_radius: f32,
+    sun_one_minus_cos: f32,
     sun_irradiance: vec3<f32>,
     sampler: u32,
     light_intensity: vec3<f32>,
@@ -42,6 +42,17 @@ const STRATEGY_BSDF: u32 = 2u;
 // distance near the surface, so there it is at least 2 epsilon, clear of the hit threshold (a
 // ray that starts within it would hit the surface it leaves).
 const SURFACE_OFFSET: Real = 4.0;
+
+// Rays of this invocation's pixel that ran out of max_steps (exhausted): camera, shadow and
+// bounce rays, every sample (`--stats`' exhausted_rays).
+var<private> exhausted_rays: u32;
+
+// Path mode's word of out_colour (the colour itself is the host's display transform of the
+// radiance): the samples dropped as not finite in its low COUNTER_DROPPED_BITS bits (at most
+// image.samples, 4,096), the rays that ran out of steps above them (at most 4,096 samples x 49
+// rays, 200,704, under 2^19).
+const COUNTER_DROPPED_BITS: u32 = 13u;
+const COUNTER_DROPPED_MASK: u32 = 0x1fffu;
 
 // One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
 // hit, and there the material's albedo and the shading normal (0 on a miss).
@@ -65,7 +76,7 @@ fn path_sky() -> Sky {
 }
 
 fn path_sun() -> Sun {
-    return Sun(path.sun_direction, path.sun_cos_radius, path.sun_irradiance);
+    return Sun(path.sun_direction, path.sun_one_minus_cos, path.sun_irradiance);
 }
 
 fn path_sphere_light() -> SphereLight {
@@ -78,22 +89,40 @@ fn path_material(p: vec3<Real>) -> Material {
     return Material(vec3<f32>(hit_albedo(p)), path.roughness, path.metallic, path.specular);
 }
 
+// Whether a trace that ended at or before t_end without a hit ran out of max_steps there
+// (sphere_trace's miss by leaving always ends past t_end): a ray that ran out is neither a hit
+// nor an escape, and counts as dark (a crevice is where rays run out).
+fn exhausted(trace: Trace, t_end: Real) -> bool {
+    return !trace.hit && trace.t <= t_end;
+}
+
 // Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray, the
-// tracer's own sphere trace (no pixel epsilon) within the bounding ball.
+// tracer's own sphere trace (no pixel epsilon) within the bounding ball. A shadow ray that runs
+// out of steps (exhausted) is occluded.
 fn unoccluded(origin: vec3<Real>, dir: vec3<Real>, t_max: Real) -> bool {
     let bounds = intersect_bounds(origin, dir);
     let t_end = min(bounds.t_exit, t_max);
     if !bounds.hit || bounds.t_enter >= t_end {
         return true;
     }
-    return !sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
+    let trace = sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0);
+    if exhausted(trace, t_end) {
+        exhausted_rays += 1u;
+        return false;
+    }
+    return !trace.hit;
 }
 
-// A contribution after the first scattering event, clamped: scaled so that its largest channel
-// is at most path.clamp_contribution (0: off).
-fn clamp_indirect(c: vec3<f32>, bounce: u32) -> vec3<f32> {
+// A path's contribution, clamped where its light reached the camera through more than one
+// scattering event: `vertex` is the index of the last scattering event (0 the first hit) of the
+// path the light took, the same for the light that next-event estimation finds at vertex v and
+// for the light that the ray leaving vertex v meets, so both halves of MIS are clamped alike.
+// From vertex 1 on the contribution is scaled so that its largest channel is at most
+// path.clamp_contribution (0: off); direct light at the first hit, and what a camera ray sees,
+// are never clamped.
+fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
     let m = max(c.x, max(c.y, c.z));
-    if bounce == 0u || path.clamp_contribution <= 0.0 || m <= path.clamp_contribution {
+    if vertex == 0u || path.clamp_contribution <= 0.0 || m <= path.clamp_contribution {
         return c;
     }
     return c * (path.clamp_contribution / m);
@@ -228,8 +257,19 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
             let bounds = intersect_bounds(origin, dir);
             if bounds.hit {
                 trace = sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, 0.0);
+                // A scattered ray that runs out of steps ends its path dark (a camera ray that
+                // runs out stays a miss, as in phong mode).
+                if exhausted(trace, bounds.t_exit) {
+                    exhausted_rays += 1u;
+                    break;
+                }
             }
+        } else if camera.hit && exhausted(trace, camera.t_end) {
+            exhausted_rays += 1u;
         }
+        // The light this ray meets left the path's last scattering event, bounce - 1 (none
+        // for the camera ray): clamp_indirect's vertex.
+        let vertex = max(bounce, 1u) - 1u;
         if bounce == 0u {
             result.depth = trace.t;
             result.steps = trace.steps;
@@ -241,12 +281,12 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
             let t_light = intersect_sphere(vec3<f32>(origin), dir32, light.center, light.radius);
             if t_light > 0.0 && (!trace.hit || Real(t_light) < trace.t) {
                 let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
-                radiance += clamp_indirect(throughput * e, bounce);
+                radiance += clamp_indirect(throughput * e, vertex);
                 break;
             }
         }
         if !trace.hit {
-            radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), bounce);
+            radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), vertex);
             break;
         }
         if bounce == path.bounces {
@@ -291,10 +331,20 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
     return result;
 }
 
+// Whether a sample's radiance may enter the pixel's mean: every channel finite (neither NaN
+// nor infinite, by its exponent bits, which no fast-math can fold away) and not negative.
+fn sample_valid(c: vec3<f32>) -> bool {
+    let exponent = vec3<u32>(0x7f800000u);
+    let finite = (bitcast<vec3<u32>>(c) & exponent) != exponent;
+    return all(finite) && all(c >= vec3<f32>(0.0));
+}
+
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
 // m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
-// sample 0 gives the depth and the steps. Adaptively (trace.wgsl's `adaptive`) a pixel stops
+// sample 0 gives the depth and the steps. A sample whose radiance is not valid (sample_valid) is
+// dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
+// samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's `adaptive`) a pixel stops
 // after the sample that leaves it done, and a later dispatch leaves it at once, or with
 // COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
@@ -318,6 +368,10 @@ fn path_main(
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`).
     var state = 0.0;
+    // The samples dropped so far, and the counter word's exhausted rays of earlier dispatches.
+    var dropped = 0u;
+    var exhausted_before = 0u;
+    exhausted_rays = 0u;
     if params.sample_start > 0u {
         let held = accumulated[index];
         if adaptive() && held.w < 0.0 {
@@ -326,6 +380,9 @@ fn path_main(
         mean = held.xyz;
         state = held.w;
         made = out_estimates[index];
+        let counters = out_colour[index];
+        dropped = counters & COUNTER_DROPPED_MASK;
+        exhausted_before = counters >> COUNTER_DROPPED_BITS;
         if AOVS {
             aovs = load_aovs(index);
         }
@@ -350,18 +407,24 @@ fn path_main(
             first = trace_primary(camera);
         }
         let r = trace_path(i, j, k, camera, first);
-        let before = mean;
-        mean += (r.radiance - mean) / f32(k + 1u);
         if k == 0u {
             out_depth[index] = select(-1.0, r.depth, r.hit);
             out_steps[index] = r.steps;
         }
+        if !sample_valid(r.radiance) {
+            dropped += 1u;
+            continue;
+        }
+        // The samples kept, this one with them.
+        let n = k + 1u - dropped;
+        let before = mean;
+        mean += (r.radiance - mean) / f32(n);
         if AOVS {
-            aovs = add_aovs(aovs, k, r.radiance, r.hit, r.albedo, r.normal);
+            aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal);
         }
         if adaptive() {
             let l = sample_luminance(r.radiance);
-            state = next_state(state, k + 1u, l, sample_luminance(before), sample_luminance(mean));
+            state = next_state(state, n, l, sample_luminance(before), sample_luminance(mean));
             if state < 0.0 {
                 break;
             }
@@ -372,5 +435,5 @@ fn path_main(
         store_aovs(index, aovs);
     }
     out_estimates[index] = made + estimates;
-    out_colour[index] = 0u;
+    out_colour[index] = dropped | ((exhausted_before + exhausted_rays) << COUNTER_DROPPED_BITS);
 }

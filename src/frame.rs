@@ -49,6 +49,13 @@ pub struct Frame {
     /// Distance estimates made for these pixels, every sample and every ray (the 2D view:
     /// iterations).
     pub estimates: u64,
+    /// Path mode: samples whose radiance was not finite, or negative, and which were dropped
+    /// (left out of their pixel's n, mean, variance and adaptive state). Unlike
+    /// [`Self::non_finite`], which counts values of the finished frame, these never reach it.
+    pub nonfinite_samples: u64,
+    /// Path mode: rays that ran out of `max_steps` without a hit or an escape (camera, shadow
+    /// and bounce rays, every sample).
+    pub exhausted_rays: u64,
 }
 
 impl Frame {
@@ -70,6 +77,8 @@ impl Frame {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            nonfinite_samples: 0,
+            exhausted_rays: 0,
         }
     }
 
@@ -94,6 +103,27 @@ impl Frame {
         self.samples.extend_from_slice(&band.samples);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
+        self.nonfinite_samples += band.nonfinite_samples;
+        self.exhausted_rays += band.exhausted_rays;
+    }
+
+    /// Path mode: moves the path kernel's counter words, which it leaves where the colour goes
+    /// (the colour is the display transform's, made after), into [`Self::nonfinite_samples`]
+    /// and [`Self::exhausted_rays`], and clears the colour.
+    pub fn take_path_counters(&mut self) {
+        use crate::cpu::path::{COUNTER_DROPPED_BITS, COUNTER_DROPPED_MASK};
+        use rayon::prelude::*;
+        let (dropped, exhausted) = self
+            .colour
+            .par_iter()
+            .map(|&w| {
+                let dropped = (w & COUNTER_DROPPED_MASK) as u64;
+                (dropped, (w >> COUNTER_DROPPED_BITS) as u64)
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        self.nonfinite_samples += dropped;
+        self.exhausted_rays += exhausted;
+        self.colour.fill(0);
     }
 
     /// Colour as 8-bit RGB bytes, row by row (in parallel: a 4K frame is 8.3 Mpixel).

@@ -441,6 +441,8 @@ mod tests {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            nonfinite_samples: 0,
+            exhausted_rays: 0,
         };
         let (w, h, rgb) = view_image(&frame, View::Steps);
         assert_eq!((w, h), (200, 20 + LEGEND_HEIGHT));

@@ -30,6 +30,12 @@ pub struct Summary {
     /// adaptive sampling (`path.noise_target`) stopped pixels early ([`Frame::samples`]; one a
     /// pixel where a frame has no counts, as the 2D view).
     pub samples_total: u64,
+    /// Path mode: samples dropped because their radiance was not finite or was negative
+    /// ([`Frame::nonfinite_samples`]); null in phong mode.
+    pub nonfinite_samples: Option<u64>,
+    /// Path mode: rays that ran out of `fractal.max_steps` without a hit or an escape, every
+    /// ray of every sample ([`Frame::exhausted_rays`]); null in phong mode.
+    pub exhausted_rays: Option<u64>,
 }
 
 impl Summary {
@@ -94,6 +100,8 @@ pub struct SummaryBuilder {
     steps_max: u32,
     estimates: u64,
     samples: u64,
+    /// Path mode's counts, where a band was path-traced.
+    path_counts: Option<(u64, u64)>,
     blocks: BlockWork,
 }
 
@@ -106,6 +114,7 @@ impl SummaryBuilder {
             steps_max: 0,
             estimates: 0,
             samples: 0,
+            path_counts: None,
             blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
         }
     }
@@ -114,6 +123,14 @@ impl SummaryBuilder {
     pub fn add(&mut self, band: &Frame) {
         self.add_arrays(&band.depth, &band.steps);
         self.estimates += band.estimates;
+        if !band.radiance.is_empty() {
+            let (dropped, exhausted) = self.path_counts.unwrap_or_default();
+            let counts = (
+                dropped + band.nonfinite_samples,
+                exhausted + band.exhausted_rays,
+            );
+            self.path_counts = Some(counts);
+        }
         self.samples += match band.samples.is_empty() {
             true => band.pixel_count() as u64,
             false => band.samples.par_iter().map(|&n| n as u64).sum::<u64>(),
@@ -142,6 +159,8 @@ impl SummaryBuilder {
             wasted_steps_mean,
             estimates_total: self.estimates,
             samples_total: self.samples,
+            nonfinite_samples: self.path_counts.map(|c| c.0),
+            exhausted_rays: self.path_counts.map(|c| c.1),
         }
     }
 }
@@ -287,6 +306,8 @@ mod tests {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            nonfinite_samples: 0,
+            exhausted_rays: 0,
         }
     }
 

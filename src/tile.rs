@@ -32,7 +32,9 @@
 //! `qjulia-precision`, `qjulia-precision-reason` (strings, as `--stats` names them),
 //! `qjulia-render-seconds` (double), `qjulia-gpu-seconds` (double, absent where the device has
 //! no timestamps), `qjulia-estimates` (string, a decimal u64: distance estimates made for the
-//! tile's pixels).
+//! tile's pixels), and in path mode `qjulia-nonfinite-samples` and `qjulia-exhausted-rays`
+//! (strings, decimal u64s: `--stats`' counts of the tile; absent, from an older binary, they
+//! count 0).
 
 use std::io::{Seek, Write};
 use std::ops::Range;
@@ -78,6 +80,8 @@ const PRECISION_REASON: &str = "qjulia-precision-reason";
 const RENDER_SECONDS: &str = "qjulia-render-seconds";
 const GPU_SECONDS: &str = "qjulia-gpu-seconds";
 const ESTIMATES: &str = "qjulia-estimates";
+const NONFINITE_SAMPLES: &str = "qjulia-nonfinite-samples";
+const EXHAUSTED_RAYS: &str = "qjulia-exhausted-rays";
 
 /// `--tile K/N`: the K-th (0-based) of N bands of rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -221,6 +225,10 @@ fn write_exr(
         set(GPU_SECONDS, AttributeValue::F64(s));
     }
     set(ESTIMATES, text(&band.estimates.to_string()));
+    if !band.radiance.is_empty() {
+        set(NONFINITE_SAMPLES, text(&band.nonfinite_samples.to_string()));
+        set(EXHAUSTED_RAYS, text(&band.exhausted_rays.to_string()));
+    }
     crate::hdr::write_exr(
         attributes,
         (width, band.height as usize),
@@ -424,9 +432,21 @@ fn read_part_from(
         true => frame.radiance = linear,
         false => frame.unclamped = linear,
     }
-    frame.estimates = text(ESTIMATES)?
-        .parse()
-        .map_err(|_| bad(path, format!("its {ESTIMATES} attribute is not a count")))?;
+    let count = |name: &str| -> Result<u64> {
+        text(name)?
+            .parse()
+            .map_err(|_| bad(path, format!("its {name} attribute is not a count")))
+    };
+    frame.estimates = count(ESTIMATES)?;
+    // Path mode's counts: absent (0) in a part from before they were written.
+    for (name, value) in [
+        (NONFINITE_SAMPLES, &mut frame.nonfinite_samples),
+        (EXHAUSTED_RAYS, &mut frame.exhausted_rays),
+    ] {
+        if attribute(name).is_some() {
+            *value = count(name)?;
+        }
+    }
     let seconds = |name: &str| match attribute(name) {
         Some(&AttributeValue::F64(s)) => Ok(Some(s)),
         None => Ok(None),

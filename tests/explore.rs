@@ -99,6 +99,8 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         samples: Vec::new(),
         non_finite: 0,
         estimates: 0,
+        nonfinite_samples: 0,
+        exhausted_rays: 0,
     }
 }
 
@@ -382,6 +384,8 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 samples: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
+                nonfinite_samples: 0,
+                exhausted_rays: 0,
             }
         };
         common::assert_agree(

@@ -9,8 +9,8 @@ use qjulia::algebra::{Vec2, Vec3};
 use qjulia::cpu::bsdf::sample_cosine_hemisphere;
 use qjulia::cpu::light::{
     Sky, SphereLight, Sun, cone_solid_angle, intersect_sphere, power_heuristic,
-    sample_sphere_light, sample_sun, sky_radiance, sphere_light_pdf, sphere_light_radiance,
-    sun_pdf, sun_radiance,
+    sample_sphere_light, sample_sun, sky_radiance, sphere_light_one_minus_cos, sphere_light_pdf,
+    sphere_light_radiance, sun_one_minus_cos, sun_pdf, sun_radiance,
 };
 
 mod common;
@@ -57,16 +57,17 @@ fn the_sky_is_its_three_colours_at_zenith_horizon_and_nadir() {
 #[test]
 fn the_sun_is_uniform_over_its_disc_and_gives_its_irradiance() {
     let mut rng = SplitMix(5);
-    for radius_deg in [0.53f64, 5.0, 30.0] {
+    for radius_deg in [0.001f64, 0.53, 5.0, 30.0] {
         let dir = v(0.3, 0.8, 0.52).normalize();
         let sun = Sun {
             direction: dir,
-            cos_radius: radius_deg.to_radians().cos(),
+            one_minus_cos: sun_one_minus_cos(radius_deg),
             irradiance: v(3.0, 2.0, 1.0),
         };
-        let omega = cone_solid_angle(sun.cos_radius);
+        let omega = cone_solid_angle(sun.one_minus_cos);
         // The closed form of the cap's solid angle, 2 pi (1 - cos r).
         assert!((omega - 2.0 * PI * (1.0 - radius_deg.to_radians().cos())).abs() < 1e-15);
+        assert!(sun.one_minus_cos > 0.0);
         // Samples: inside the disc, with the density sun_pdf gives, uniform in cos(theta).
         let bins = 10;
         let mut counts = vec![0usize; bins];
@@ -74,11 +75,11 @@ fn the_sun_is_uniform_over_its_disc_and_gives_its_irradiance() {
         for _ in 0..n {
             let s = sample_sun(sun, rng.vec2());
             let c = s.wi.dot(dir);
-            assert!(c >= sun.cos_radius - 1e-12, "outside the disc");
+            assert!(1.0 - c <= sun.one_minus_cos + 1e-12, "outside the disc");
             assert!((s.wi.length() - 1.0).abs() < 1e-12);
             assert_eq!(s.pdf, sun_pdf(sun, s.wi));
             assert_eq!(s.radiance, sun_radiance(sun, s.wi));
-            let k = ((1.0 - c) / (1.0 - sun.cos_radius) * bins as f64) as usize;
+            let k = ((1.0 - c) / sun.one_minus_cos * bins as f64) as usize;
             counts[k.min(bins - 1)] += 1;
         }
         let expected = n as f64 / bins as f64;
@@ -278,4 +279,86 @@ fn the_gpu_light_agrees_with_the_cpu_twin() {
 
 fn r_sun_wi(r: &qjulia::gpu::bsdf_probe::ProbeResult) -> Vec3<f32> {
     Vec3::new(r.sun[0], r.sun[1], r.sun[2])
+}
+
+/// Issue 35: a sun of 0.01 or 0.001 degrees (cos rounds to 1 in f32) and a sphere light of
+/// radius 1e-4 (its cone's cosine rounds to 1) keep a positive solid angle in f32, so their
+/// radiance and density are finite, and a light sample's radiance / density is the irradiance
+/// the closed form gives, to f32's precision.
+#[test]
+fn tiny_lights_stay_finite_and_right_in_f32() {
+    let vf = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let mut rng = SplitMix(11);
+    for radius_deg in [0.01f64, 0.001, 1e-20] {
+        assert_eq!(
+            (radius_deg.to_radians().cos()) as f32,
+            1.0,
+            "the case the issue names"
+        );
+        let sun = Sun {
+            direction: vf(0.3, 0.8, 0.52).normalize(),
+            one_minus_cos: sun_one_minus_cos(radius_deg) as f32,
+            irradiance: vf(3.0, 2.0, 1.0),
+        };
+        assert!(sun.one_minus_cos > 0.0 && sun.one_minus_cos.is_normal());
+        // Directions drawn at the disc's rim can round outside it (f32 resolves a direction
+        // to about 6e-8 rad, the disc of 0.001 degrees is 1.7e-5 rad wide): a few, not many.
+        let mut outside = 0;
+        for _ in 0..1000 {
+            let u = rng.vec2();
+            let s = sample_sun(sun, Vec2::new(u.x as f32, u.y as f32));
+            assert!(
+                s.pdf.is_finite() && s.pdf > 0.0,
+                "{radius_deg}: pdf {}",
+                s.pdf
+            );
+            let e = s.radiance / s.pdf;
+            assert!((e - sun.irradiance).length() < 1e-5, "{radius_deg}: {e:?}");
+            assert!((s.wi.length() - 1.0).abs() < 1e-6);
+            // Its own direction lies in the disc.
+            let pdf = sun_pdf(sun, s.wi);
+            assert!(pdf == s.pdf || pdf == 0.0, "{radius_deg}");
+            outside += usize::from(pdf == 0.0);
+        }
+        assert!(
+            outside <= 20,
+            "{radius_deg}: {outside} of 1000 outside the disc"
+        );
+        assert!(sun_radiance(sun, sun.direction).x.is_finite());
+        assert!(power_heuristic(sun_pdf(sun, sun.direction), 0.5) > 0.999_999);
+    }
+    // A sphere light of radius 1e-4 seen from 3 away: cos(theta) = 1 - 5.6e-10 rounds to 1.
+    let light = SphereLight {
+        center: vf(0.0, 0.0, 3.0),
+        radius: 1e-4,
+        intensity: vf(20.0, 20.0, 20.0),
+    };
+    let p = vf(0.0, 0.0, 0.0);
+    let h = sphere_light_one_minus_cos(light, p);
+    let want = 0.5 * (1e-4f64 / 3.0).powi(2);
+    assert!(
+        ((h as f64) - want).abs() < 2e-6 * want,
+        "{h} against {want}"
+    );
+    // The closed form of the irradiance at p facing the light: pi L (r/d)^2 = intensity / d^2
+    // (to first order in r/d).
+    let e_want = 20.0 / 9.0;
+    let mut sum = 0.0f64;
+    let n = 1000;
+    let mut rim = 0;
+    for _ in 0..n {
+        let u = rng.vec2();
+        let s = sample_sphere_light(light, p, Vec2::new(u.x as f32, u.y as f32));
+        assert!(s.pdf > 0.0 && s.pdf.is_finite() && s.radiance.x.is_finite());
+        assert!((s.distance - 3.0).abs() < 1e-3, "{}", s.distance);
+        let pdf = sphere_light_pdf(light, p, s.wi);
+        assert!(pdf == s.pdf || pdf == 0.0);
+        let t = intersect_sphere(p, s.wi, light.center, light.radius);
+        assert!(t < 0.0 || (t - 3.0).abs() < 1e-3, "{t}");
+        rim += usize::from(pdf == 0.0 || t < 0.0);
+        sum += (s.radiance.x * s.wi.z / s.pdf) as f64;
+    }
+    assert!(rim <= 20, "{rim} of {n} at the rim");
+    let e = sum / n as f64;
+    assert!((e - e_want).abs() < 1e-4 * e_want, "{e} against {e_want}");
 }

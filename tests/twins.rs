@@ -258,11 +258,18 @@ const LIGHT: Twin = Twin {
     rust: "src/cpu/light.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[OnlyIn {
-        side: Side::Rust,
-        name: "mix3",
-        reason: "WGSL's builtin `mix` for vectors",
-    }],
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "mix3",
+            reason: "WGSL's builtin `mix` for vectors",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "sun_one_minus_cos",
+            reason: "the host's, in f64: the kernels get the sun's 1 - cos in the path uniform",
+        },
+    ],
 };
 
 const SOBOL: Twin = Twin {

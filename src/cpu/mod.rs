@@ -318,5 +318,7 @@ where
         samples,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
+        nonfinite_samples: 0,
+        exhausted_rays: 0,
     }
 }

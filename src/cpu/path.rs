@@ -7,7 +7,8 @@ use super::bsdf::{
 };
 use super::light::{
     Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
-    sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_pdf, sun_radiance,
+    sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_one_minus_cos, sun_pdf,
+    sun_radiance,
 };
 use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
@@ -17,6 +18,20 @@ use super::trace::{Aovs, Primary, Trace, add_aovs, sample_luminance};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
+
+thread_local! {
+    /// Rays of the pixel this thread is sampling that ran out of `max_steps` (`exhausted`):
+    /// camera, shadow and bounce rays, every sample (`--stats`' `exhausted_rays`); the shader's
+    /// private `exhausted_rays`.
+    static EXHAUSTED_RAYS: std::cell::Cell<u32> = const { std::cell::Cell::new(0) };
+}
+
+/// Path mode's word where the colour goes (the colour itself is the host's display transform
+/// of the radiance, [`crate::frame::Frame::take_path_counters`]): the samples dropped as not
+/// finite in its low `COUNTER_DROPPED_BITS` bits (at most `image.samples`, 4,096), the rays that
+/// ran out of steps above them (at most 4,096 samples x 49 rays, 200,704, under 2^19).
+pub const COUNTER_DROPPED_BITS: u32 = 13;
+pub const COUNTER_DROPPED_MASK: u32 = 0x1fff;
 
 /// Which estimators light a hit (the MIS test's hook; scenes use both): the shader's
 /// `path.strategy`.
@@ -77,7 +92,7 @@ impl<F: Real> PathParams<F> {
             },
             sun: Sun {
                 direction: v(unit(sun.direction)),
-                cos_radius: F::lit(sun.angular_radius_degrees.to_radians().cos()),
+                one_minus_cos: F::lit(sun_one_minus_cos(sun.angular_radius_degrees)),
                 irradiance: v(sun.colour.map(|c| c * sun.intensity)),
             },
             light_intensity: Vec3::splat(F::lit(scene.light.intensity)),
@@ -148,24 +163,40 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
+    /// Whether a trace that ended at or before `t_end` without a hit ran out of `max_steps`
+    /// there (sphere_trace's miss by leaving always ends past `t_end`): a ray that ran out is
+    /// neither a hit nor an escape, and counts as dark (a crevice is where rays run out).
+    pub fn exhausted(&self, trace: Trace<F>, t_end: F) -> bool {
+        !trace.hit && trace.t <= t_end
+    }
+
     /// Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray,
-    /// the tracer's own sphere trace (no pixel epsilon) within the bounding ball.
+    /// the tracer's own sphere trace (no pixel epsilon) within the bounding ball. A shadow ray
+    /// that runs out of steps ([`Self::exhausted`]) is occluded.
     pub fn unoccluded(&self, origin: Vec3<F>, dir: Vec3<F>, t_max: F) -> bool {
         let bounds = self.intersect_bounds(origin, dir);
         let t_end = bounds.t_exit.min(t_max);
         if !bounds.hit || bounds.t_enter >= t_end {
             return true;
         }
-        !self
-            .sphere_trace(origin, dir, bounds.t_enter, t_end, F::zero())
-            .hit
+        let trace = self.sphere_trace(origin, dir, bounds.t_enter, t_end, F::zero());
+        if self.exhausted(trace, t_end) {
+            EXHAUSTED_RAYS.set(EXHAUSTED_RAYS.get() + 1);
+            return false;
+        }
+        !trace.hit
     }
 
-    /// A contribution after the first scattering event, clamped: scaled so that its largest
-    /// channel is at most `clamp_contribution` (0: off).
-    pub fn clamp_indirect(&self, path: &PathParams<F>, c: Vec3<F>, bounce: u32) -> Vec3<F> {
+    /// A path's contribution, clamped where its light reached the camera through more than
+    /// one scattering event: `vertex` is the index of the last scattering event (0 the first
+    /// hit) of the path the light took, the same for the light that next-event estimation
+    /// finds at vertex v and for the light that the ray leaving vertex v meets, so both halves
+    /// of MIS are clamped alike. From vertex 1 on the contribution is scaled so that its
+    /// largest channel is at most `clamp_contribution` (0: off); direct light at the first hit,
+    /// and what a camera ray sees, are never clamped.
+    pub fn clamp_indirect(&self, path: &PathParams<F>, c: Vec3<F>, vertex: u32) -> Vec3<F> {
         let m = max3(c);
-        if bounce == 0 || path.clamp_contribution <= F::zero() || m <= path.clamp_contribution {
+        if vertex == 0 || path.clamp_contribution <= F::zero() || m <= path.clamp_contribution {
             return c;
         }
         c * (path.clamp_contribution / m)
@@ -361,8 +392,19 @@ impl<F: Real> TraceParams<F> {
                 if bounds.hit {
                     let (t_enter, t_exit) = (bounds.t_enter, bounds.t_exit);
                     trace = self.sphere_trace(origin, dir, t_enter, t_exit, F::zero());
+                    // A scattered ray that runs out of steps ends its path dark (a camera ray
+                    // that runs out stays a miss, as in phong mode).
+                    if self.exhausted(trace, t_exit) {
+                        EXHAUSTED_RAYS.set(EXHAUSTED_RAYS.get() + 1);
+                        break;
+                    }
                 }
+            } else if camera.hit && self.exhausted(trace, camera.t_end) {
+                EXHAUSTED_RAYS.set(EXHAUSTED_RAYS.get() + 1);
             }
+            // The light this ray meets left the path's last scattering event, bounce - 1
+            // (none for the camera ray): clamp_indirect's vertex.
+            let vertex = bounce.max(1) - 1;
             if bounce == 0 {
                 result.depth = trace.t;
                 result.steps = trace.steps;
@@ -373,13 +415,13 @@ impl<F: Real> TraceParams<F> {
                 let t_light = intersect_sphere(origin, dir, light.center, light.radius);
                 if t_light > F::zero() && (!trace.hit || t_light < trace.t) {
                     let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
-                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), bounce);
+                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
                     break;
                 }
             }
             if !trace.hit {
                 let e = self.escaped(path, dir, bounce, pdf_prev);
-                radiance += self.clamp_indirect(path, throughput.mul_elem(e), bounce);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
                 break;
             }
             if bounce == path.bounces {
@@ -440,11 +482,21 @@ impl<F: Real> TraceParams<F> {
     }
 }
 
+/// Whether a sample's radiance may enter the pixel's mean: every channel finite (neither NaN
+/// nor infinite) and not negative.
+pub fn sample_valid<F: Real>(c: Vec3<F>) -> bool {
+    [c.x, c.y, c.z]
+        .iter()
+        .all(|v| v.is_finite() && *v >= F::zero())
+}
+
 /// Renders the rows `rows` (0 at the top) of the path-traced image, in parallel over rows, as
 /// `path_main` does: each pixel's mean linear radiance over its `samples` paths (the running
 /// mean the kernel keeps), sample 0's depth and steps, and with `aovs` the AOVs (`add_aovs`,
-/// as the kernel's AOVS override adds them). The colour is left 0: the renderer makes it from
-/// the radiance by the display transform.
+/// as the kernel's AOVS override adds them). A sample whose radiance is not valid
+/// ([`sample_valid`]) is dropped, as `path_main` drops it. The colour holds the kernel's counter
+/// word ([`COUNTER_DROPPED_BITS`]): the renderer takes it out and makes the colour from the
+/// radiance by the display transform.
 pub fn render_path_rows<F: Real>(
     params: &TraceParams<F>,
     path: &PathParams<F>,
@@ -460,6 +512,8 @@ pub fn render_path_rows<F: Real>(
     super::fill_rows(params.width, rows, keep, |j| {
         move |i| {
             let before = super::ESTIMATES.get();
+            EXHAUSTED_RAYS.set(0);
+            let mut dropped = 0u32;
             let mut mean = Vec3::<F>::zero();
             let mut first = None;
             let mut made = Aovs::default();
@@ -484,20 +538,25 @@ pub fn render_path_rows<F: Real>(
                     None => params.trace_primary(&camera),
                 };
                 let r = params.trace_path_from(path, (i, j, k), &camera, traced);
+                first.get_or_insert(r);
+                if !sample_valid(r.radiance) {
+                    dropped += 1;
+                    continue;
+                }
+                // The samples kept, this one with them.
+                let n = k + 1 - dropped;
                 let before = mean;
-                mean += (r.radiance - mean) / F::lit((k + 1) as f64);
+                mean += (r.radiance - mean) / F::lit(n as f64);
                 if aovs {
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
-                    made = add_aovs(made, k, radiance, r.hit, albedo, r.normal.to_f32());
+                    made = add_aovs(made, n - 1, radiance, r.hit, albedo, r.normal.to_f32());
                 }
-                let luminance = |v: Vec3<F>| sample_luminance(v.to_f32());
-                let l = params.adaptive().then(|| luminance(r.radiance));
-                first.get_or_insert(r);
-                if let Some(l) = l {
-                    let after = luminance(mean);
-                    state = params.next_state(state, k + 1, l, luminance(before), after);
+                if params.adaptive() {
+                    let luminance = |v: Vec3<F>| sample_luminance(v.to_f32());
+                    let (l, after) = (luminance(r.radiance), luminance(mean));
+                    state = params.next_state(state, n, l, luminance(before), after);
                     if state < 0.0 {
-                        taken = k + 1;
+                        taken = n;
                         break;
                     }
                 }
@@ -505,7 +564,7 @@ pub fn render_path_rows<F: Real>(
             let first = first.expect("at least one sample");
             let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);
             super::PixelOut {
-                colour: 0,
+                colour: dropped | (EXHAUSTED_RAYS.get() << COUNTER_DROPPED_BITS),
                 depth: if first.hit {
                     first.depth.to_f64()
                 } else {

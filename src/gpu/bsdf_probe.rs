@@ -70,7 +70,7 @@ pub fn probe_lights() -> (Sky<f32>, Sun<f32>, SphereLight<f32>) {
         },
         Sun {
             direction: Vec3::new(0.3, 0.8, 0.52).normalize(),
-            cos_radius: 0.99,
+            one_minus_cos: 0.01,
             irradiance: Vec3::new(3.0, 2.0, 1.0),
         },
         SphereLight {

@@ -715,5 +715,9 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
                 .map(|a| a[..3].iter().filter(|c| !c.is_finite()).count() as u64)
                 .sum::<u64>(),
         estimates: estimates.par_iter().map(|&e| e as u64).sum(),
+        // Path mode's counters are in the colour words until the renderer takes them
+        // (Frame::take_path_counters).
+        nonfinite_samples: 0,
+        exhausted_rays: 0,
     }
 }

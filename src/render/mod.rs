@@ -251,6 +251,7 @@ impl Renderer {
     ) -> Result<(f64, Option<f64>)> {
         let display = Display::of(scene);
         let mut displayed = |mut band: Frame| {
+            band.take_path_counters();
             display.show(&mut band);
             sink(band)
         };

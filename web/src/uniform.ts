@@ -262,7 +262,7 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['sky_up', unit(v('sky.up'))],
     ['clamp_contribution', f('path.clamp')],
     ['sun_direction', unit(v('sun.direction'))],
-    ['sun_cos_radius', Math.cos(toRadians(f('sun.angular_radius_degrees')))],
+    ['sun_one_minus_cos', sunOneMinusCos(f('sun.angular_radius_degrees'))],
     ['sun_irradiance', v('sun.colour').map((c) => c * sun)],
     ['sampler', SAMPLER_CODES[s.get('path.sampler') as string]],
     ['light_intensity', [light, light, light]],
@@ -272,6 +272,16 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['specular', f('material.specular')],
     ['pad', 0],
   ]);
+}
+
+/// The least 1 - cos(angular radius) a sun is given (SUN_MIN_ONE_MINUS_COS of src/cpu/light.rs).
+const SUN_MIN_ONE_MINUS_COS = 1e-30;
+
+/// A sun's 1 - cos(angular radius), as 2 sin^2(theta / 2) in f64 (sun_one_minus_cos of
+/// src/cpu/light.rs): no cancellation where the cosine is near 1.
+export function sunOneMinusCos(degrees: number): number {
+  const half = 0.5 * toRadians(degrees);
+  return Math.max(2.0 * Math.sin(half) * Math.sin(half), SUN_MIN_ONE_MINUS_COS);
 }
 
 /// Russian roulette's first scattering event (ROULETTE_START of src/cpu/path.rs).
