@@ -211,9 +211,10 @@ fn face_viewer(n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     return normalize(n + (MIN_FACING - c) * v);
 }
 
-// The camera ray of sample `sample` of pixel (i, j): sample 0 through the pixel's centre (the
-// pinhole's ray), the others at the sampler's image-plane dimensions and, where the aperture is
-// open, its lens dimensions; against the bounds (the whole stretch within the ball).
+// The camera ray of sample `sample` of pixel (i, j): sample 0 through the pixel's centre, the
+// others at the sampler's image-plane dimensions, and where the aperture is open every sample
+// (sample 0 too) through the lens at its lens dimensions; against the bounds (the whole stretch
+// within the ball).
 fn path_camera_ray(i: u32, j: u32, sample: u32) -> Primary {
     var s = vec2<f32>(0.5, 0.5);
     if sample > 0u {
@@ -223,9 +224,9 @@ fn path_camera_ray(i: u32, j: u32, sample: u32) -> Primary {
     let y = Real(j) + Real(s.y);
     var dir = camera_ray_at(x, y);
     var origin = params.eye;
-    // Through the thin lens (samples 1.. where the aperture is open): the lens point from the
+    // Through the thin lens (every sample where the aperture is open): the lens point from the
     // sampler's lens dimensions.
-    if lens_sample(sample) {
+    if lens_open() {
         let uv = vec2<f32>(path_random(i, j, sample, DIM_LENS), path_random(i, j, sample, DIM_LENS + 1u));
         let ray = thin_lens_ray(x, y, aperture_point(uv));
         origin = ray.origin;
@@ -342,7 +343,8 @@ fn sample_valid(c: vec3<f32>) -> bool {
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
 // m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
-// sample 0 gives the depth and the steps. A sample whose radiance is not valid (sample_valid) is
+// sample 0 gives the depth and the steps (where the lens is open, the pinhole ray's through the
+// pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
 // samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's `adaptive`) a pixel stops
 // after the sample that leaves it done, and a later dispatch leaves it at once, or with
@@ -372,6 +374,11 @@ fn path_main(
     var dropped = 0u;
     var exhausted_before = 0u;
     exhausted_rays = 0u;
+    if params.sample_start == 0u && lens_open() {
+        let pinhole = trace_primary(pinhole_ray(i, j, 0u, 0.0));
+        out_depth[index] = select(-1.0, pinhole.t, pinhole.hit);
+        out_steps[index] = pinhole.steps;
+    }
     if params.sample_start > 0u {
         let held = accumulated[index];
         if adaptive() && held.w < 0.0 {
@@ -407,7 +414,7 @@ fn path_main(
             first = trace_primary(camera);
         }
         let r = trace_path(i, j, k, camera, first);
-        if k == 0u {
+        if k == 0u && !lens_open() {
             out_depth[index] = select(-1.0, r.depth, r.hit);
             out_steps[index] = r.steps;
         }

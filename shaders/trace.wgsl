@@ -866,13 +866,14 @@ fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
     return camera_ray_at(Real(i) + s.x, Real(j) + s.y);
 }
 
-// Whether sample `sample` goes through the thin lens: aperture > 0, and not sample 0 (always the
-// pinhole's ray through the pixel's centre, which gives the depth and the steps).
-fn lens_sample(sample: u32) -> bool {
+// Whether the camera's samples go through the thin lens: aperture > 0. Every sample does then,
+// sample 0 too; the depth and the steps stay the pinhole's ray's through the pixel's centre
+// (pinhole_ray), traced for them alone.
+fn lens_open() -> bool {
     if SPECIALISED && !LENS {
         return false;
     }
-    return sample > 0u && params.aperture > 0.0;
+    return params.aperture > 0.0;
 }
 
 // A ray: its origin and its unit direction.
@@ -904,7 +905,7 @@ fn thin_lens_ray(x: Real, y: Real, lens_unit: vec2<f32>) -> Ray {
 // Sample k's point on the unit aperture in phong mode: the aperture's point at its lens position
 // (u, v) = lens_position(k).
 fn lens_point(k: u32) -> vec2<f32> {
-    return aperture_point(lens_position(k));
+    return aperture_point(lens_position(k + 1u));
 }
 
 // The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too: the f64
@@ -984,23 +985,25 @@ struct Primary {
     hit: bool,
 }
 
-// Sample `sample`'s camera ray of pixel (i, j): the pinhole's from the eye, or the thin lens's,
-// against the bounds, from t_min on (the cone's start, or 0). A lens ray starts from the ball:
-// the cone covers the block's rays from the eye, not rays from elsewhere on the lens.
+// Sample `sample`'s pinhole ray of pixel (i, j), from the eye, against the bounds, from t_min on
+// (the cone's start, or 0): the camera ray where the lens is closed, and with sample 0 the ray
+// that gives the depth and the steps.
+fn pinhole_ray(i: u32, j: u32, sample: u32, t_min: Real) -> Primary {
+    let dir = camera_ray(i, j, sample);
+    let bounds = intersect_bounds(params.eye, dir);
+    return Primary(params.eye, dir, max(bounds.t_enter, t_min), bounds.t_exit, bounds.hit);
+}
+
+// Sample `sample`'s camera ray of pixel (i, j): the pinhole's (pinhole_ray), or where the lens is
+// open the thin lens's, against the bounds. A lens ray starts from the ball: the cone covers the
+// block's rays from the eye, not rays from elsewhere on the lens.
 fn primary_ray(i: u32, j: u32, sample: u32, t_min: Real) -> Primary {
-    var origin = params.eye;
-    var dir: vec3<Real>;
-    var t_from = t_min;
-    if lens_sample(sample) {
-        let ray = lens_ray(i, j, sample);
-        origin = ray.origin;
-        dir = ray.dir;
-        t_from = 0.0;
-    } else {
-        dir = camera_ray(i, j, sample);
+    if !lens_open() {
+        return pinhole_ray(i, j, sample, t_min);
     }
-    let bounds = intersect_bounds(origin, dir);
-    return Primary(origin, dir, max(bounds.t_enter, t_from), bounds.t_exit, bounds.hit);
+    let ray = lens_ray(i, j, sample);
+    let bounds = intersect_bounds(ray.origin, ray.dir);
+    return Primary(ray.origin, ray.dir, bounds.t_enter, bounds.t_exit, bounds.hit);
 }
 
 // A camera ray's sphere trace, with the pixel epsilon; a miss of no steps where it misses the
@@ -1280,11 +1283,19 @@ fn main(
         samples = 1u;
     }
     let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    // Where the lens is open, the depth and the steps are the pinhole ray's, traced for them.
+    if params.sample_start == 0u && lens_open() {
+        let pinhole = trace_primary(pinhole_ray(i, j, 0u, t_min));
+        out_depth[index] = select(-1.0, pinhole.t, pinhole.hit);
+        out_steps[index] = pinhole.steps;
+    }
     if samples <= 1u {
         let pixel = trace_pixel(i, j, 0u, t_min);
         out_colour[index] = pack_colour(pixel.colour);
-        out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
-        out_steps[index] = pixel.steps;
+        if !lens_open() {
+            out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
+            out_steps[index] = pixel.steps;
+        }
         out_estimates[index] = estimates;
         if AOVS {
             store_aovs(index, add_pixel_aovs(no_aovs, 0u, pixel));
@@ -1293,7 +1304,8 @@ fn main(
     }
     // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
     // clamped colours, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), exact where every sample
-    // has the same colour; sample 0 gives the depth and the steps.
+    // has the same colour; sample 0 gives the depth and the steps (where the lens is open, the
+    // pinhole ray's, traced above).
     var mean = vec3<Real>(0.0);
     var made = 0u;
     var aovs = no_aovs;
@@ -1333,7 +1345,7 @@ fn main(
         let c = clamp(pixel.colour, vec3<Real>(0.0), vec3<Real>(1.0));
         let before = mean;
         mean += (c - mean) / Real(k + 1u);
-        if k == 0u {
+        if k == 0u && !lens_open() {
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }

@@ -23,7 +23,8 @@ impl Picture {
 
     /// Whether this picture of `scene` is path traced: the shaded slice of a scene in
     /// `shading.model = "path"`. Depth and steps alone (`shade` false) are the tracer's: a
-    /// path's sample 0 is the pinhole's camera ray, traced as the tracer traces it.
+    /// path's depth and steps are the pinhole's camera ray's through the pixel's centre, traced
+    /// as the tracer traces it.
     pub fn path_traced(&self, scene: &crate::scene::Scene) -> bool {
         matches!(self, Picture::Slice { shade: true })
             && scene.shading.model == crate::scene::ShadingModel::Path

@@ -6,13 +6,11 @@
 mod common;
 
 use std::process::Command;
-use std::sync::{Arc, OnceLock};
 
 use qjulia::algebra::Vec3;
 use qjulia::cpu::path::sample_valid;
-use qjulia::gpu::GpuKernels;
 use qjulia::params::TraceParams;
-use qjulia::{Backend, Frame, Picture, Planner, Precision, PrecisionChoice, Scene};
+use qjulia::{Frame, Picture, Precision, Scene};
 
 fn path_scene(extra: &[&str]) -> Scene {
     let mut sets = vec![
@@ -22,22 +20,6 @@ fn path_scene(extra: &[&str]) -> Scene {
     ];
     sets.extend_from_slice(extra);
     common::scene(&sets)
-}
-
-/// The frame of `scene` on the tests' GPU (f32), or None where GPU tests are skipped.
-fn gpu_frame(test: &str, scene: &Scene) -> Option<Frame> {
-    let tracer = common::gpu(test)?;
-    static KERNELS: OnceLock<Arc<GpuKernels>> = OnceLock::new();
-    let kernels = KERNELS.get_or_init(|| Arc::new(GpuKernels::new(tracer.context().clone())));
-    let plan = Planner::on_device(kernels.clone(), Backend::Gpu, PrecisionChoice::F32)
-        .plan(scene, Picture::SHADED.into(), &mut |_| {})
-        .expect("a GPU plan");
-    Some(
-        plan.renderer
-            .render_frame(scene, Picture::SHADED)
-            .unwrap()
-            .0,
-    )
 }
 
 fn cpu_frame(scene: &Scene, precision: Precision) -> Frame {
@@ -104,7 +86,8 @@ fn tiny_suns_and_sphere_lights_render_finite_and_lit() {
             ("cpu f32", cpu_frame(&scene, Precision::F32)),
             ("cpu f64", cpu_frame(&scene, Precision::F64)),
         ];
-        if let Some(f) = gpu_frame("tiny_suns_and_sphere_lights_render_finite_and_lit", &scene) {
+        let test = "tiny_suns_and_sphere_lights_render_finite_and_lit";
+        if let Some(f) = common::gpu_render_frame(test, &scene) {
             frames.push(("gpu f32", f));
         }
         for (name, frame) in frames {

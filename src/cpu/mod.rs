@@ -110,6 +110,11 @@ pub fn render_rows<F: Real>(
                 .copied()
                 .unwrap_or(F::zero());
             let before = ESTIMATES.get();
+            // Where the lens is open, the depth and the steps are the pinhole ray's, traced for
+            // them alone (the kernel's `main`).
+            let pinhole = params
+                .lens_open()
+                .then(|| params.trace_primary(&params.pinhole_ray(i, j, 0, t_min)));
             let clamp = |c: Vec3<F>| {
                 let unit = |v: F| v.max(F::zero()).min(F::one());
                 Vec3::new(unit(c.x), unit(c.y), unit(c.z))
@@ -165,14 +170,14 @@ pub fn render_rows<F: Real>(
             } else {
                 trace::pack_colour(mean)
             };
+            let (hit, depth, steps) = match pinhole {
+                Some(t) => (t.hit, t.t, t.steps),
+                None => (first.hit, first.depth, first.steps),
+            };
             PixelOut {
                 colour,
-                depth: if first.hit {
-                    first.depth.to_f64()
-                } else {
-                    f64::NAN
-                },
-                steps: first.steps,
+                depth: if hit { depth.to_f64() } else { f64::NAN },
+                steps,
                 non_finite,
                 estimates: ESTIMATES.get() - before,
                 radiance: [0.0; 3],

@@ -313,10 +313,10 @@ impl<F: Real> TraceParams<F> {
         (n + v * (min - c)).normalize()
     }
 
-    /// The camera ray of sample `sample` of pixel (i, j): sample 0 through the pixel's centre
-    /// (the pinhole's ray), the others at the sampler's image-plane dimensions and, where the
-    /// aperture is open, its lens dimensions; against the bounds (the whole stretch within the
-    /// ball).
+    /// The camera ray of sample `sample` of pixel (i, j): sample 0 through the pixel's centre,
+    /// the others at the sampler's image-plane dimensions, and where the aperture is open every
+    /// sample (sample 0 too) through the lens at its lens dimensions; against the bounds (the
+    /// whole stretch within the ball).
     pub fn path_camera_ray(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32) -> Primary<F> {
         let half = F::lit(0.5);
         let mut s = (half, half);
@@ -330,9 +330,9 @@ impl<F: Real> TraceParams<F> {
         let y = F::lit(j as f64) + s.1;
         let mut dir = self.camera_ray_at(x, y);
         let mut origin = self.eye;
-        // Through the thin lens (samples 1.. where the aperture is open): the lens point from
+        // Through the thin lens (every sample where the aperture is open): the lens point from
         // the sampler's lens dimensions.
-        if self.lens_sample(sample) {
+        if self.lens_open() {
             let uv = (
                 self.path_random(path, i, j, sample, DIM_LENS).to_f64() as f32,
                 self.path_random(path, i, j, sample, DIM_LENS + 1).to_f64() as f32,
@@ -513,6 +513,11 @@ pub fn render_path_rows<F: Real>(
         move |i| {
             let before = super::ESTIMATES.get();
             EXHAUSTED_RAYS.set(0);
+            // Where the lens is open, the depth and the steps are the pinhole ray's, traced for
+            // them alone.
+            let pinhole = params
+                .lens_open()
+                .then(|| params.trace_primary(&params.pinhole_ray(i, j, 0, F::zero())));
             let mut dropped = 0u32;
             let mut mean = Vec3::<F>::zero();
             let mut first = None;
@@ -563,14 +568,14 @@ pub fn render_path_rows<F: Real>(
             }
             let first = first.expect("at least one sample");
             let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);
+            let (hit, depth, steps) = match pinhole {
+                Some(t) => (t.hit, t.t, t.steps),
+                None => (first.hit, first.depth, first.steps),
+            };
             super::PixelOut {
                 colour: dropped | (EXHAUSTED_RAYS.get() << COUNTER_DROPPED_BITS),
-                depth: if first.hit {
-                    first.depth.to_f64()
-                } else {
-                    f64::NAN
-                },
-                steps: first.steps,
+                depth: if hit { depth.to_f64() } else { f64::NAN },
+                steps,
                 non_finite: radiance.iter().filter(|c| !c.is_finite()).count() as u64,
                 estimates: super::ESTIMATES.get() - before,
                 radiance,

@@ -833,14 +833,14 @@ impl<F: Real> TraceParams<F> {
         self.camera_ray_at(F::lit(i as f64) + sx, F::lit(j as f64) + sy)
     }
 
-    /// Whether sample `sample` goes through the thin lens: aperture > 0, and not sample 0
-    /// (always the pinhole's ray through the pixel's centre, which gives the depth and the
-    /// steps).
-    pub fn lens_sample(&self, sample: u32) -> bool {
-        sample > 0 && self.aperture > F::zero()
+    /// Whether the camera's samples go through the thin lens: aperture > 0. Every sample does
+    /// then, sample 0 too; the depth and the steps stay the pinhole's ray's through the pixel's
+    /// centre (`pinhole_ray`), traced for them alone.
+    pub fn lens_open(&self) -> bool {
+        self.aperture > F::zero()
     }
 
-    /// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j) in phong mode: through
+    /// The thin lens's ray of sample `sample` of pixel (i, j) in phong mode: through
     /// the sample's image-plane point and the aperture's point at its lens position
     /// (lens_point(k)).
     pub fn lens_ray(&self, i: u32, j: u32, sample: u32) -> Ray<F> {
@@ -871,10 +871,11 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// Sample k's point on the unit aperture in phong mode: the aperture's point at its lens
-    /// position (u, v) = lens_position(k).
+    /// Sample k's point on the unit aperture in phong mode: the aperture's point at the lens
+    /// position (u, v) = lens_position(k + 1) (the Halton point of index 0 is the lens's
+    /// centre, which would make sample 0 a pinhole sample).
     pub fn lens_point(&self, k: u32) -> (f32, f32) {
-        self.aperture_point(lens_position(k))
+        self.aperture_point(lens_position(k + 1))
     }
 
     /// The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too, as
@@ -938,22 +939,34 @@ impl<F: Real> TraceParams<F> {
         t
     }
 
-    /// Sample `sample`'s camera ray of pixel (i, j): the pinhole's from the eye, or the thin
-    /// lens's, against the bounds, from t_min on (the cone's start, or 0). A lens ray starts
-    /// from the ball: the cone covers the block's rays from the eye, not rays from elsewhere on
-    /// the lens.
-    pub fn primary_ray(&self, i: u32, j: u32, sample: u32, t_min: F) -> Primary<F> {
-        let (origin, dir, t_from) = if self.lens_sample(sample) {
-            let ray = self.lens_ray(i, j, sample);
-            (ray.origin, ray.dir, F::zero())
-        } else {
-            (self.eye, self.camera_ray(i, j, sample), t_min)
-        };
-        let bounds = self.intersect_bounds(origin, dir);
+    /// Sample `sample`'s pinhole ray of pixel (i, j), from the eye, against the bounds, from
+    /// t_min on (the cone's start, or 0): the camera ray where the lens is closed, and with
+    /// sample 0 the ray that gives the depth and the steps.
+    pub fn pinhole_ray(&self, i: u32, j: u32, sample: u32, t_min: F) -> Primary<F> {
+        let dir = self.camera_ray(i, j, sample);
+        let bounds = self.intersect_bounds(self.eye, dir);
         Primary {
-            origin,
+            origin: self.eye,
             dir,
-            t_start: bounds.t_enter.max(t_from),
+            t_start: bounds.t_enter.max(t_min),
+            t_end: bounds.t_exit,
+            hit: bounds.hit,
+        }
+    }
+
+    /// Sample `sample`'s camera ray of pixel (i, j): the pinhole's (`pinhole_ray`), or where
+    /// the lens is open the thin lens's, against the bounds. A lens ray starts from the ball:
+    /// the cone covers the block's rays from the eye, not rays from elsewhere on the lens.
+    pub fn primary_ray(&self, i: u32, j: u32, sample: u32, t_min: F) -> Primary<F> {
+        if !self.lens_open() {
+            return self.pinhole_ray(i, j, sample, t_min);
+        }
+        let ray = self.lens_ray(i, j, sample);
+        let bounds = self.intersect_bounds(ray.origin, ray.dir);
+        Primary {
+            origin: ray.origin,
+            dir: ray.dir,
+            t_start: bounds.t_enter,
             t_end: bounds.t_exit,
             hit: bounds.hit,
         }

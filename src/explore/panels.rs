@@ -250,8 +250,8 @@ fn c_loop(ui: &mut egui::Ui, c_loop: &mut CLoop, radius: &mut f64) -> Option<Com
 /// The field of view; eye and target as moved by the mouse; reset to `home`.
 fn camera(ui: &mut egui::Ui, cam: &mut Camera, home: &Camera) {
     ui.add(key_slider(&mut cam.fov_y_degrees, "camera.fov_y_degrees").text("field of view (°)"));
-    // The thin lens: blurs in the idle view's samples (sample 0, the moving view's, is the
-    // pinhole's).
+    // The thin lens: blurs in the idle view's samples (the moving view's one sample takes one
+    // point of the lens).
     ui.add(key_slider(&mut cam.aperture, "camera.aperture").text("aperture (lens radius)"));
     ui.add(key_slider(&mut cam.focus_distance, "camera.focus_distance").text("focus (0 = target)"));
     let blades = |n: u32| match n {

@@ -88,7 +88,7 @@ pub struct Variant {
     pub orbit_trap: bool,
     /// cut.enabled.
     pub cut: bool,
-    /// The thin lens: camera.aperture > 0 with image.samples > 1 (sample 0 is the pinhole's).
+    /// The thin lens: camera.aperture > 0 (every sample through it, sample 0 too).
     pub lens: bool,
     /// Adaptive sampling: path.noise_target > 0 with image.samples > 1.
     pub adaptive: bool,
@@ -119,7 +119,7 @@ impl Variant {
             occlusion: shade && p.occlusion > F::zero(),
             orbit_trap: shade && p.colouring == crate::scene::Colouring::OrbitTrap,
             cut: p.cut,
-            lens: p.samples > 1 && p.aperture > F::zero(),
+            lens: p.aperture > F::zero(),
             adaptive: p.samples > 1 && p.noise_target > F::zero(),
         }
     }

@@ -141,8 +141,8 @@ impl Planner {
             }
             if scene.camera.aperture > 0.0 && scene.image.samples == 1 {
                 notice(
-                    "camera.aperture > 0 with image.samples = 1 blurs nothing (sample 0 is the \
-                     pinhole's ray): set image.samples > 1 for depth of field",
+                    "camera.aperture > 0 with image.samples = 1 takes one point of the lens: set \
+                     image.samples > 1 for depth of field",
                 );
             }
         }

@@ -293,7 +293,7 @@ scene_schema! {
             /// The thin lens's radius (depth of field): 0 is the pinhole, the seed's camera.
             /// Only samples 1.. go through the lens (image.samples > 1 blurs).
             aperture: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.5),
-                "thin-lens radius, {range} (0 = the pinhole, the seed); blurs with image.samples > 1";
+                "thin-lens radius, {range} (0 = the pinhole, the seed); every sample through the lens; blurs with image.samples > 1";
             /// The distance from the eye of the plane in focus, along the view direction; 0
             /// is |target - eye|.
             focus_distance: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 10.0),

@@ -167,6 +167,26 @@ pub fn gpu_frame(gpu: &GpuTracer, scene: &Scene) -> Frame {
         .frame
 }
 
+/// The shaded frame of `scene` as `render` makes it on the tests' GPU in f32 (through the
+/// renderer: phong or path mode, the display transform), or None where GPU tests are skipped.
+pub fn gpu_render_frame(test: &str, scene: &Scene) -> Option<Frame> {
+    use qjulia::gpu::GpuKernels;
+    use qjulia::{Backend, Picture, Planner, PrecisionChoice};
+    use std::sync::Arc;
+    let tracer = gpu(test)?;
+    static KERNELS: OnceLock<Arc<GpuKernels>> = OnceLock::new();
+    let kernels = KERNELS.get_or_init(|| Arc::new(GpuKernels::new(tracer.context().clone())));
+    let plan = Planner::on_device(kernels.clone(), Backend::Gpu, PrecisionChoice::F32)
+        .plan(scene, Picture::SHADED.into(), &mut |_| {})
+        .expect("a GPU plan");
+    Some(
+        plan.renderer
+            .render_frame(scene, Picture::SHADED)
+            .expect("GPU render")
+            .0,
+    )
+}
+
 /// Runs the qjulia binary in `dir` with `args`.
 pub fn qjulia(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))

@@ -363,7 +363,7 @@ export function overrides(s: Scene): [string, number][] {
     ['OCCLUSION', b(!path && f32(n('occlusion')) > 0)],
     ['ORBIT_TRAP', b(n('colouring') === 1)],
     ['CUT', n('cut')],
-    ['LENS', b(samples && f32(n('aperture')) > 0)],
+    ['LENS', b(f32(n('aperture')) > 0)],
     ['ADAPTIVE', b(samples && f32(n('noise_target')) > 0)],
   ];
 }
