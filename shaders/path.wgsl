@@ -253,16 +253,19 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
     for (var bounce = 0u; bounce <= path.bounces; bounce++) {
         // The camera ray's trace is given; a scattered ray's is made here (no pixel epsilon).
         var trace = first;
+        // A scattered ray that ran out of steps: it sees the sphere light only short of where
+        // it stopped, and ends its path there, dark.
+        var ran_out = false;
         if bounce > 0u {
             trace = Trace(0.0, 0u, false);
             let bounds = intersect_bounds(origin, dir);
             if bounds.hit {
                 trace = sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, 0.0);
-                // A scattered ray that runs out of steps ends its path dark (a camera ray that
-                // runs out stays a miss, as in phong mode).
+                // Only scattered rays end so: a camera ray that runs out stays a miss, as
+                // in phong mode.
                 if exhausted(trace, bounds.t_exit) {
                     exhausted_rays += 1u;
-                    break;
+                    ran_out = true;
                 }
             }
         } else if camera.hit && exhausted(trace, camera.t_end) {
@@ -280,11 +283,15 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         if light_on {
             let light = path_sphere_light();
             let t_light = intersect_sphere(vec3<f32>(origin), dir32, light.center, light.radius);
-            if t_light > 0.0 && (!trace.hit || Real(t_light) < trace.t) {
+            let left = !trace.hit && !ran_out;
+            if t_light > 0.0 && (left || Real(t_light) < trace.t) {
                 let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
                 radiance += clamp_indirect(throughput * e, vertex);
                 break;
             }
+        }
+        if ran_out {
+            break;
         }
         if !trace.hit {
             radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), vertex);
@@ -346,9 +353,9 @@ fn sample_valid(c: vec3<f32>) -> bool {
 // sample 0 gives the depth and the steps (where the lens is open, the pinhole ray's through the
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
-// samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's `adaptive`) a pixel stops
-// after the sample that leaves it done, and a later dispatch leaves it at once, or with
-// COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
+// samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's
+// `adaptive`) a pixel stops after the sample that leaves it done, and a later dispatch leaves it
+// at once, or with COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
 fn path_main(
     @builtin(global_invocation_id) gid: vec3<u32>,

@@ -382,6 +382,9 @@ impl<F: Real> TraceParams<F> {
             // The camera ray's trace is given; a scattered ray's is made here (no pixel
             // epsilon).
             let mut trace = first;
+            // A scattered ray that ran out of steps: it sees the sphere light only short of
+            // where it stopped, and ends its path there, dark.
+            let mut ran_out = false;
             if bounce > 0 {
                 trace = Trace {
                     t: F::zero(),
@@ -392,11 +395,11 @@ impl<F: Real> TraceParams<F> {
                 if bounds.hit {
                     let (t_enter, t_exit) = (bounds.t_enter, bounds.t_exit);
                     trace = self.sphere_trace(origin, dir, t_enter, t_exit, F::zero());
-                    // A scattered ray that runs out of steps ends its path dark (a camera ray
-                    // that runs out stays a miss, as in phong mode).
+                    // Only scattered rays end so: a camera ray that runs out stays a miss, as
+                    // in phong mode.
                     if self.exhausted(trace, t_exit) {
                         EXHAUSTED_RAYS.set(EXHAUSTED_RAYS.get() + 1);
-                        break;
+                        ran_out = true;
                     }
                 }
             } else if camera.hit && self.exhausted(trace, camera.t_end) {
@@ -413,11 +416,15 @@ impl<F: Real> TraceParams<F> {
             if light_on {
                 let light = self.path_sphere_light(path);
                 let t_light = intersect_sphere(origin, dir, light.center, light.radius);
-                if t_light > F::zero() && (!trace.hit || t_light < trace.t) {
+                let left = !trace.hit && !ran_out;
+                if t_light > F::zero() && (left || t_light < trace.t) {
                     let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
                     radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
                     break;
                 }
+            }
+            if ran_out {
+                break;
             }
             if !trace.hit {
                 let e = self.escaped(path, dir, bounce, pdf_prev);
