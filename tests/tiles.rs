@@ -139,6 +139,10 @@ fn path_tiles_merge_to_one_gpu_render() {
         "image.tone_map=\"aces\"",
     ];
     assert_tiles_merge_to_one_render("path-gpu", &scene, &[1, 2, 3, 7]);
+    // Rays that run out of steps (30 a ray: thousands of them), counted in each part and summed
+    // by merge to the whole render's `exhausted_rays`.
+    let crevice = [&scene[..], &["--set", "fractal.max_steps=30"]].concat();
+    assert_tiles_merge_to_one_render("path-gpu-crevice", &crevice, &[3]);
 }
 
 /// With the denoiser, which sees the whole image: merge runs it over the merged frame, on the
