@@ -13,7 +13,7 @@ pub mod rotation;
 pub mod schema;
 
 pub use self::image::{Denoiser, ToneMap};
-pub use error::{SceneError, SceneSource};
+pub use error::{SceneError, SceneSource, one_line};
 pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr, scene_from_exr_bytes};
 pub use load::{SCENE_TEXT_LIMIT, SET_LIMIT, SceneLoader, check_scene_length};
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png, scene_from_png_bytes};
