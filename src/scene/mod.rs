@@ -6,6 +6,7 @@ pub mod animation;
 mod error;
 mod exr;
 mod image;
+mod limits;
 mod load;
 mod png;
 pub mod presets;
@@ -15,7 +16,8 @@ pub mod schema;
 pub use self::image::{Denoiser, ToneMap};
 pub use error::{SceneError, SceneSource, one_line};
 pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr, scene_from_exr_bytes};
-pub use load::{SCENE_TEXT_LIMIT, SET_LIMIT, SceneLoader, check_scene_length};
+pub use limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
+pub use load::{SceneLoader, check_scene_length};
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png, scene_from_png_bytes};
 
 use schema::{Range, scene_schema};

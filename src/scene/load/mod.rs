@@ -19,6 +19,7 @@ use toml::Value;
 use super::Scene;
 use super::error::{SceneError, SceneSource};
 use super::exr::scene_from_exr;
+use super::limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
 use super::png::scene_from_png;
 use super::presets::Preset;
 use super::schema::{KEYS, Key, Kind, SCHEMA};
@@ -214,12 +215,6 @@ impl Preset {
             .unwrap_or_else(|e| panic!("preset {:?} is invalid: {e}", self.name))
     }
 }
-
-/// The most bytes of scene text (a file, or the scene a PNG or EXR carries) the loader takes:
-/// scenes are a few kilobytes, a long keyframed animation a few hundred.
-pub const SCENE_TEXT_LIMIT: usize = 1 << 20;
-/// The most bytes one `--set KEY=VALUE` may have.
-pub const SET_LIMIT: usize = 1 << 16;
 
 /// A scene file's text, refused before it is read where it is longer than
 /// [`SCENE_TEXT_LIMIT`].
