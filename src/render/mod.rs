@@ -18,6 +18,7 @@
 mod plan;
 
 pub use crate::gpu::Readback;
+pub use crate::memory::band_pixels;
 pub use crate::picture::{Picture, Work};
 pub use plan::{Backend, GPU_F64_UNSUPPORTED, Plan, Planner};
 
@@ -472,15 +473,6 @@ fn to_f32_level<F: Real>(level: F) -> f32 {
     } else {
         r
     }
-}
-
-/// Pixels per band of a streamed render: 4 Mpixel (16 MiB per output array), or
-/// `QJULIA_BAND_PIXELS` (at least 64) to trade memory for dispatch count.
-pub fn band_pixels() -> u64 {
-    std::env::var("QJULIA_BAND_PIXELS")
-        .ok()
-        .and_then(|v| v.parse::<u64>().ok())
-        .map_or(1 << 22, |n| n.max(64))
 }
 
 /// Renders the rows `rows` of an image `width` wide on the CPU band by band with
