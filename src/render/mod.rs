@@ -400,7 +400,7 @@ impl Renderer {
                 )?;
                 Ok(times.seconds)
             }
-            (Some(_), Precision::F64) => Err(Error::Unsupported(plan::SAMPLER_F32_ONLY.into())),
+            (Some(_), Precision::F64) => Err(Error::Unsupported(SAMPLER_F32_ONLY.into())),
             (None, Precision::F32) => sample_cpu::<f32>(scene, grid, sink),
             (None, Precision::F64) => sample_cpu::<f64>(scene, grid, sink),
         }
@@ -474,6 +474,9 @@ fn to_f32_level<F: Real>(level: F) -> f32 {
         r
     }
 }
+
+/// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
+const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
 
 /// Renders the rows `rows` of an image `width` wide on the CPU band by band with
 /// `render_rows`, handing each band to `sink`; returns the seconds spent rendering (the sink's
