@@ -44,7 +44,6 @@ const ALLOWED: &[&str] = &[
     "src/gpu/kernel/mod.rs -> src/gpu/mod.rs: GpuContext in gpu/mod.rs",
     "src/gpu/kernel/buffers.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
     "src/gpu/kernel/pipeline.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
-    "src/animate/writers.rs -> src/animate/mod.rs: FramePlan, Job, Progress in animate/mod.rs",
 ];
 
 /// An entry of [`ALLOWED`] as (from, to).
