@@ -21,30 +21,7 @@ use crate::frame::Frame;
 use crate::gpu::GpuKernels;
 use crate::scene::Scene;
 
-/// `image.denoise`: which denoiser runs on the linear image.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Denoiser {
-    /// None: the image is the mean of its samples.
-    #[default]
-    None,
-    /// The edge-avoiding a-trous filter, guided by the albedo, normal and depth AOVs and by
-    /// each pixel's variance.
-    Atrous,
-}
-
-impl Denoiser {
-    /// Every denoiser, in the order the scene file lists them.
-    pub const ALL: [Denoiser; 2] = [Denoiser::None, Denoiser::Atrous];
-
-    /// The name the scene file uses.
-    pub fn name(self) -> &'static str {
-        match self {
-            Denoiser::None => "none",
-            Denoiser::Atrous => "atrous",
-        }
-    }
-}
+pub use crate::scene::Denoiser;
 
 /// An albedo channel below this divides the colour as this (a black albedo would give no
 /// illumination to filter); a pixel none of whose samples hit is not divided at all.

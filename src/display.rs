@@ -7,38 +7,12 @@
 //! function, then rounding to 8 bits (`floor(255 v + 0.5)`). The book's chapter "Display"
 //! (docs/book/display.md) gives the formulas.
 
-use std::fmt;
-use std::str::FromStr;
-
 use rayon::prelude::*;
 
-/// `image.tone_map`: the curve from exposed linear radiance to [0, 1].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ToneMap {
-    /// A clamp to [0, 1].
-    #[default]
-    None,
-    /// Reinhard's simple operator `x / (1 + x)` (Reinhard et al. 2002, eq. 3), per channel.
-    Reinhard,
-    /// Narkowicz's 2015 fit of the ACES filmic curve (RRT + ODT),
-    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, per channel, clamped to [0, 1].
-    Aces,
-}
+pub use crate::scene::ToneMap;
 
+/// The curve itself, here with the display transform (the enum is scene data, in the scene).
 impl ToneMap {
-    /// Every tone map, in the order the scene file lists them.
-    pub const ALL: [ToneMap; 3] = [ToneMap::None, ToneMap::Reinhard, ToneMap::Aces];
-
-    /// The name the scene file uses.
-    pub fn name(self) -> &'static str {
-        match self {
-            ToneMap::None => "none",
-            ToneMap::Reinhard => "reinhard",
-            ToneMap::Aces => "aces",
-        }
-    }
-
     /// The curve at `x >= 0` (exposure applied), in [0, 1]; NaN and negative values give 0.
     pub fn apply(self, x: f64) -> f64 {
         // `max` keeps a NaN out: f64::max returns the other operand.
@@ -49,25 +23,6 @@ impl ToneMap {
             ToneMap::Aces => aces_narkowicz(x),
         };
         y.clamp(0.0, 1.0)
-    }
-}
-
-impl fmt::Display for ToneMap {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for ToneMap {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        ToneMap::ALL
-            .into_iter()
-            .find(|t| t.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = ToneMap::ALL.iter().map(|t| format!("\"{t}\"")).collect();
-                format!("unknown tone map \"{s}\" (expected {})", names.join(", "))
-            })
     }
 }
 

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use crate::scene::SceneError;
+pub use crate::scene::one_line;
 
 /// A bad command-line flag that is not a scene key (`--resolution`, `--box`, `--scale`,
 /// `--frames`, an output's extension): one line naming the flag as typed and the reason.
@@ -23,16 +24,16 @@ impl FlagError {
     }
 }
 
-/// `text` as one line: each control character (a newline, a NUL, ...) written as its Rust
-/// escape (`\n`, `\0`, `\u{1b}`), so that a message quoting what the user typed, or a file's
-/// name, stays the one line an error is. Other characters are kept as they are.
-pub fn one_line(text: &str) -> String {
-    text.chars()
-        .map(|c| match c.is_control() {
-            true => c.escape_debug().to_string(),
-            false => c.to_string(),
+/// Bytes as a person reads them: "5.0 GiB", "12.3 MiB", "900 bytes".
+pub fn human(bytes: u64) -> String {
+    const UNITS: [(&str, f64); 3] = [("GiB", 1073741824.0), ("MiB", 1048576.0), ("KiB", 1024.0)];
+    let b = bytes as f64;
+    UNITS
+        .iter()
+        .find(|(_, size)| b >= *size)
+        .map_or(format!("{bytes} bytes"), |(unit, size)| {
+            format!("{:.1} {unit}", b / size)
         })
-        .collect()
 }
 
 /// How to get an adapter on a machine without a GPU, for every "no adapter" message.
@@ -56,8 +57,8 @@ pub enum Error {
     /// more than this machine has.
     #[error(
         "{what} would need {needed} bytes ({}) of memory, more than the {available} bytes ({}) available",
-        crate::memory::human(*needed),
-        crate::memory::human(*available)
+        human(*needed),
+        human(*available)
     )]
     Memory {
         what: String,

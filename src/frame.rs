@@ -1,6 +1,13 @@
 //! The one result both tracers produce: colour, depth and steps per pixel (its figures are in
 //! [`crate::stats`]).
 
+/// Path mode's word where the colour goes (the colour itself is the host's display transform
+/// of the radiance, [`Frame::take_path_counters`]): the samples dropped as not
+/// finite in its low `COUNTER_DROPPED_BITS` bits (at most `image.samples`, 4,096), the rays that
+/// ran out of steps above them (at most 4,096 samples x 49 rays, 200,704, under 2^19).
+pub const COUNTER_DROPPED_BITS: u32 = 13;
+pub const COUNTER_DROPPED_MASK: u32 = 0x1fff;
+
 /// A rendered image, row 0 at the top, pixel (i, j) at index `j * width + i`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
@@ -111,7 +118,6 @@ impl Frame {
     /// (the colour is the display transform's, made after), into [`Self::nonfinite_samples`]
     /// and [`Self::exhausted_rays`], and clears the colour.
     pub fn take_path_counters(&mut self) {
-        use crate::cpu::path::{COUNTER_DROPPED_BITS, COUNTER_DROPPED_MASK};
         use rayon::prelude::*;
         let (dropped, exhausted) = self
             .colour

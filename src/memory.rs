@@ -3,6 +3,7 @@
 //! would need) rather than left to the allocator. Streamed work, whose memory is bounded by a
 //! band, is never refused.
 
+pub use crate::error::human;
 use crate::error::{Error, Result};
 
 /// Overrides the memory qjulia takes to be available, in bytes (tests, and a user who wants a
@@ -60,16 +61,13 @@ pub fn check(what: &str, needed: u64) -> Result<()> {
     check_within(what, needed, available())
 }
 
-/// Bytes as a person reads them: "5.0 GiB", "12.3 MiB", "900 bytes".
-pub fn human(bytes: u64) -> String {
-    const UNITS: [(&str, f64); 3] = [("GiB", 1073741824.0), ("MiB", 1048576.0), ("KiB", 1024.0)];
-    let b = bytes as f64;
-    UNITS
-        .iter()
-        .find(|(_, size)| b >= *size)
-        .map_or(format!("{bytes} bytes"), |(unit, size)| {
-            format!("{:.1} {unit}", b / size)
-        })
+/// Pixels per band of a streamed render: 4 Mpixel (16 MiB per output array), or
+/// `QJULIA_BAND_PIXELS` (at least 64) to trade memory for dispatch count.
+pub fn band_pixels() -> u64 {
+    std::env::var("QJULIA_BAND_PIXELS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+        .map_or(1 << 22, |n| n.max(64))
 }
 
 #[cfg(test)]

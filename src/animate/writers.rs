@@ -8,7 +8,7 @@ use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::thread::{Scope, ScopedJoinHandle};
 
-use super::{FramePlan, Job, Progress};
+use super::job::{FramePlan, Job, Progress};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::hdr::HdrImage;

@@ -26,12 +26,8 @@ thread_local! {
     static EXHAUSTED_RAYS: std::cell::Cell<u32> = const { std::cell::Cell::new(0) };
 }
 
-/// Path mode's word where the colour goes (the colour itself is the host's display transform
-/// of the radiance, [`crate::frame::Frame::take_path_counters`]): the samples dropped as not
-/// finite in its low `COUNTER_DROPPED_BITS` bits (at most `image.samples`, 4,096), the rays that
-/// ran out of steps above them (at most 4,096 samples x 49 rays, 200,704, under 2^19).
-pub const COUNTER_DROPPED_BITS: u32 = 13;
-pub const COUNTER_DROPPED_MASK: u32 = 0x1fff;
+/// Path mode's counter word's layout, defined with the frame that reads it back.
+pub use crate::frame::{COUNTER_DROPPED_BITS, COUNTER_DROPPED_MASK};
 
 /// Which estimators light a hit (the MIS test's hook; scenes use both): the shader's
 /// `path.strategy`.

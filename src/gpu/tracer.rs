@@ -328,7 +328,8 @@ impl<F: GpuReal> GpuTracer<F> {
     /// pixel ([`Self::samples_per_dispatch`] for this device's bands).
     pub fn samples_per_dispatch_in(rows: u32, width: u32, samples: u32) -> u32 {
         let band_pixels = rows as u64 * width as u64;
-        let fit = (crate::band_pixels() / band_pixels.max(1)).clamp(1, u32::MAX as u64) as u32;
+        let fit =
+            (crate::memory::band_pixels() / band_pixels.max(1)).clamp(1, u32::MAX as u64) as u32;
         fit.min(MAX_SAMPLES_PER_DISPATCH).min(samples.max(1))
     }
 }

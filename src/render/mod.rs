@@ -18,6 +18,7 @@
 mod plan;
 
 pub use crate::gpu::Readback;
+pub use crate::memory::band_pixels;
 pub use crate::picture::{Picture, Work};
 pub use plan::{Backend, GPU_F64_UNSUPPORTED, Plan, Planner};
 
@@ -399,7 +400,7 @@ impl Renderer {
                 )?;
                 Ok(times.seconds)
             }
-            (Some(_), Precision::F64) => Err(Error::Unsupported(plan::SAMPLER_F32_ONLY.into())),
+            (Some(_), Precision::F64) => Err(Error::Unsupported(SAMPLER_F32_ONLY.into())),
             (None, Precision::F32) => sample_cpu::<f32>(scene, grid, sink),
             (None, Precision::F64) => sample_cpu::<f64>(scene, grid, sink),
         }
@@ -474,14 +475,8 @@ fn to_f32_level<F: Real>(level: F) -> f32 {
     }
 }
 
-/// Pixels per band of a streamed render: 4 Mpixel (16 MiB per output array), or
-/// `QJULIA_BAND_PIXELS` (at least 64) to trade memory for dispatch count.
-pub fn band_pixels() -> u64 {
-    std::env::var("QJULIA_BAND_PIXELS")
-        .ok()
-        .and_then(|v| v.parse::<u64>().ok())
-        .map_or(1 << 22, |n| n.max(64))
-}
+/// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
+const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
 
 /// Renders the rows `rows` of an image `width` wide on the CPU band by band with
 /// `render_rows`, handing each band to `sink`; returns the seconds spent rendering (the sink's

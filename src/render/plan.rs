@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use super::Renderer;
+use super::{Renderer, SAMPLER_F32_ONLY};
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuKernels};
 use crate::picture::{Picture, Work};
@@ -42,9 +42,6 @@ impl Work {
         }
     }
 }
-
-/// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
-pub(super) const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
 
 /// Why f64 is refused on a GPU (docs/CONTRACT.md: only where the adapter has SHADER_F64 and the
 /// start-up check passes); the check's reason follows it.

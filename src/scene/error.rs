@@ -6,6 +6,18 @@ use std::path::PathBuf;
 
 use toml::Value;
 
+/// `text` as one line: each control character (a newline, a NUL, ...) written as its Rust
+/// escape (`\n`, `\0`, `\u{1b}`), so that a message quoting what the user typed, or a file's
+/// name, stays the one line an error is. Other characters are kept as they are.
+pub fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_debug().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
+}
+
 /// Where a scene value came from, so that an error can name it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
@@ -35,7 +47,7 @@ impl fmt::Display for SceneSource {
 
 /// A bad scene: one line naming the source (file or flag), the key and the reason.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{}", crate::error::one_line(&format!("{origin}: {message}")))]
+#[error("{}", one_line(&format!("{origin}: {message}")))]
 pub struct SceneError {
     /// Where the bad value came from.
     pub origin: SceneSource,

@@ -5,19 +5,21 @@
 pub mod animation;
 mod error;
 mod exr;
+mod image;
+mod limits;
 mod load;
 mod png;
 pub mod presets;
 pub mod rotation;
 pub mod schema;
 
-pub use error::{SceneError, SceneSource};
+pub use self::image::{Denoiser, ToneMap};
+pub use error::{SceneError, SceneSource, one_line};
 pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr, scene_from_exr_bytes};
-pub use load::{SCENE_TEXT_LIMIT, SET_LIMIT, SceneLoader, check_scene_length};
+pub use limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
+pub use load::{SceneLoader, check_scene_length};
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png, scene_from_png_bytes};
 
-use crate::denoise::Denoiser;
-use crate::display::ToneMap;
 use schema::{Range, scene_schema};
 use serde::Serialize;
 

@@ -5,6 +5,7 @@ use std::io::{BufRead, Seek};
 use std::path::Path;
 
 use super::error::{SceneError, SceneSource};
+use super::limits::SCENE_TEXT_LIMIT;
 
 /// The keyword of the iTXt chunk that carries a PNG's scene as TOML.
 pub const SCENE_PNG_KEYWORD: &str = "qjulia-scene";
@@ -31,7 +32,7 @@ fn read_scene_chunk(
     let source = source.clone();
     // The chunks before the image data are held in memory: cap what that may take.
     let limits = png::Limits {
-        bytes: 4 * super::load::SCENE_TEXT_LIMIT,
+        bytes: 4 * SCENE_TEXT_LIMIT,
     };
     let reader = png::Decoder::new_with_limits(input, limits)
         .read_info()
@@ -53,7 +54,7 @@ fn read_scene_chunk(
         SceneError::general(&source, format!("unreadable qjulia-scene chunk: {e}"))
     };
     chunk
-        .decompress_text_with_limit(super::load::SCENE_TEXT_LIMIT)
+        .decompress_text_with_limit(SCENE_TEXT_LIMIT)
         .map_err(|e| {
             // png's words for the limit ("Out of decompression space. Try with a larger
             // limit.") name a limit the user cannot set: say what it is.
@@ -62,7 +63,7 @@ fn read_scene_chunk(
                     &source,
                     format!(
                         "its qjulia-scene chunk inflates to more than a scene may be ({} bytes)",
-                        super::load::SCENE_TEXT_LIMIT
+                        SCENE_TEXT_LIMIT
                     ),
                 )
             } else {

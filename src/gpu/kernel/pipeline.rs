@@ -341,7 +341,7 @@ impl Kernel {
             .map(|(_, o)| o.bytes_per_item)
             .max()
             .unwrap_or(1);
-        let items = crate::band_pixels()
+        let items = crate::memory::band_pixels()
             .min(limit.max_storage_buffer_binding_size / widest)
             .min(limit.max_buffer_size / widest);
         let multiple = self.spec.band_row_multiple.max(1);

@@ -10,12 +10,14 @@
 mod csv;
 mod markdown;
 mod plot;
+mod setting;
 mod truth;
 mod zoom;
 
 pub use csv::csv;
 pub use markdown::{markdown, pareto_front, seed_row};
 pub use plot::plot;
+pub use setting::Setting;
 pub use truth::{Metrics, TRUTH_SAMPLES, Truth, measure, truth_scene};
 pub use zoom::{ZOOM_FOOTPRINTS, ZoomRow, zoom_markdown, zoom_scene, zoom_sweep};
 
@@ -26,18 +28,6 @@ use super::stability::Runner;
 use crate::frame::Frame;
 use crate::gpu::GpuKernels;
 use crate::scene::{NormalMethod, Scene};
-
-/// One point of the sweep.
-#[derive(Clone, Debug)]
-pub struct Setting {
-    pub scene_name: &'static str,
-    /// The series it belongs to (what is varied).
-    pub method: &'static str,
-    /// The value varied, for people.
-    pub label: String,
-    pub runner: Runner,
-    pub scene: Scene,
-}
 
 /// A measured setting.
 #[derive(Clone, Debug)]

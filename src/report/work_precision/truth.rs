@@ -2,7 +2,7 @@
 
 use rayon::prelude::*;
 
-use super::Setting;
+use super::setting::Setting;
 use crate::TraceParams;
 use crate::algebra::{Real, Vec3};
 use crate::frame::{Frame, unpack_rgb};

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use toml::Value;
 
-use super::{check_scene, number, parse};
+use super::values::{check_scene, number, parse};
 use crate::scene::Scene;
 use crate::scene::animation::{Animation, FRAMES_MAX, FRAMES_MIN, Keyframe, animatable};
 use crate::scene::error::{SceneError, SceneSource};

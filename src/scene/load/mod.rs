@@ -3,13 +3,14 @@
 //! precedence. Every key is checked once, after all layers, and every error names where the
 //! offending value came from.
 //!
-//! This module owns the layers and the checks: reading each key's value by its kind, the
-//! ranges, and the whole scene's consistency. The `[animation]` table's keys and keyframes are
-//! read in `animation.rs`, against the scene built here.
+//! This module owns the layers and when the checks run; reading each key's value by its kind,
+//! the ranges and the whole scene's consistency are in `values.rs`. The `[animation]` table's
+//! keys and keyframes are read in `animation.rs`, against the scene built here.
 
 mod animation;
 #[cfg(test)]
 mod tests;
+mod values;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -19,11 +20,13 @@ use toml::Value;
 use super::Scene;
 use super::error::{SceneError, SceneSource};
 use super::exr::scene_from_exr;
+use super::limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
 use super::png::scene_from_png;
 use super::presets::Preset;
-use super::schema::{KEYS, Key, Kind, SCHEMA};
+use super::schema::{KEYS, Key, SCHEMA};
 use crate::scene::animation::Animation;
 use animation::read_animation;
+use values::{check_scene, parse};
 
 /// Collects scene layers, later ones overriding earlier ones key by key, then builds and
 /// validates the [`Scene`].
@@ -215,12 +218,6 @@ impl Preset {
     }
 }
 
-/// The most bytes of scene text (a file, or the scene a PNG or EXR carries) the loader takes:
-/// scenes are a few kilobytes, a long keyframed animation a few hundred.
-pub const SCENE_TEXT_LIMIT: usize = 1 << 20;
-/// The most bytes one `--set KEY=VALUE` may have.
-pub const SET_LIMIT: usize = 1 << 16;
-
 /// A scene file's text, refused before it is read where it is longer than
 /// [`SCENE_TEXT_LIMIT`].
 fn read_scene_text(path: &Path, source: &SceneSource) -> Result<String, SceneError> {
@@ -308,91 +305,6 @@ impl Reader {
     }
 }
 
-/// Reads one value of the kind into the scene, or says why it is not one (the reason of a
-/// one-line error).
-fn parse(kind: &Kind, v: &Value, s: &mut Scene) -> Result<(), String> {
-    match *kind {
-        Kind::Float { at, .. } => {
-            let x = number(v).ok_or("must be a number")?;
-            if !x.is_finite() {
-                return Err("must be finite".into());
-            }
-            *(at.get_mut)(s) = x;
-        }
-        Kind::Integer { at, min, max } => {
-            let Value::Integer(i) = *v else {
-                return Err("must be an integer".into());
-            };
-            if i < i64::from(min) || i > i64::from(max) {
-                return Err(format!("must be in [{min}, {max}]"));
-            }
-            *(at.get_mut)(s) = i as u32;
-        }
-        Kind::Bool { at } => {
-            *(at.get_mut)(s) = v.as_bool().ok_or("must be true or false")?;
-        }
-        Kind::Choice { names, set, .. } => {
-            if !set(s, v.as_str().unwrap_or_default()) {
-                let names: Vec<String> = names().iter().map(|n| format!("\"{n}\"")).collect();
-                return Err(format!("must be one of {}", names.join(", ")));
-            }
-        }
-        Kind::Vector { at, .. } | Kind::Hyper { at } => {
-            // A fixed vector keeps its length; a number of the algebra has its dimension (the
-            // scene's vectors already do: `set_algebra` ran).
-            let len = (at.get)(s).len();
-            let algebra = s.fractal.algebra;
-            let shape = || match kind {
-                Kind::Hyper { .. } if algebra != super::Algebra::Quaternion => format!(
-                    "must be an array of {len} numbers (fractal.algebra is \"{}\")",
-                    algebra.name()
-                ),
-                _ => format!("must be an array of {len} numbers"),
-            };
-            let items = v.as_array().ok_or_else(shape)?;
-            if items.len() != len {
-                return Err(format!("{}, not {}", shape(), items.len()));
-            }
-            for (slot, item) in (at.get_mut)(s).iter_mut().zip(items) {
-                *slot = number(item).ok_or_else(shape)?;
-                if !slot.is_finite() {
-                    return Err("must be finite".into());
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Checks the scene's value of one kind against its range (after all layers are read).
-fn check_range(kind: &Kind, s: &Scene) -> Result<(), String> {
-    match *kind {
-        Kind::Float { at, range } if !range.contains(*(at.get)(s)) => {
-            Err(format!("must be {range}"))
-        }
-        Kind::Vector { at, each } if (at.get)(s).iter().any(|&x| !each.contains(x)) => {
-            Err(format!("must have every component {each}"))
-        }
-        _ => Ok(()),
-    }
-}
-
-fn number(v: &Value) -> Option<f64> {
-    match v {
-        Value::Float(f) => Some(*f),
-        Value::Integer(i) => Some(*i as f64),
-        _ => None,
-    }
-}
-
-/// How far from orthonormal a slice basis may be and still be re-orthonormalised.
-pub const SLICE_ORTHONORMAL_TOLERANCE: f64 = 1e-3;
-
-/// How far from orthonormal a slice basis may be and be kept exactly as given: Gram-Schmidt's
-/// own output is orthonormal to a few ulps, so a saved scene's slice loads back unchanged
-/// (re-orthonormalising it would move it by an ulp each time).
-pub const SLICE_EXACT_TOLERANCE: f64 = 1e-14;
-
 /// Range and consistency checks over the whole scene, once all layers are in.
 fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
     // The camera's and the slice's checks blame the later-given of the keys involved.
@@ -413,82 +325,4 @@ fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
         let (v, src) = r.source_of(&key);
         SceneError::value(&src, &key, &v, &reason)
     })
-}
-
-/// The checks of [`validate`] on a scene, whatever its values came from: each key's range,
-/// the camera, the cut's normal and the slice basis (which is re-orthonormalised). A failure is
-/// (the key at fault, the reason); where several keys are involved, `blame` chooses among them.
-fn check_scene(s: &mut Scene, blame: impl Fn(&[&str]) -> String) -> Result<(), (String, String)> {
-    let fail = |key: &str, reason: &str| (key.to_string(), reason.to_string());
-    // Each key's range, in the schema's order.
-    for key in SCHEMA {
-        check_range(&key.kind, s).map_err(|reason| fail(key.path, &reason))?;
-    }
-
-    let eye = glam::DVec3::from_array(s.camera.eye);
-    let target = glam::DVec3::from_array(s.camera.target);
-    let up = glam::DVec3::from_array(s.camera.up);
-    let view = target - eye;
-    if view.length() == 0.0 || !view.length().is_finite() {
-        let key = blame(&["camera.eye", "camera.target"]);
-        return Err(fail(
-            &key,
-            "must differ from the other of camera.eye, camera.target",
-        ));
-    }
-    if up.length() == 0.0 {
-        return Err(fail("camera.up", "must not be zero"));
-    }
-    if view.normalize().cross(up.normalize()).length() < 1e-6 {
-        let key = blame(&["camera.up", "camera.eye", "camera.target"]);
-        return Err(fail(
-            &key,
-            "makes camera.up parallel to camera.target - camera.eye",
-        ));
-    }
-
-    // A polygon aperture has at least three blades.
-    if matches!(s.camera.blades, 1 | 2) {
-        return Err(fail(
-            "camera.blades",
-            "must be 0 (round) or in [3, 16] (a polygon)",
-        ));
-    }
-
-    // Directions, normalised when read: the cut's normal, the sky's up and the sun's direction.
-    for (key, v) in [
-        ("cut.normal", s.cut.normal),
-        ("sky.up", s.sky.up),
-        ("sun.direction", s.sun.direction),
-    ] {
-        if v.iter().all(|&x| x == 0.0) {
-            return Err(fail(key, "must not be zero"));
-        }
-    }
-
-    // The slice basis: orthonormal, or within tolerance of it and then re-orthonormalised.
-    let keys = ["slice.x", "slice.y", "slice.z"];
-    let basis = [&s.slice.x, &s.slice.y, &s.slice.z];
-    let mut worst: f64 = 0.0;
-    for i in 0..3 {
-        for j in 0..=i {
-            let expected = if i == j { 1.0 } else { 0.0 };
-            let error = (super::dot(basis[i], basis[j]) - expected).abs();
-            if error > SLICE_ORTHONORMAL_TOLERANCE {
-                let key = blame(&keys[..=i]);
-                return Err(fail(
-                    &key,
-                    "makes the slice basis (x, y, z) not orthonormal",
-                ));
-            }
-            worst = worst.max(error);
-        }
-    }
-    if worst <= SLICE_EXACT_TOLERANCE {
-        return Ok(());
-    }
-    let [x, y, z] = super::orthonormalise(basis.map(|v| v.as_slice()))
-        .ok_or_else(|| fail(&blame(&keys), "makes the slice basis degenerate"))?;
-    (s.slice.x, s.slice.y, s.slice.z) = (x, y, z);
-    Ok(())
 }
