@@ -36,7 +36,7 @@ export const JULIA2D_LAYOUT = LAYOUTS.julia2d;
 
 /// Samples a dispatch adds at most (MAX_SAMPLES_PER_DISPATCH of src/gpu/tracer.rs).
 export const MAX_SAMPLES_PER_DISPATCH = 8;
-/// Pixels per band of a streamed render (src/render/mod.rs's band_pixels()).
+/// Pixels per band of a streamed render (src/memory.rs's band_pixels()).
 export const BAND_PIXELS = 1 << 22;
 /// |z|^2 beyond which f32 stops the orbit, whatever the scene asks (Real::ESCAPE_LIMIT).
 export const ESCAPE_LIMIT_F32 = 1e8;
