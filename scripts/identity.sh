@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Byte identity of two qjulia binaries' outputs: every output of render (GPU, CPU f32 and CPU
-# f64; PNG, depth and steps), the step views, render2d, animate frames and mesh PLY/STL/OBJ, on
-# a few presets at small sizes (PNGs without their embedded scene text, see `same`). Prints a markdown table, one row per output, and exits 1 when
+# f64; PNG, depth and steps), the step views, render2d, animate frames and mesh PLY/STL/OBJ, path
+# mode, the denoiser, adaptive sampling, --hdr, tiles and merge, `schema --json` and `gpu-params
+# --json`, on a few presets at small sizes (PNGs without their embedded scene text, see `same`). Prints a markdown table, one row per output, and exits 1 when
 # any output differs. For a refactor that must change no byte:
 #   scripts/identity.sh OLD_BINARY NEW_BINARY
 set -uo pipefail
@@ -35,6 +36,22 @@ PY
         cmp -s "$1" "$2"
     fi
 }
+# As `check`, a shell script run with each binary as $Q in its own folder (for outputs on stdout
+# and for several commands: tiles and their merge).
+check_sh() {
+    local label=$1 script=$2
+    for which in old new; do
+        local bin=$old
+        [[ $which == new ]] && bin=$new
+        rm -rf "$tmp/$which" && mkdir -p "$tmp/$which"
+        (cd "$tmp/$which" && Q=$bin bash -c "$script" >/dev/null 2>"$tmp/$which.err") || {
+            echo "| \`$label\` | $which failed: $(tail -1 "$tmp/$which.err") | no |"
+            differ=1
+            return
+        }
+    done
+    compare "$label"
+}
 # Runs one command with each binary in its own folder; compares every file it wrote.
 check() {
     local label=$1
@@ -49,6 +66,11 @@ check() {
             return
         }
     done
+    compare "$label"
+}
+# Compares the files the two runs of `label` wrote, one row of the table.
+compare() {
+    local label=$1
     local files verdict=yes
     files=$(cd "$tmp/old" && find . -type f | sort)
     if [[ "$files" != "$(cd "$tmp/new" && find . -type f | sort)" ]]; then
@@ -92,5 +114,39 @@ for ext in ply stl obj; do
     for backend in gpu "cpu --precision f64"; do
         check "mesh --resolution 48 --backend $backend -o m.$ext" mesh --resolution 48 --backend $backend -o "m.$ext"
     done
+done
+# Path mode, the denoiser, adaptive sampling, the HDR output, tiles and merge, and the data the
+# browser's host reads (issues 35 and 36). Stats are not compared: they hold times.
+path=(--set 'shading.model="path"' --set image.samples=4 --set sun.intensity=3)
+for backend in "gpu f32" "cpu f32" "cpu f64"; do
+    set -- $backend
+    check "render path --backend $1 --precision $2 (png, depth, steps, hdr)" \
+        render "${size[@]}" "${path[@]}" --backend "$1" --precision "$2" \
+        -o p.png --depth d.npy --steps s.npy --hdr h.exr
+done
+check "render --preset path-traced (lens, aces) --backend gpu" \
+    render --preset path-traced "${size[@]}" --set image.samples=4 --backend gpu -o p.png --hdr h.exr
+for model in phong path; do
+    m=(--set "shading.model=\"$model\"" --set image.samples=8 --set sun.intensity=3)
+    for backend in gpu cpu; do
+        check "render $model --denoise atrous --backend $backend" \
+            render "${size[@]}" "${m[@]}" --set 'image.denoise="atrous"' --backend "$backend" -o p.png --hdr h.exr
+        check "render $model adaptive --backend $backend (png, hdr)" \
+            render "${size[@]}" "${m[@]}" --set image.samples=32 --set path.noise_target=0.05 \
+            --backend "$backend" -o p.png --hdr h.exr
+        check "render $model adaptive --view samples --backend $backend" \
+            render "${size[@]}" "${m[@]}" --set image.samples=32 --set path.noise_target=0.05 \
+            --backend "$backend" --view samples -o v.png
+    done
+    check "render $model --hdr (phong: unclamped mean)" \
+        render "${size[@]}" "${m[@]}" --backend gpu -o p.png --hdr h.exr
+    check_sh "render $model --tile K/3, merge --backend gpu" \
+        "mkdir parts && for k in 0 1 2; do \$Q render ${size[*]} --set 'shading.model=\"$model\"' \
+         --set image.samples=8 --backend gpu --tile \$k/3 --hdr parts/\$k.exr || exit 1; done && \
+         \$Q merge parts/0.exr parts/1.exr parts/2.exr -o m.png --hdr m.exr && rm -r parts"
+done
+check_sh "schema --json" '$Q schema --json > schema.json'
+for preset in seed gallery path-traced deep-zoom; do
+    check_sh "gpu-params --preset $preset --json" "\$Q gpu-params --preset $preset --json > params.json"
 done
 exit $differ
