@@ -8,7 +8,7 @@ use qjulia::Scene;
 use super::ReportArgs;
 
 pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
-    use qjulia::report::stability;
+    use qjulia::report::{stability, stability_path};
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     // One device for every GPU case, its kernels built once and shared.
@@ -39,7 +39,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     }
     let size = args.size.unwrap_or(64);
     let limit = std::time::Duration::from_secs(args.limit);
-    let outcomes = stability::run_all(size, gpu, limit, |o| {
+    let outcomes = stability::run_all(size, gpu.clone(), limit, |o| {
         let verdict = if o.passed() { "ok" } else { "FAILED" };
         let seconds = o.seconds.map_or("-".into(), |s| format!("{s:.3} s"));
         eprintln!(
@@ -49,11 +49,23 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         );
     });
     let table = stability::markdown(&outcomes);
+    // Path mode's cases, at a quarter of the size (each pixel takes 16 samples).
+    let path_size = (size / 2).max(8);
+    let path_outcomes = stability_path::run_all_path(path_size, gpu, limit, |o| {
+        let verdict = if o.passed() { "ok" } else { "FAILED" };
+        let seconds = o.seconds.map_or("-".into(), |s| format!("{s:.3} s"));
+        eprintln!(
+            "qjulia: path {:<23} {:<8} {seconds:>10}  {verdict}",
+            o.case,
+            o.runner.name()
+        );
+    });
+    let path_table = stability_path::path_markdown(path_size, &path_outcomes);
     let path = args.out.join("stability.md");
-    let text = stability::page(size, args.limit, &table);
+    let text = stability::page(size, args.limit, &format!("{table}{path_table}"));
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
-    println!("{table}");
-    if outcomes.iter().any(|o| !o.passed()) {
+    println!("{table}{path_table}");
+    if outcomes.iter().any(|o| !o.passed()) || path_outcomes.iter().any(|o| !o.passed()) {
         anyhow::bail!("some cases failed: see {}", path.display());
     }
     Ok(())

@@ -1,4 +1,5 @@
-//! Reports on accuracy and stability: the stiff and extreme case suite (`stability`) and the
+//! Reports on accuracy and stability: the stiff and extreme case suite (`stability`, path
+//! mode's in `stability_path`) and the
 //! work-precision sweep (`work_precision`), how the estimate fares as the algebra grows
 //! (`dimensions`), and how path mode's images converge (`monte_carlo`).
 
@@ -6,6 +7,7 @@ pub mod dimensions;
 pub mod monte_carlo;
 pub mod plot;
 pub mod stability;
+pub mod stability_path;
 pub mod work_precision;
 
 /// The machine, for a report's header: CPU model and cores, and the adapter.
