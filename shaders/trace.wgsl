@@ -2,6 +2,9 @@
 // one invocation per pixel, through the distance estimate, sphere tracing, the normal, Phong
 // shading and the shadow ray.
 //
+// Why it passes 600 lines: it is one kernel's module, the tracer and its features, twinned
+// function by function with src/cpu/trace.rs; a split must split both alike (issue 36 item 5).
+//
 // Twin: src/cpu/trace.rs, function by function, with the same names in the same order (checked
 // by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
 // both. Needs a prelude (shaders/real32.wgsl or shaders/real64.wgsl: the float type `Real`, its

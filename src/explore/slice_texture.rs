@@ -6,6 +6,10 @@
 //! frame rate up, then refines to full resolution, and the idle view adds samples to a running
 //! mean pass by pass.
 //!
+//! Why it passes 600 lines: it still holds the live view's own progressive schedule (tiles,
+//! readback, running mean, denoiser hand-off, adaptive counts), which issue 36 item 2 moves into
+//! the render module's progressive session; what stays here is the texture and its wiring.
+//!
 //! Path mode (`shading.model = "path"`, the shaded view) runs the path tracer
 //! ([`GpuPathTracer`]) on the same schedule, tiles and passes: each pass adds one sample to its
 //! `accumulated` output, the running mean of the linear radiance, as `qjulia render` does. Its
