@@ -7,6 +7,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::stability::{Case, Runner, with_time_limit};
+use crate::algebra::Vec3;
+use crate::cpu::bsdf::luminance;
 use crate::gpu::{GpuKernels, Readback};
 use crate::scene::Scene;
 use crate::{Frame, Picture};
@@ -181,13 +183,13 @@ impl PathOutcome {
     }
 }
 
-/// The mean over pixels of the frame's luminance (Rec. 709 weights, as adaptive sampling's).
+/// The mean over pixels of the frame's luminance (the path tracer's own `luminance`, in f64).
 fn mean_luminance(frame: &Frame) -> f64 {
     let n = frame.radiance.len().max(1) as f64;
     frame
         .radiance
         .iter()
-        .map(|c| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64)
+        .map(|c| luminance(Vec3::<f64>::from_f64(c.map(f64::from))))
         .sum::<f64>()
         / n
 }
