@@ -66,9 +66,14 @@ struct PathResult {
 }
 
 // The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the scene's
-// sampler (shaders/sobol.wgsl: the dimensions' order is stated there).
+// sampler (shaders/sobol.wgsl: the dimensions' order is stated there): the point of the
+// sample's index in its stream (trace.wgsl's sample_stream), stream 1 drawn as if its pixel's
+// number had bit 31 set (no pixel's has), so that its points are scrambled independently of
+// stream 0's.
 fn path_random(i: u32, j: u32, sample: u32, dim: u32) -> f32 {
-    return to_unit(sample_bits(path.sampler, j * params.width + i, sample, dim));
+    let s = sample_stream(sample);
+    let pixel = (j * params.width + i) | (s.x << 31u);
+    return to_unit(sample_bits(path.sampler, pixel, s.y, dim));
 }
 
 fn path_sky() -> Sky {
@@ -354,8 +359,10 @@ fn sample_valid(c: vec3<f32>) -> bool {
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
 // samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's
-// `adaptive`) a pixel stops after the sample that leaves it done, and a later dispatch leaves it
-// at once, or with COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
+// `adaptive`) the mean and the AOVs are stream 1's alone and stream 0 decides (sample_stream,
+// add_to_streams); a pixel stops after the sample that leaves it done (sampling_done), and a
+// later dispatch leaves it at once, or with COMPACT gives its invocation to a live pixel of its
+// block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
 fn path_main(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -375,8 +382,10 @@ fn path_main(
     var mean = vec3<f32>(0.0);
     var made = 0u;
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
-    // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`).
+    // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`), and
+    // the pixel's streams (add_to_streams).
     var state = 0.0;
+    var streams = vec4<f32>(0.0);
     // The samples dropped so far, and the counter word's exhausted rays of earlier dispatches.
     var dropped = 0u;
     var exhausted_before = 0u;
@@ -397,6 +406,9 @@ fn path_main(
         let counters = out_colour[index];
         dropped = counters & COUNTER_DROPPED_MASK;
         exhausted_before = counters >> COUNTER_DROPPED_BITS;
+        if adaptive() {
+            streams = accumulated[streams_index(index)];
+        }
         if AOVS {
             aovs = load_aovs(index);
         }
@@ -425,24 +437,33 @@ fn path_main(
             out_depth[index] = select(-1.0, r.depth, r.hit);
             out_steps[index] = r.steps;
         }
-        if !sample_valid(r.radiance) {
-            dropped += 1u;
-            continue;
-        }
-        // The samples kept, this one with them.
-        let n = k + 1u - dropped;
-        let before = mean;
-        mean += (r.radiance - mean) / f32(n);
-        if AOVS {
-            aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal);
-        }
-        if adaptive() {
-            let l = sample_luminance(r.radiance);
-            state = next_state(state, n, l, sample_luminance(before), sample_luminance(mean));
-            if state < 0.0 {
-                break;
+        if sample_valid(r.radiance) {
+            // The samples the mean holds, this one with them: the samples kept, or adaptively
+            // stream 1's.
+            var n = k + 1u - dropped;
+            var shown = true;
+            if adaptive() {
+                let stream = sample_stream(k).x;
+                streams = add_to_streams(streams, stream, sample_luminance(r.radiance));
+                n = u32(streams.w);
+                shown = stream == 1u;
             }
+            if shown {
+                mean += (r.radiance - mean) / f32(n);
+                if AOVS {
+                    aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal);
+                }
+            }
+        } else {
+            dropped += 1u;
         }
+        if adaptive() && sampling_done(streams, k + 1u) {
+            state = -f32(k + 1u);
+            break;
+        }
+    }
+    if adaptive() {
+        accumulated[streams_index(index)] = streams;
     }
     accumulated[index] = vec4<f32>(mean, state);
     if AOVS {

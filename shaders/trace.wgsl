@@ -865,7 +865,7 @@ fn camera_ray_at(x: Real, y: Real) -> vec3<Real> {
 // The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
 // (docs/CONTRACT.md's camera); sample 0 goes through the pixel's centre.
 fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
-    let s = sample_position(sample);
+    let s = stream_position(sample);
     return camera_ray_at(Real(i) + s.x, Real(j) + s.y);
 }
 
@@ -885,10 +885,11 @@ struct Ray {
     dir: vec3<Real>,
 }
 
-// The thin lens's ray of sample `sample` (k >= 1) of pixel (i, j) in phong mode: through the
-// sample's image-plane point and the aperture's point at its lens position (lens_point(k)).
+// The thin lens's ray of sample `sample` of pixel (i, j) in phong mode: through the sample's
+// image-plane point (stream_position) and the aperture's point at its lens position
+// (lens_point).
 fn lens_ray(i: u32, j: u32, sample: u32) -> Ray {
-    let s = sample_position(sample);
+    let s = stream_position(sample);
     return thin_lens_ray(Real(i) + s.x, Real(j) + s.y, lens_point(sample));
 }
 
@@ -905,10 +906,11 @@ fn thin_lens_ray(x: Real, y: Real, lens_unit: vec2<f32>) -> Ray {
     return Ray(params.eye + offset, real_normalize(focus - offset));
 }
 
-// Sample k's point on the unit aperture in phong mode: the aperture's point at its lens position
-// (u, v) = lens_position(k).
+// Sample k's point on the unit aperture in phong mode: the aperture's point at its stream's lens
+// position (stream_lens_position: the Halton point of index 0 is the lens's centre, which
+// would make a stream's first sample a pinhole sample).
 fn lens_point(k: u32) -> vec2<f32> {
-    return aperture_point(lens_position(k + 1u));
+    return aperture_point(stream_lens_position(k));
 }
 
 // The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too: the f64
@@ -1098,6 +1100,44 @@ fn lens_position(k: u32) -> vec2<f32> {
     return vec2<f32>(f32(base5) * (1.0 / 15625.0), f32(base7) * (1.0 / 16807.0));
 }
 
+// Adaptive sampling's two streams (docs/book/adaptive.md): sample k of an adaptive pixel is
+// sample k / 2 of stream k % 2, as (stream, index). Stream 0 decides when the pixel is done
+// and stream 1 is what it shows, so that the decision does not depend on the estimate it stops.
+// Without adaptive sampling every sample is stream 0's: (0, k).
+fn sample_stream(k: u32) -> vec2<u32> {
+    if adaptive() {
+        return vec2<u32>(k & 1u, k >> 1u);
+    }
+    return vec2<u32>(0u, k);
+}
+
+// Stream 1's points in phong mode are stream 0's turned by this Cranley-Patterson shift (modulo
+// 1, in the pixel and on the lens alike): R2's (0.7549, 0.5698) rounded to 11 bits, exact in
+// f32. The streams' points are then apart, each stream as well spread as the Halton points.
+const STREAM_SHIFT: vec2<f32> = vec2<f32>(1545.0 / 2048.0, 1167.0 / 2048.0);
+
+// Where sample k lies in its pixel in phong mode: its stream's index's sample_position, shifted
+// by STREAM_SHIFT in stream 1.
+fn stream_position(k: u32) -> vec2<Real> {
+    let s = sample_stream(k);
+    let p = sample_position(s.y);
+    if s.x == 0u {
+        return p;
+    }
+    return fract(p + vec2<Real>(STREAM_SHIFT));
+}
+
+// Where sample k lies on the lens before the aperture's map in phong mode: lens_position of its
+// stream's index + 1, shifted by STREAM_SHIFT in stream 1.
+fn stream_lens_position(k: u32) -> vec2<f32> {
+    let s = sample_stream(k);
+    let p = lens_position(s.y + 1u);
+    if s.x == 0u {
+        return p;
+    }
+    return fract(p + STREAM_SHIFT);
+}
+
 // Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
 // (In f32 whatever the precision: a colour needs no more.)
 fn pack_colour(colour: vec3<Real>) -> u32 {
@@ -1174,10 +1214,12 @@ fn store_aovs(index: u32, a: Aovs) {
 
 // Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"). Each
 // pixel decides alone, after each of its samples, whether it is done: no neighbour counts, so
-// any split of the image into bands, tiles or dispatches gives the same pixels. The
-// accumulator's fourth float is its state: while it samples, the M2 (add_m2) of the luminances
-// of the values it averages (phong mode's clamped colours, path mode's radiance), at least 0;
-// once it is done, minus the samples it took. A later dispatch leaves a done pixel at once.
+// any split of the image into bands, tiles or dispatches gives the same pixels. Its samples
+// alternate between two streams (sample_stream): stream 0's luminances (phong mode's clamped
+// colours, path mode's radiance) decide when it is done, kept in the accumulator's second
+// plane (add_to_streams), and the accumulator's rgb is the mean of stream 1's alone. The
+// accumulator's fourth float is 0 while the pixel samples, and once it is done minus the
+// samples it took. A later dispatch leaves a done pixel at once.
 override ADAPTIVE: bool = true;
 
 // A pixel's noise is taken relative to its mean luminance or to this, whichever is larger (the
@@ -1200,25 +1242,39 @@ fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
     return sqrt(variance) / max(abs(mean_luminance), NOISE_LUMINANCE_FLOOR);
 }
 
-// Whether a pixel that has taken n samples is done: all of them, or at least
-// max(min(min_samples, samples), 2) with its noise at most the target.
-fn sampling_done(m2: f32, n: u32, mean_luminance: f32) -> bool {
-    if n >= params.samples {
-        return true;
+// A pixel's streams (sample_stream) with one more sample, of luminance l, in stream `stream`:
+// (stream 0's mean luminance, its M2 by Welford's rule (add_m2, at least 0), the samples kept
+// in stream 0, in stream 1), the counts exact in f32. The accumulator's second plane holds it.
+fn add_to_streams(d: vec4<f32>, stream: u32, l: f32) -> vec4<f32> {
+    var out = d;
+    if stream == 0u {
+        out.z = d.z + 1.0;
+        out.x = d.x + (l - d.x) / out.z;
+        out.y = max(add_m2(d.y, l, d.x, out.x), 0.0);
+    } else {
+        out.w = d.w + 1.0;
     }
-    let floor = max(min(params.min_samples, params.samples), 2u);
-    return n >= floor && pixel_noise(m2, n, mean_luminance) <= f32(params.noise_target);
+    return out;
 }
 
-// A pixel's state after its sample n (1-based), whose luminance is l, the mean's luminance
-// before it `before` and after it `after`: its M2 with l added (add_m2, at least 0), or minus
-// n where it is then done (sampling_done).
-fn next_state(state: f32, n: u32, l: f32, before: f32, after: f32) -> f32 {
-    let m2 = max(add_m2(state, l, before, after), 0.0);
-    if sampling_done(m2, n, after) {
-        return -f32(n);
+// Whether a pixel whose streams are d (add_to_streams) is done once it has taken `taken`
+// samples: all of them, or at least max(min(min_samples, samples), 4) with stream 1 as long as
+// stream 0, which has at least 2 samples and a noise (pixel_noise) at most the target.
+fn sampling_done(d: vec4<f32>, taken: u32) -> bool {
+    if taken >= params.samples {
+        return true;
     }
-    return m2;
+    let floor = max(min(params.min_samples, params.samples), 4u);
+    if taken < floor || d.z < 2.0 || d.w < d.z {
+        return false;
+    }
+    return pixel_noise(d.y, u32(d.z), d.x) <= f32(params.noise_target);
+}
+
+// Where a pixel's streams (add_to_streams) are kept: the accumulator's second plane, as long as
+// its first (the host allocates accumulated twice the pixels).
+fn streams_index(index: u32) -> u32 {
+    return arrayLength(&accumulated) / 2u + index;
 }
 
 // The workgroup's live pixels (compacted_pixel): how many, and each one's local index.
@@ -1307,13 +1363,15 @@ fn main(
     }
     // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
     // clamped colours, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), exact where every sample
-    // has the same colour; sample 0 gives the depth and the steps (where the lens is open, the
-    // pinhole ray's, traced above).
+    // has the same colour (adaptively, of stream 1's alone: sample_stream); sample 0 gives the
+    // depth and the steps (where the lens is open, the pinhole ray's, traced above).
     var mean = vec3<Real>(0.0);
     var made = 0u;
     var aovs = no_aovs;
-    // The accumulator's fourth float: adaptive sampling's state (0 without it).
+    // The accumulator's fourth float: adaptive sampling's state (0 without it), and the
+    // pixel's streams (add_to_streams).
     var state = 0.0;
+    var streams = vec4<f32>(0.0);
     if params.sample_start > 0u {
         let held = accumulated[index];
         if adaptive() && held.w < 0.0 {
@@ -1322,6 +1380,9 @@ fn main(
         mean = vec3<Real>(held.xyz);
         state = held.w;
         made = out_estimates[index];
+        if adaptive() {
+            streams = accumulated[streams_index(index)];
+        }
         if AOVS {
             aovs = load_aovs(index);
         }
@@ -1346,23 +1407,32 @@ fn main(
         }
         let pixel = shade_pixel(ray, trace);
         let c = clamp(pixel.colour, vec3<Real>(0.0), vec3<Real>(1.0));
-        let before = mean;
-        mean += (c - mean) / Real(k + 1u);
         if k == 0u && !lens_open() {
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }
-        if AOVS {
-            aovs = add_pixel_aovs(aovs, k, pixel);
-        }
+        // The samples the mean holds, this one with them.
+        var n = k + 1u;
+        var shown = true;
         if adaptive() {
-            let l = sample_luminance(vec3<f32>(c));
-            let l_before = sample_luminance(vec3<f32>(before));
-            state = next_state(state, k + 1u, l, l_before, sample_luminance(vec3<f32>(mean)));
-            if state < 0.0 {
-                break;
+            let stream = sample_stream(k).x;
+            streams = add_to_streams(streams, stream, sample_luminance(vec3<f32>(c)));
+            n = u32(streams.w);
+            shown = stream == 1u;
+        }
+        if shown {
+            mean += (c - mean) / Real(n);
+            if AOVS {
+                aovs = add_pixel_aovs(aovs, n - 1u, pixel);
             }
         }
+        if adaptive() && sampling_done(streams, k + 1u) {
+            state = -f32(k + 1u);
+            break;
+        }
+    }
+    if adaptive() {
+        accumulated[streams_index(index)] = streams;
     }
     accumulated[index] = vec4<f32>(vec3<f32>(mean), state);
     if AOVS {

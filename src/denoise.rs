@@ -75,6 +75,16 @@ pub fn mean_variance(m2: f32, samples: u32) -> f32 {
 
 pub use crate::cpu::trace::NOISE_LUMINANCE_FLOOR;
 
+/// The samples a pixel's mean holds, of the `taken` it took: all, or with adaptive sampling
+/// stream 1's, half of them rounded down (trace.wgsl's `sample_stream`: the pixel's mean is
+/// stream 1's alone; a sample dropped as not finite aside).
+pub fn mean_samples(taken: u32, adaptive: bool) -> u32 {
+    match adaptive {
+        true => taken / 2,
+        false => taken,
+    }
+}
+
 /// A pixel's noise: the standard error of its mean luminance, `sqrt(M2 / (n (n - 1)))` at `n`
 /// samples ([`mean_variance`]), relative to that mean, the mean taken as at least
 /// [`NOISE_LUMINANCE_FLOOR`]: the tracers' own measure ([`crate::cpu::trace::pixel_noise`],
@@ -85,9 +95,10 @@ pub fn relative_noise(m2: f32, samples: u32, mean_luminance: f32) -> Option<f32>
 }
 
 /// A frame's estimated noise: the mean of [`relative_noise`] over the pixels whose sample 0
-/// hit, of a frame of `samples` samples a pixel with its AOVs (the M2). None below 2 samples,
-/// without the AOVs, or where no pixel hit.
-pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
+/// hit, of a frame of `samples` samples a pixel (or [`Frame::samples`]; `adaptive`: whether
+/// they were sampled adaptively, [`mean_samples`]) with its AOVs (the M2). None below 2
+/// samples, without the AOVs, or where no pixel hit.
+pub fn frame_noise(frame: &Frame, samples: u32, adaptive: bool) -> Option<f64> {
     let linear = frame.linear();
     let pixels = frame.pixel_count();
     if samples < 2 || frame.luminance_m2.len() != pixels || linear.len() != pixels {
@@ -98,7 +109,7 @@ pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
         .filter(|&k| frame.depth.get(k).is_some_and(|d| !d.is_nan()))
         .map(|k| {
             let l = luminance(vec3(linear[k]));
-            let n = frame.samples_of(k, samples);
+            let n = mean_samples(frame.samples_of(k, samples), adaptive);
             let noise = relative_noise(frame.luminance_m2[k], n, l).unwrap_or(0.0);
             (noise as f64, 1u64)
         })
@@ -135,9 +146,9 @@ fn spatial_variance(luma: &[f32], hit: &[bool], (w, h): (usize, usize), i: usize
 }
 
 /// A whole frame (rendered with its AOVs, [`crate::Readback::Hdr`]) of `samples` samples a
-/// pixel (`image.samples`; [`Frame::samples`] where adaptive sampling took fewer), ready for the
-/// passes.
-pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
+/// pixel (`image.samples`; [`Frame::samples`] where adaptive sampling, `adaptive`, took fewer),
+/// ready for the passes.
+pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
     let pixels = frame.pixel_count();
     let linear = frame.linear();
     assert!(
@@ -151,13 +162,13 @@ pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
     let albedo: Vec<[f32; 3]> = frame.albedo.par_iter().map(|&a| demodulation(a)).collect();
     let hit: Vec<bool> = frame.depth.par_iter().map(|d| !d.is_nan()).collect();
     let variance: Vec<f32> = if samples >= 2 {
-        // Each pixel's own count: adaptive sampling stops pixels at different ones (at 2 or
-        // more).
+        // Each pixel's own count: adaptive sampling stops pixels at different ones, and its
+        // mean holds half of them ([`mean_samples`]).
         frame
             .luminance_m2
             .par_iter()
             .enumerate()
-            .map(|(k, &m2)| mean_variance(m2, frame.samples_of(k, samples)))
+            .map(|(k, &m2)| mean_variance(m2, mean_samples(frame.samples_of(k, samples), adaptive)))
             .collect()
     } else {
         let luma: Vec<f32> = linear.par_iter().map(|&c| luminance(vec3(c))).collect();
@@ -252,7 +263,7 @@ pub fn pack_phong(linear: &[[f32; 3]]) -> Vec<u32> {
 #[cfg(feature = "gpu")]
 pub fn denoise(frame: &Frame, scene: &Scene, gpu: Option<&GpuKernels>) -> crate::Result<Denoised> {
     let start = std::time::Instant::now();
-    let prepared = prepare(frame, scene.image.samples);
+    let prepared = prepare(frame, scene.image.samples, scene.adaptive());
     let passes = passes(scene, frame.width, frame.height);
     let (image, gpu_seconds, backend) = match gpu {
         Some(kernels) => {
@@ -306,10 +317,10 @@ mod tests {
         frame.luminance_m2 = vec![0.02, 0.0, 100.0];
         // The third pixel missed: left out.
         frame.depth = vec![1.0, 2.0, f32::NAN];
-        let noise = frame_noise(&frame, 2).unwrap();
+        let noise = frame_noise(&frame, 2, false).unwrap();
         assert!((noise - 0.1).abs() < 1e-6, "{noise}");
-        assert_eq!(frame_noise(&frame, 1), None);
+        assert_eq!(frame_noise(&frame, 1, false), None);
         frame.depth = vec![f32::NAN; 3];
-        assert_eq!(frame_noise(&frame, 2), None);
+        assert_eq!(frame_noise(&frame, 2, false), None);
     }
 }

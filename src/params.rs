@@ -91,7 +91,7 @@ uniform! {
         /// The aperture's blades (`camera.blades`): 0 round, 3..16 a regular polygon.
         blades: u32 = scene.camera.blades,
         /// Adaptive sampling's floor (`path.min_samples`): no pixel stops before
-        /// min(min_samples, samples) samples, nor before 2.
+        /// max(min(min_samples, samples), 4) samples.
         min_samples: u32 = scene.path.min_samples,
     }
     per_dispatch(p, row_offset, row_count) {

@@ -27,6 +27,16 @@ fn harness_of(
     scene: qjulia::Scene,
     window: [f32; 2],
 ) -> Option<Harness<'static, ExplorerApp>> {
+    harness_sampling(test, scene, window, 3)
+}
+
+/// [`harness_of`] with the view's `samples` (adaptive sampling's pixels stop at 4 or more).
+fn harness_sampling(
+    test: &str,
+    scene: qjulia::Scene,
+    window: [f32; 2],
+    samples: u32,
+) -> Option<Harness<'static, ExplorerApp>> {
     common::gpu(test)?;
     let render_state = egui_kittest::wgpu::create_render_state(
         qjulia::explore::wgpu_setup(),
@@ -35,7 +45,7 @@ fn harness_of(
     let mut app = ExplorerApp::with_scene(scene);
     // A few samples, so that the view accumulates (and the comparisons check the running mean)
     // without the default 64 passes of every settle.
-    app.preview_samples = 3;
+    app.preview_samples = samples;
     app.attach_gpu(&render_state);
     assert!(
         app.slice_texture().is_some(),
@@ -1155,13 +1165,14 @@ fn an_adaptive_denoised_path_view_stops_the_pixels_the_render_stops() {
     scene.image.denoise = qjulia::denoise::Denoiser::Atrous;
     scene.path.noise_target = 0.3;
     scene.path.min_samples = 2;
-    let Some(mut harness) = harness_of("explorer adaptive path", scene, PATH_WINDOW) else {
+    let Some(mut harness) = harness_sampling("explorer adaptive path", scene, PATH_WINDOW, 6)
+    else {
         return;
     };
     settle(&mut harness);
     let view = harness.state().slice_texture().unwrap();
     let kept = view.kept_radiance().expect("the mean kept");
-    assert_eq!(kept.samples, 3);
+    assert_eq!(kept.samples, 6);
     let frame = kept.frame.as_ref().expect("the mean's AOVs kept");
     let expected = rendered_any(&harness);
     assert!(
@@ -1171,13 +1182,13 @@ fn an_adaptive_denoised_path_view_stops_the_pixels_the_render_stops() {
     let mean =
         expected.samples.iter().map(|&n| n as f64).sum::<f64>() / expected.pixel_count() as f64;
     assert!(
-        (2.0..3.0).contains(&mean),
+        (4.0..6.0).contains(&mean),
         "no pixel stopped early, or all did: {mean}"
     );
     assert_eq!(view.stats().samples_taken, Some(mean));
     assert_eq!(
         view.stats().denoised_samples,
-        Some(3),
+        Some(6),
         "the view is not denoised"
     );
     common::assert_agree(
@@ -1196,7 +1207,7 @@ fn the_samples_view_shows_the_heat_map_of_the_counts() {
     scene.path.noise_target = 0.3;
     scene.path.min_samples = 2;
     scene.image.view = View::Samples;
-    let Some(mut harness) = harness_of("explorer samples view", scene, PATH_WINDOW) else {
+    let Some(mut harness) = harness_sampling("explorer samples view", scene, PATH_WINDOW, 6) else {
         return;
     };
     settle(&mut harness);
@@ -1242,7 +1253,7 @@ fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
     assert_eq!(stats.denoise_error, None);
     let noise = stats.noise.expect("a noise figure");
     assert!(noise > 0.0 && noise.is_finite(), "noise {noise}");
-    let noise_again = qjulia::denoise::frame_noise(frame, 3).unwrap();
+    let noise_again = qjulia::denoise::frame_noise(frame, 3, false).unwrap();
     assert_eq!(noise, noise_again);
     let expected = rendered_any(&harness);
     assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");

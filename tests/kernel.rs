@@ -44,11 +44,13 @@ const ACCUMULATE: KernelSpec = KernelSpec {
             name: "sum",
             bytes_per_item: 4,
             on_demand: false,
+            planes: 1,
         },
         OutputSpec {
             name: "scratch",
             bytes_per_item: 4,
             on_demand: false,
+            planes: 1,
         },
     ],
     band_row_multiple: 1,

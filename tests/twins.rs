@@ -47,6 +47,12 @@ const TRACE: Twin = Twin {
         },
         OnlyIn {
             side: Side::Wgsl,
+            name: "streams_index",
+            reason: "where the accumulator's second plane starts in the storage array \
+                     (arrayLength); the CPU keeps a pixel's streams in a local",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
             name: "slice_axis_x",
             reason: "the constant standard axis when specialised (STANDARD_SLICE); the CPU \
                      reads `slice_x` from its parameters",

@@ -124,9 +124,9 @@ pub fn render_rows<F: Real>(
             let mut non_finite = 0;
             let mut made = trace::Aovs::default();
             let mut mean = Vec3::zero();
-            // Adaptive sampling's state, as the kernel keeps it: the M2 of the clamped colours'
-            // luminances, and the samples taken.
-            let (mut state, mut taken) = (0.0f32, samples);
+            // Adaptive sampling's state, as the kernel keeps it: the pixel's streams
+            // (`add_to_streams`), and the samples taken.
+            let (mut streams, mut taken) = ([0.0f32; 4], samples);
             // As the kernel's `main` with INTERLEAVE 2: samples k and k + 1 traced as a pair at
             // k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left traced alone.
             let mut second = None;
@@ -144,24 +144,29 @@ pub fn render_rows<F: Real>(
                 };
                 let pixel = params.shade_pixel(&ray, trace, shade);
                 non_finite += non_finite_values(&pixel);
-                if aovs {
-                    made = params.add_pixel_aovs(made, k, &pixel);
-                }
-                // The running mean, as the kernel keeps it: exact where all samples agree.
-                let (before, c) = (mean, clamp(pixel.colour));
-                mean = match k {
-                    0 => c,
-                    _ => mean + (c - mean) / F::lit((k + 1) as f64),
-                };
-                first.get_or_insert(pixel);
+                let c = clamp(pixel.colour);
+                // The samples the mean holds, this one with them: all, or adaptively stream 1's.
+                let (mut n, mut shown) = (k + 1, true);
                 if params.adaptive() {
-                    let luminance = |v: Vec3<F>| trace::sample_luminance(v.to_f32());
-                    let (l, after) = (luminance(c), luminance(mean));
-                    state = params.next_state(state, k + 1, l, luminance(before), after);
-                    if state < 0.0 {
-                        taken = k + 1;
-                        break;
+                    let stream = params.sample_stream(k).0;
+                    let l = trace::sample_luminance(c.to_f32());
+                    streams = trace::add_to_streams(streams, stream, l);
+                    (n, shown) = (streams[3] as u32, stream == 1);
+                }
+                if shown {
+                    // The running mean, as the kernel keeps it: exact where all samples agree.
+                    mean = match n {
+                        1 => c,
+                        _ => mean + (c - mean) / F::lit(n as f64),
+                    };
+                    if aovs {
+                        made = params.add_pixel_aovs(made, n - 1, &pixel);
                     }
+                }
+                first.get_or_insert(pixel);
+                if params.adaptive() && params.sampling_done(streams, k + 1) {
+                    taken = k + 1;
+                    break;
                 }
             }
             let first = first.expect("at least one sample");

@@ -14,7 +14,7 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
     DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, Primary, Trace, add_aovs, sample_luminance};
+use super::trace::{Aovs, Primary, Trace, add_aovs, add_to_streams, sample_luminance};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -126,10 +126,14 @@ fn any_positive<F: Real>(c: Vec3<F>) -> bool {
 
 impl<F: Real> TraceParams<F> {
     /// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the
-    /// scene's sampler (src/cpu/sobol.rs: the dimensions' order is stated there).
+    /// scene's sampler (src/cpu/sobol.rs: the dimensions' order is stated there): the point of
+    /// the sample's index in its stream ([`TraceParams::sample_stream`]), stream 1 drawn as if
+    /// its pixel's number had bit 31 set (no pixel's has), so that its points are scrambled
+    /// independently of stream 0's.
     pub fn path_random(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32, dim: u32) -> F {
-        let pixel = j.wrapping_mul(self.width).wrapping_add(i);
-        F::lit(to_unit(sample_bits(path.sampler, pixel, sample, dim)) as f64)
+        let (stream, index) = self.sample_stream(sample);
+        let pixel = j.wrapping_mul(self.width).wrapping_add(i) | (stream << 31);
+        F::lit(to_unit(sample_bits(path.sampler, pixel, index, dim)) as f64)
     }
 
     pub fn path_sky(&self, path: &PathParams<F>) -> Sky<F> {
@@ -529,9 +533,9 @@ pub fn render_path_rows<F: Real>(
             // a pair at k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left
             // traced alone.
             let samples = params.samples.max(1);
-            // Adaptive sampling's state, as `path_main` keeps it: the M2 of the radiance's
-            // luminances, and the samples taken.
-            let (mut state, mut taken) = (0.0f32, samples);
+            // Adaptive sampling's state, as `path_main` keeps it: the pixel's streams
+            // (`add_to_streams`), and the samples taken.
+            let (mut streams, mut taken) = ([0.0f32; 4], samples);
             let mut second = None;
             for k in 0..samples {
                 let camera = params.path_camera_ray(path, i, j, k);
@@ -547,26 +551,30 @@ pub fn render_path_rows<F: Real>(
                 };
                 let r = params.trace_path_from(path, (i, j, k), &camera, traced);
                 first.get_or_insert(r);
-                if !sample_valid(r.radiance) {
-                    dropped += 1;
-                    continue;
-                }
-                // The samples kept, this one with them.
-                let n = k + 1 - dropped;
-                let before = mean;
-                mean += (r.radiance - mean) / F::lit(n as f64);
-                if aovs {
-                    let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
-                    made = add_aovs(made, n - 1, radiance, r.hit, albedo, r.normal.to_f32());
-                }
-                if params.adaptive() {
-                    let luminance = |v: Vec3<F>| sample_luminance(v.to_f32());
-                    let (l, after) = (luminance(r.radiance), luminance(mean));
-                    state = params.next_state(state, n, l, luminance(before), after);
-                    if state < 0.0 {
-                        taken = n;
-                        break;
+                if sample_valid(r.radiance) {
+                    // The samples the mean holds, this one with them: the samples kept, or
+                    // adaptively stream 1's.
+                    let (mut n, mut shown) = (k + 1 - dropped, true);
+                    if params.adaptive() {
+                        let stream = params.sample_stream(k).0;
+                        let l = sample_luminance(r.radiance.to_f32());
+                        streams = add_to_streams(streams, stream, l);
+                        (n, shown) = (streams[3] as u32, stream == 1);
                     }
+                    if shown {
+                        mean += (r.radiance - mean) / F::lit(n as f64);
+                        if aovs {
+                            let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
+                            made =
+                                add_aovs(made, n - 1, radiance, r.hit, albedo, r.normal.to_f32());
+                        }
+                    }
+                } else {
+                    dropped += 1;
+                }
+                if params.adaptive() && params.sampling_done(streams, k + 1) {
+                    taken = k + 1;
+                    break;
                 }
             }
             let first = first.expect("at least one sample");

@@ -832,7 +832,7 @@ impl<F: Real> TraceParams<F> {
     /// The primary ray's direction through sample `sample` of pixel (i, j), row 0 at the top
     /// (docs/CONTRACT.md's camera); sample 0 goes through the pixel's centre.
     pub fn camera_ray(&self, i: u32, j: u32, sample: u32) -> Vec3<F> {
-        let (sx, sy) = sample_position::<F>(sample);
+        let (sx, sy) = self.stream_position(sample);
         self.camera_ray_at(F::lit(i as f64) + sx, F::lit(j as f64) + sy)
     }
 
@@ -843,11 +843,11 @@ impl<F: Real> TraceParams<F> {
         self.aperture > F::zero()
     }
 
-    /// The thin lens's ray of sample `sample` of pixel (i, j) in phong mode: through
-    /// the sample's image-plane point and the aperture's point at its lens position
-    /// (lens_point(k)).
+    /// The thin lens's ray of sample `sample` of pixel (i, j) in phong mode: through the
+    /// sample's image-plane point (`stream_position`) and the aperture's point at its lens
+    /// position (`lens_point`).
     pub fn lens_ray(&self, i: u32, j: u32, sample: u32) -> Ray<F> {
-        let (sx, sy) = sample_position::<F>(sample);
+        let (sx, sy) = self.stream_position(sample);
         let x = F::lit(i as f64) + sx;
         let y = F::lit(j as f64) + sy;
         self.thin_lens_ray(x, y, self.lens_point(sample))
@@ -874,11 +874,11 @@ impl<F: Real> TraceParams<F> {
         }
     }
 
-    /// Sample k's point on the unit aperture in phong mode: the aperture's point at the lens
-    /// position (u, v) = lens_position(k + 1) (the Halton point of index 0 is the lens's
-    /// centre, which would make sample 0 a pinhole sample).
+    /// Sample k's point on the unit aperture in phong mode: the aperture's point at its
+    /// stream's lens position (`stream_lens_position`: the Halton point of index 0 is the
+    /// lens's centre, which would make a stream's first sample a pinhole sample).
     pub fn lens_point(&self, k: u32) -> (f32, f32) {
-        self.aperture_point(lens_position(k + 1))
+        self.aperture_point(self.stream_lens_position(k))
     }
 
     /// The point of the unit aperture at (u, v) in [0, 1)^2, in f32 (its trigonometry too, as
@@ -1103,6 +1103,54 @@ pub fn lens_position(k: u32) -> (f32, f32) {
     )
 }
 
+impl<F: Real> TraceParams<F> {
+    /// Adaptive sampling's two streams (docs/book/adaptive.md): sample k of an adaptive pixel
+    /// is sample k / 2 of stream k % 2, as (stream, index). Stream 0 decides when the pixel is
+    /// done and stream 1 is what it shows, so that the decision does not depend on the estimate
+    /// it stops. Without adaptive sampling every sample is stream 0's: (0, k).
+    pub fn sample_stream(&self, k: u32) -> (u32, u32) {
+        if self.adaptive() {
+            return (k & 1, k >> 1);
+        }
+        (0, k)
+    }
+}
+
+/// Stream 1's points in phong mode are stream 0's turned by this Cranley-Patterson shift
+/// (modulo 1, in the pixel and on the lens alike): R2's (0.7549, 0.5698) rounded to 11 bits,
+/// exact in f32. The streams' points are then apart, each stream as well spread as the Halton
+/// points.
+pub const STREAM_SHIFT: (f32, f32) = (1545.0 / 2048.0, 1167.0 / 2048.0);
+
+impl<F: Real> TraceParams<F> {
+    /// Where sample k lies in its pixel in phong mode: its stream's index's `sample_position`,
+    /// shifted by [`STREAM_SHIFT`] in stream 1.
+    pub fn stream_position(&self, k: u32) -> (F, F) {
+        let (stream, index) = self.sample_stream(k);
+        let (x, y) = sample_position::<F>(index);
+        if stream == 0 {
+            return (x, y);
+        }
+        let fract = |v: F| v - v.floor();
+        (
+            fract(x + F::lit(STREAM_SHIFT.0 as f64)),
+            fract(y + F::lit(STREAM_SHIFT.1 as f64)),
+        )
+    }
+
+    /// Where sample k lies on the lens before the aperture's map in phong mode: `lens_position`
+    /// of its stream's index + 1, shifted by [`STREAM_SHIFT`] in stream 1.
+    pub fn stream_lens_position(&self, k: u32) -> (f32, f32) {
+        let (stream, index) = self.sample_stream(k);
+        let (u, v) = lens_position(index + 1);
+        if stream == 0 {
+            return (u, v);
+        }
+        let fract = |x: f32| x - x.floor();
+        (fract(u + STREAM_SHIFT.0), fract(v + STREAM_SHIFT.1))
+    }
+}
+
 /// Colour clamped to [0, 1], times 255, rounded half up, packed as RGBA8 0xFFBBGGRR (opaque).
 pub fn pack_colour<F: Real>(colour: Vec3<F>) -> u32 {
     let channel = |c: F| {
@@ -1189,26 +1237,36 @@ pub fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
     variance.sqrt() / mean_luminance.abs().max(NOISE_LUMINANCE_FLOOR)
 }
 
+/// A pixel's streams ([`TraceParams::sample_stream`]) with one more sample, of luminance `l`,
+/// in stream `stream`: (stream 0's mean luminance, its M2 by Welford's rule ([`add_m2`], at
+/// least 0), the samples kept in stream 0, in stream 1), the counts exact in f32. The
+/// accumulator's second plane holds it.
+pub fn add_to_streams(d: [f32; 4], stream: u32, l: f32) -> [f32; 4] {
+    let mut out = d;
+    if stream == 0 {
+        out[2] = d[2] + 1.0;
+        out[0] = d[0] + (l - d[0]) / out[2];
+        out[1] = add_m2(d[1], l, d[0], out[0]).max(0.0);
+    } else {
+        out[3] = d[3] + 1.0;
+    }
+    out
+}
+
 impl<F: Real> TraceParams<F> {
-    /// Whether a pixel that has taken `n` samples is done: all of them, or at least
-    /// max(min(min_samples, samples), 2) with its noise ([`pixel_noise`]) at most the target.
-    pub fn sampling_done(&self, m2: f32, n: u32, mean_luminance: f32) -> bool {
-        if n >= self.samples {
+    /// Whether a pixel whose streams are `d` ([`add_to_streams`]) is done once it has taken
+    /// `taken` samples: all of them, or at least max(min(min_samples, samples), 4) with stream 1
+    /// as long as stream 0, which has at least 2 samples and a noise ([`pixel_noise`]) at most
+    /// the target.
+    pub fn sampling_done(&self, d: [f32; 4], taken: u32) -> bool {
+        if taken >= self.samples {
             return true;
         }
-        let floor = self.min_samples.min(self.samples).max(2);
-        n >= floor && pixel_noise(m2, n, mean_luminance) <= self.noise_target.to_f64() as f32
-    }
-
-    /// A pixel's state after its sample `n` (1-based), whose luminance is `l`, the mean's
-    /// luminance before it `before` and after it `after`: its M2 with `l` added ([`add_m2`], at
-    /// least 0), or minus `n` where it is then done ([`Self::sampling_done`]).
-    pub fn next_state(&self, state: f32, n: u32, l: f32, before: f32, after: f32) -> f32 {
-        let m2 = add_m2(state, l, before, after).max(0.0);
-        if self.sampling_done(m2, n, after) {
-            return -(n as f32);
+        let floor = self.min_samples.min(self.samples).max(4);
+        if taken < floor || d[2] < 2.0 || d[3] < d[2] {
+            return false;
         }
-        m2
+        pixel_noise(d[1], d[2] as u32, d[0]) <= self.noise_target.to_f64() as f32
     }
 }
 

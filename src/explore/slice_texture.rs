@@ -913,7 +913,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             self.spare_readback = Some(rb.buffer);
             self.stats.noise = frame
                 .as_ref()
-                .and_then(|f| crate::denoise::frame_noise(f, rb.samples));
+                .and_then(|f| crate::denoise::frame_noise(f, rb.samples, rb.adaptive));
             self.generation += 1;
             self.kept = Some(KeptRadiance {
                 radiance,

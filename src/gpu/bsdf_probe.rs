@@ -34,26 +34,31 @@ const OUTPUTS: [OutputSpec; 5] = [
         name: "sample",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "value",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "sun",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "light",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "light_value",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
 ];
 

@@ -50,16 +50,19 @@ const OUTPUTS: [OutputSpec; 3] = [
         name: "image_a",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "image_b",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "guide",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 1,
     },
 ];
 

@@ -91,6 +91,7 @@ const OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "results",
     bytes_per_item: 8 * OPS.len() as u64,
     on_demand: false,
+    planes: 1,
 }];
 
 /// The check's kernel: uniform [`CheckParams`], one output of every result of every case.

@@ -425,16 +425,19 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
         name: "colour",
         bytes_per_item: 4,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "depth",
         bytes_per_item: 4,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "steps",
         bytes_per_item: 4,
         on_demand: false,
+        planes: 1,
     },
 ];
 
@@ -461,6 +464,7 @@ pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
         name: "depth",
         bytes_per_item: 8,
         on_demand: false,
+        planes: 1,
     },
     IMAGE_OUTPUTS[2],
 ];
@@ -476,8 +480,9 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
 ];
 
 /// The tracer's outputs: the image's three, the estimates made per pixel (u32), the running
-/// mean of the samples' colours (`vec4<f32>`), and on demand the AOVs (three `vec4<f32>` a
-/// pixel: trace.wgsl's `store_aovs`). Six storage buffers, within WebGPU's default of eight a
+/// mean of the samples' colours (`vec4<f32>`, then a second plane for adaptive sampling's
+/// streams, trace.wgsl's `add_to_streams`, which stays on the device), and on demand the AOVs
+/// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within WebGPU's default of eight a
 /// stage.
 pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[0],
@@ -487,16 +492,19 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
         name: "estimates",
         bytes_per_item: 4,
         on_demand: false,
+        planes: 1,
     },
     OutputSpec {
         name: "accumulated",
         bytes_per_item: 16,
         on_demand: false,
+        planes: 2,
     },
     OutputSpec {
         name: "aovs",
         bytes_per_item: 48,
         on_demand: true,
+        planes: 1,
     },
 ];
 

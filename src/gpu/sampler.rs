@@ -18,6 +18,7 @@ pub const SAMPLE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "level",
     bytes_per_item: 4,
     on_demand: false,
+    planes: 1,
 }];
 
 /// The sampled grid, as shaders/sample.wgsl's `SampleGrid` (binding 7; keep in sync): its first

@@ -27,6 +27,7 @@ const PROBE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     name: "bits",
     bytes_per_item: 4,
     on_demand: false,
+    planes: 1,
 }];
 
 /// The probe kernel: uniform `ProbeParams`, one output. Untrusted (wgpu's checks kept): it is

@@ -436,16 +436,17 @@ scene_schema! {
                 "a contribution after the first event is clamped to this, {range} (0 = off)";
             sampler: PathSampler = PathSampler::Sobol, choice(),
                 "\"sobol\" (Owen-scrambled, the same bits on every backend) or \"random\"";
-            /// Adaptive sampling, in either model (docs/book/adaptive.md): a pixel stops taking
-            /// samples once the standard error of its mean luminance, relative to that mean
-            /// (at least `NOISE_LUMINANCE_FLOOR`), is at most this (0: off, every pixel takes
-            /// `image.samples`).
+            /// Adaptive sampling, in either model (docs/book/adaptive.md): a pixel's samples
+            /// alternate between two streams; it stops taking samples once the standard error of
+            /// the first's mean luminance, relative to that mean (at least
+            /// `NOISE_LUMINANCE_FLOOR`), is at most this, and shows the second's mean alone (0:
+            /// off, every pixel takes `image.samples`).
             noise_target: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.5),
                 "adaptive sampling, either model: a pixel stops once its mean's relative standard error is at most this, {range} (0 = off)";
-            /// No pixel stops before min(min_samples, image.samples) samples (and 2: one sample
-            /// has no variance).
+            /// No pixel stops before max(min(min_samples, image.samples), 4) samples (4: two of
+            /// each stream, one sample has no variance).
             min_samples: u32 = 16, integer(1, 4096), slider(1, 1024, log),
-                "adaptive sampling's floor: min(min_samples, image.samples) samples, {range}";
+                "adaptive sampling's floor: max(min(min_samples, image.samples), 4) samples, {range}";
         }
 
         image: Image "" {

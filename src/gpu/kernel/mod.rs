@@ -46,6 +46,9 @@ pub struct OutputSpec {
     /// override, which the host sets exactly when it reads them). The band's rows are sized
     /// without it where it is not read.
     pub on_demand: bool,
+    /// Planes of `items` items each that the kernel keeps in it (the tracer's accumulator has
+    /// two: the running mean, then adaptive sampling's streams); only the first comes back.
+    pub planes: u64,
 }
 
 /// What a compute kernel is: its module, entry point, uniform size and outputs. Binding 0 is the

@@ -211,8 +211,9 @@ impl Kernel {
     }
 
     /// Storage buffers for the outputs, `items` each, usable as copy sources (for readback or
-    /// a texture). An on-demand output ([`super::OutputSpec::on_demand`]) is allocated whole
-    /// only where `read` reads it back (by index), else as one item.
+    /// a texture), each of its planes ([`super::OutputSpec::planes`]). An on-demand output
+    /// ([`super::OutputSpec::on_demand`]) is allocated whole only where `read` reads it back
+    /// (by index), else as one item.
     pub fn output_buffers(&self, items: u64, label: &str, read: &[bool]) -> Vec<wgpu::Buffer> {
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
         self.spec
@@ -224,7 +225,7 @@ impl Kernel {
                 buffer(
                     &self.ctx.device,
                     &format!("{label} {}", o.name),
-                    if whole { items } else { 1 } * o.bytes_per_item,
+                    if whole { items * o.planes } else { 1 } * o.bytes_per_item,
                     usage,
                 )
             })
@@ -338,7 +339,7 @@ impl Kernel {
             .iter()
             .enumerate()
             .filter(|(k, o)| !o.on_demand || read.get(*k) == Some(&true))
-            .map(|(_, o)| o.bytes_per_item)
+            .map(|(_, o)| o.bytes_per_item * o.planes)
             .max()
             .unwrap_or(1);
         let items = crate::memory::band_pixels()
