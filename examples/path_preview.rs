@@ -39,6 +39,7 @@ fn main() {
         roughness: 0.3,
         metallic: 0.0,
         specular: 0.5,
+        multiscatter: true,
     };
     let t = GpuPathTracer::new(GpuContext::new().unwrap()).unwrap();
     let start = std::time::Instant::now();

@@ -1,6 +1,8 @@
 // The path tracer's material: Lambert diffuse plus a GGX (Trowbridge-Reitz) specular lobe with
-// height-correlated Smith masking and Schlick's Fresnel, and its sampling (the GGX lobe by its
-// visible normals, Heitz 2018; the diffuse lobe by the cosine hemisphere).
+// height-correlated Smith masking and Schlick's Fresnel, with Kulla and Conty's (2017)
+// multiple-scattering lobe for the light single scattering loses, and its sampling (the GGX lobe
+// by its visible normals, Heitz 2018; the diffuse and multiple-scattering lobes by the cosine
+// hemisphere). Needs shaders/ggx_albedo.wgsl.
 // Twin: src/cpu/bsdf.rs, same names, same order (tests/twins.rs). The book's chapter
 // "Materials" (docs/book/materials.md) gives every formula.
 //
@@ -25,6 +27,8 @@ struct Material {
     metallic: f32,
     // The dielectric reflectance at normal incidence is 0.08 * specular.
     specular: f32,
+    // Kulla and Conty's multiple-scattering lobe on (material.multiscatter): multiscatter_eval.
+    multiscatter: bool,
 }
 
 // An orthonormal frame with n as its z axis (Duff et al. 2017, "Building an Orthonormal Basis,
@@ -147,15 +151,55 @@ fn sample_cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u.x, 0.0)));
 }
 
+// The Fresnel of light that scatters between microfacets before it leaves (Kulla and Conty
+// 2017): the cosine-weighted average of Schlick's, F_avg = F0 + (1 - F0) / 21, through every
+// further bounce, F_avg^2 E_avg / (1 - F_avg (1 - E_avg)); 1 for F0 = 1.
+fn multiscatter_fresnel(m: Material, e_avg: f32) -> vec3<f32> {
+    let f0 = material_f0(m);
+    let f_avg = f0 + (vec3<f32>(1.0) - f0) / 21.0;
+    return f_avg * f_avg * e_avg / (vec3<f32>(1.0) - f_avg * (1.0 - e_avg));
+}
+
+// Whether the material has the multiple-scattering lobe: multiscatter on, a specular lobe, and
+// a lobe rough enough to lose light (E_avg < 1).
+fn has_multiscatter(m: Material) -> bool {
+    return m.multiscatter && has_specular_lobe(m) && ggx_average_albedo(m.roughness) < 1.0;
+}
+
+// The multiple-scattering lobe's share of the light toward wo: lum(F_ms) (1 - E(wo.z)), the
+// light single scattering loses there; 0 without the lobe. The cosine lobe draws it.
+fn multiscatter_weight(m: Material, wo: vec3<f32>) -> f32 {
+    if !has_multiscatter(m) {
+        return 0.0;
+    }
+    let f_ms = multiscatter_fresnel(m, ggx_average_albedo(m.roughness));
+    return luminance(f_ms) * (1.0 - ggx_albedo(wo.z, m.roughness));
+}
+
+// Kulla and Conty's lobe, f_ms(wo, wi) = F_ms (1 - E(wo.z)) (1 - E(wi.z)) / (pi (1 - E_avg)),
+// without the cosine: the light single scattering loses, given back, spread as its loss is
+// (shaders/ggx_albedo.wgsl's tables). With F0 = 1 it makes the directional albedo 1 at every
+// roughness; it is symmetric in wo and wi. 0 without the lobe.
+fn multiscatter_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if !has_multiscatter(m) {
+        return vec3<f32>(0.0);
+    }
+    let e_avg = ggx_average_albedo(m.roughness);
+    let e_o = ggx_albedo(wo.z, m.roughness);
+    let e_i = ggx_albedo(wi.z, m.roughness);
+    let f_ms = multiscatter_fresnel(m, e_avg);
+    return f_ms * ((1.0 - e_o) * (1.0 - e_i) / (PI * (1.0 - e_avg)));
+}
+
 // The probability of drawing the specular lobe for wo: its Fresnel-weighted share,
-// s = lum(F(wo.z)) against d = (1 - metallic) lum(albedo) (1 - lum(F(wo.z))); 0 without a
-// specular lobe, 1 without a diffuse one.
+// s = lum(F(wo.z)) against the cosine lobe's d = (1 - metallic) lum(albedo) (1 - lum(F(wo.z)))
+// + multiscatter_weight; 0 without a specular lobe, 1 without a cosine one.
 fn specular_probability(m: Material, wo: vec3<f32>) -> f32 {
     if !has_specular_lobe(m) {
         return 0.0;
     }
     let f = luminance(fresnel_schlick(material_f0(m), wo.z));
-    let d = (1.0 - m.metallic) * luminance(m.albedo) * (1.0 - f);
+    let d = (1.0 - m.metallic) * luminance(m.albedo) * (1.0 - f) + multiscatter_weight(m, wo);
     if d <= 0.0 {
         return 1.0;
     }
@@ -165,8 +209,9 @@ fn specular_probability(m: Material, wo: vec3<f32>) -> f32 {
 // f(wo, wi), without the cosine: (1 - metallic) (1 - F(wo.z)) (1 - F(wi.z)) albedo / pi for the
 // diffuse lobe (the light the surface lets in and out again, so that the two lobes together do
 // not reflect more than arrives), F(wo.h) D(h) G2 / (4 wo.z wi.z) for the specular one, h the
-// half vector. Both are symmetric in wo and wi (wo.h = wi.h). Zero unless both lie above the
-// surface; without a specular lobe, (1 - metallic) albedo / pi.
+// half vector, and with multiscatter the multiple-scattering lobe (multiscatter_eval). All are
+// symmetric in wo and wi (wo.h = wi.h). Zero unless both lie above the surface; without a
+// specular lobe, (1 - metallic) albedo / pi.
 fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return vec3<f32>(0.0);
@@ -182,11 +227,12 @@ fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     let f = fresnel_schlick(f0, dot(wo, h));
     let spec = f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (4.0 * wo.z * wi.z));
     let transmitted = (one - fresnel_schlick(f0, wo.z)) * (one - fresnel_schlick(f0, wi.z));
-    return transmitted * diffuse + spec;
+    return transmitted * diffuse + spec + multiscatter_eval(m, wo, wi);
 }
 
 // The density, per solid angle, with which bsdf_sample draws wi: the mixture of the two lobes'
-// densities, weighted by the probability of choosing each.
+// densities (the cosine lobe's draws the diffuse and the multiple-scattering light), weighted
+// by the probability of choosing each.
 fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;

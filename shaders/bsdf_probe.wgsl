@@ -13,6 +13,8 @@ struct Probe {
     width: u32,
     row_offset: u32,
     row_count: u32,
+    // The material's multiscatter: 1 on, 0 off.
+    multiscatter: u32,
 }
 
 @group(0) @binding(0) var<uniform> probe: Probe;
@@ -50,7 +52,7 @@ fn bsdf_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let n = (probe.row_offset + gid.y) * probe.width + gid.x;
-    let m = Material(probe.albedo, probe.roughness, probe.metallic, probe.specular);
+    let m = Material(probe.albedo, probe.roughness, probe.metallic, probe.specular, probe.multiscatter != 0u);
     // wo on a cosine hemisphere from inputs 0 and 1, then the sample from 2 (lobe) and 3, 0.
     let wo = sample_cosine_hemisphere(vec2<f32>(probe_input(n, 0u), probe_input(n, 1u)));
     let u = vec2<f32>(probe_input(n, 3u), probe_input(n, 0u));

@@ -28,7 +28,8 @@ struct PathParams {
     roughness: f32,
     metallic: f32,
     specular: f32,
-    pad: u32,
+    // material.multiscatter: 1 on, 0 off.
+    multiscatter: u32,
 }
 
 @group(0) @binding(7) var<uniform> path: PathParams;
@@ -91,7 +92,7 @@ fn path_sphere_light() -> SphereLight {
 // The hit's material: the albedo is the hit's base colour (hit_albedo: the diffuse colour, or
 // the orbit trap's palette colour).
 fn path_material(p: vec3<Real>) -> Material {
-    return Material(vec3<f32>(hit_albedo(p)), path.roughness, path.metallic, path.specular);
+    return Material(vec3<f32>(hit_albedo(p)), path.roughness, path.metallic, path.specular, path.multiscatter != 0u);
 }
 
 // Whether a trace that ended at or before t_end without a hit ran out of max_steps there

@@ -236,6 +236,7 @@ fn the_gpu_light_agrees_with_the_cpu_twin() {
         roughness: 0.5,
         metallic: 0.0,
         specular: 0.5,
+        multiscatter: true,
     };
     let count = 4096;
     let results = probe_bsdf(gpu.context().clone(), material, count).unwrap();

@@ -191,6 +191,18 @@ const BSDF: Twin = Twin {
     }],
 };
 
+const GGX_ALBEDO: Twin = Twin {
+    wgsl: "shaders/ggx_albedo.wgsl",
+    rust: "src/cpu/ggx_albedo.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "parse_tables",
+        reason: "reads the shader's tables, so that the twin uses its very numbers",
+    }],
+};
+
 const PATH: Twin = Twin {
     wgsl: "shaders/path.wgsl",
     rust: "src/cpu/path.rs",
@@ -485,6 +497,11 @@ fn sobol_twins_match() {
 #[test]
 fn bsdf_twins_match() {
     check(&BSDF);
+}
+
+#[test]
+fn ggx_albedo_twins_match() {
+    check(&GGX_ALBEDO);
 }
 
 #[test]

@@ -1,10 +1,11 @@
-//! The path tracer's material, Lambert plus GGX with visible-normal sampling: the twin of
-//! shaders/bsdf.wgsl (same names, same order; tests/twins.rs), generic over f32 and f64 where the
-//! shader is f32 throughout. The book's chapter "Materials" gives every formula.
+//! The path tracer's material, Lambert plus GGX with visible-normal sampling and Kulla and
+//! Conty's multiple-scattering lobe: the twin of shaders/bsdf.wgsl (same names, same order;
+//! tests/twins.rs), generic over f32 and f64 where the shader is f32 throughout. The book's chapter "Materials" gives every formula.
 //!
 //! Directions are in the local shading frame: the normal is +z, `wo` points toward where the
 //! light goes (the eye), `wi` toward where it comes from; both unit length.
 
+use super::ggx_albedo::{ggx_albedo, ggx_average_albedo};
 use crate::algebra::{Real, Vec2, Vec3};
 
 /// The shader's `PI` (shaders/light.wgsl uses it too).
@@ -26,6 +27,9 @@ pub struct Material<F> {
     pub metallic: F,
     /// The dielectric reflectance at normal incidence is 0.08 * specular.
     pub specular: F,
+    /// Kulla and Conty's multiple-scattering lobe on (`material.multiscatter`):
+    /// [`multiscatter_eval`].
+    pub multiscatter: bool,
 }
 
 /// An orthonormal frame with `n` as its z axis (Duff et al. 2017, "Building an Orthonormal
@@ -159,15 +163,59 @@ pub fn sample_cosine_hemisphere<F: Real>(u: Vec2<F>) -> Vec3<F> {
     )
 }
 
+/// The Fresnel of light that scatters between microfacets before it leaves (Kulla and Conty
+/// 2017): the cosine-weighted average of Schlick's, F_avg = F0 + (1 - F0) / 21, through every
+/// further bounce, F_avg^2 E_avg / (1 - F_avg (1 - E_avg)); 1 for F0 = 1.
+pub fn multiscatter_fresnel<F: Real>(m: Material<F>, e_avg: F) -> Vec3<F> {
+    let one = Vec3::splat(F::one());
+    let f0 = material_f0(m);
+    let f_avg = f0 + (one - f0) / F::lit(21.0);
+    let through = one - f_avg * (F::one() - e_avg);
+    let top = f_avg.mul_elem(f_avg) * e_avg;
+    Vec3::new(top.x / through.x, top.y / through.y, top.z / through.z)
+}
+
+/// Whether the material has the multiple-scattering lobe: multiscatter on, a specular lobe, and
+/// a lobe rough enough to lose light (E_avg < 1).
+pub fn has_multiscatter<F: Real>(m: Material<F>) -> bool {
+    m.multiscatter && has_specular_lobe(m) && ggx_average_albedo(m.roughness) < F::one()
+}
+
+/// The multiple-scattering lobe's share of the light toward `wo`: lum(F_ms) (1 - E(wo.z)), the
+/// light single scattering loses there; 0 without the lobe. The cosine lobe draws it.
+pub fn multiscatter_weight<F: Real>(m: Material<F>, wo: Vec3<F>) -> F {
+    if !has_multiscatter(m) {
+        return F::zero();
+    }
+    let f_ms = multiscatter_fresnel(m, ggx_average_albedo(m.roughness));
+    luminance(f_ms) * (F::one() - ggx_albedo(wo.z, m.roughness))
+}
+
+/// Kulla and Conty's lobe, f_ms(wo, wi) = F_ms (1 - E(wo.z)) (1 - E(wi.z)) / (pi (1 - E_avg)),
+/// without the cosine: the light single scattering loses, given back, spread as its loss is
+/// (src/cpu/ggx_albedo.rs's tables). With F0 = 1 it makes the directional albedo 1 at every
+/// roughness; it is symmetric in wo and wi. 0 without the lobe.
+pub fn multiscatter_eval<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
+    if !has_multiscatter(m) {
+        return Vec3::zero();
+    }
+    let e_avg = ggx_average_albedo(m.roughness);
+    let e_o = ggx_albedo(wo.z, m.roughness);
+    let e_i = ggx_albedo(wi.z, m.roughness);
+    let f_ms = multiscatter_fresnel(m, e_avg);
+    f_ms * ((F::one() - e_o) * (F::one() - e_i) / (pi::<F>() * (F::one() - e_avg)))
+}
+
 /// The probability of drawing the specular lobe for `wo`: its Fresnel-weighted share,
-/// s = lum(F(wo.z)) against d = (1 - metallic) lum(albedo) (1 - lum(F(wo.z))); 0 without a
-/// specular lobe, 1 without a diffuse one.
+/// s = lum(F(wo.z)) against the cosine lobe's d = (1 - metallic) lum(albedo) (1 - lum(F(wo.z)))
+/// + [`multiscatter_weight`]; 0 without a specular lobe, 1 without a cosine one.
 pub fn specular_probability<F: Real>(m: Material<F>, wo: Vec3<F>) -> F {
     if !has_specular_lobe(m) {
         return F::zero();
     }
     let f = luminance(fresnel_schlick(material_f0(m), wo.z));
-    let d = (F::one() - m.metallic) * luminance(m.albedo) * (F::one() - f);
+    let d =
+        (F::one() - m.metallic) * luminance(m.albedo) * (F::one() - f) + multiscatter_weight(m, wo);
     if d <= F::zero() {
         return F::one();
     }
@@ -177,8 +225,9 @@ pub fn specular_probability<F: Real>(m: Material<F>, wo: Vec3<F>) -> F {
 /// f(wo, wi), without the cosine: (1 - metallic) (1 - F(wo.z)) (1 - F(wi.z)) albedo / pi for
 /// the diffuse lobe (the light the surface lets in and out again, so that the two lobes
 /// together do not reflect more than arrives), F(wo.h) D(h) G2 / (4 wo.z wi.z) for the
-/// specular one, h the half vector. Both are symmetric in wo and wi (wo.h = wi.h). Zero unless
-/// both lie above the surface; without a specular lobe, (1 - metallic) albedo / pi.
+/// specular one, h the half vector, and with multiscatter the multiple-scattering lobe
+/// ([`multiscatter_eval`]). All are symmetric in wo and wi (wo.h = wi.h). Zero unless both lie
+/// above the surface; without a specular lobe, (1 - metallic) albedo / pi.
 pub fn bsdf_eval<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
     if wo.z <= F::zero() || wi.z <= F::zero() {
         return Vec3::zero();
@@ -194,11 +243,12 @@ pub fn bsdf_eval<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
     let f = fresnel_schlick(f0, wo.dot(h));
     let spec = f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (F::lit(4.0) * wo.z * wi.z));
     let transmitted = (one - fresnel_schlick(f0, wo.z)).mul_elem(one - fresnel_schlick(f0, wi.z));
-    transmitted.mul_elem(diffuse) + spec
+    transmitted.mul_elem(diffuse) + spec + multiscatter_eval(m, wo, wi)
 }
 
 /// The density, per solid angle, with which [`bsdf_sample`] draws `wi`: the mixture of the two
-/// lobes' densities, weighted by the probability of choosing each.
+/// lobes' densities (the cosine lobe's draws the diffuse and the multiple-scattering light),
+/// weighted by the probability of choosing each.
 pub fn bsdf_pdf<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> F {
     if wo.z <= F::zero() || wi.z <= F::zero() {
         return F::zero();

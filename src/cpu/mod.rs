@@ -3,6 +3,8 @@
 
 pub mod bsdf;
 pub mod denoise;
+pub mod ggx_albedo;
+pub mod ggx_quadrature;
 pub mod julia2d;
 pub mod light;
 pub mod path;

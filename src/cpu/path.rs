@@ -66,6 +66,8 @@ pub struct PathParams<F> {
     pub roughness: F,
     pub metallic: F,
     pub specular: F,
+    /// `material.multiscatter`: Kulla and Conty's multiple-scattering lobe.
+    pub multiscatter: bool,
 }
 
 /// Russian roulette starts at this scattering event (1-based: the paths of up to two events
@@ -100,6 +102,7 @@ impl<F: Real> PathParams<F> {
             roughness: F::lit(scene.material.roughness),
             metallic: F::lit(scene.material.metallic),
             specular: F::lit(scene.material.specular),
+            multiscatter: scene.material.multiscatter,
         }
     }
 }
@@ -160,6 +163,7 @@ impl<F: Real> TraceParams<F> {
             roughness: path.roughness,
             metallic: path.metallic,
             specular: path.specular,
+            multiscatter: path.multiscatter,
         }
     }
 

@@ -25,8 +25,10 @@ pub struct GpuBsdfProbe {
     pub width: u32,
     pub row_offset: u32,
     pub row_count: u32,
+    /// The material's multiscatter: 1 on, 0 off.
+    pub multiscatter: u32,
     /// The WGSL struct's size is a multiple of its alignment (16).
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 const OUTPUTS: [OutputSpec; 5] = [
@@ -144,7 +146,8 @@ pub fn probe_bsdf(ctx: GpuContext, m: Material<f32>, count: u32) -> Result<Vec<P
             width,
             row_offset: band.row,
             row_count: band.rows,
-            _pad: [0; 3],
+            multiscatter: m.multiscatter as u32,
+            _pad: [0; 2],
         };
         bytemuck::bytes_of(&p).to_vec()
     };

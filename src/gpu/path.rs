@@ -45,7 +45,8 @@ pub struct GpuPathParams {
     pub roughness: f32,
     pub metallic: f32,
     pub specular: f32,
-    pub pad: u32,
+    /// `material.multiscatter`: 1 on, 0 off.
+    pub multiscatter: u32,
 }
 
 impl GpuPathParams {
@@ -177,7 +178,7 @@ impl GpuPathParams {
                 per_dispatch: false,
             },
             FieldLayout {
-                name: "pad",
+                name: "multiscatter",
                 offset: 124,
                 size: 4,
                 ty: "u32",
@@ -208,7 +209,7 @@ impl GpuPathParams {
             roughness: x(p.roughness),
             metallic: x(p.metallic),
             specular: x(p.specular),
-            pad: 0,
+            multiscatter: p.multiscatter as u32,
         }
     }
 }

@@ -26,6 +26,9 @@ pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
 pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
 /// The path tracer's BSDF (twin: src/cpu/bsdf.rs); f32 throughout, needs no prelude.
 pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
+/// GGX's albedo tables for the material's multiple scattering (twin: src/cpu/ggx_albedo.rs);
+/// f32, needs nothing in front of it; [`BSDF_WGSL`] reads it.
+pub const GGX_ALBEDO_WGSL: &str = include_str!("../../shaders/ggx_albedo.wgsl");
 /// The path tracer's light (twin: src/cpu/light.rs); f32, needs [`BSDF_WGSL`] in front (its
 /// shading frame).
 pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
@@ -110,6 +113,7 @@ pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
         ALGEBRA_WGSL,
         TRACE_WGSL,
         BSDF_WGSL,
+        GGX_ALBEDO_WGSL,
         LIGHT_WGSL,
         SOBOL_WGSL,
         PATH_WGSL,
@@ -124,6 +128,7 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
         ALGEBRA_WGSL,
         TRACE_WGSL,
         BSDF_WGSL,
+        GGX_ALBEDO_WGSL,
         LIGHT_WGSL,
         SOBOL_WGSL,
         PATH_WGSL,
@@ -134,7 +139,13 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
 /// the probe.
 pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "bsdf_probe",
-    parts: &[BSDF_WGSL, LIGHT_WGSL, SOBOL_WGSL, BSDF_PROBE_WGSL],
+    parts: &[
+        BSDF_WGSL,
+        GGX_ALBEDO_WGSL,
+        LIGHT_WGSL,
+        SOBOL_WGSL,
+        BSDF_PROBE_WGSL,
+    ],
 };
 
 /// The sampler's probe (test support): the sampler alone, then the probe kernel.

@@ -422,6 +422,12 @@ scene_schema! {
             /// A dielectric's reflectance at normal incidence is 0.08 x this.
             specular: f64 = 0.5, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
                 "dielectric F0 = 0.08 x specular, {range}";
+            /// Kulla and Conty's multiple-scattering lobe: the light a rough GGX lobe loses to
+            /// single scattering, given back (docs/book/materials.md). On by default: the
+            /// energy-conserving material is the right one; off is the single-scattering lobe
+            /// of before, for comparison.
+            multiscatter: bool = true, boolean(),
+                "Kulla and Conty's multiple scattering for the GGX lobe (true: a white rough metal reflects all it receives)";
         }
 
         /// Path mode: the paths (docs/book/path.md); adaptive sampling, in either model

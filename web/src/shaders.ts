@@ -4,6 +4,7 @@
 
 import algebra from '../../shaders/algebra.wgsl?raw';
 import bsdf from '../../shaders/bsdf.wgsl?raw';
+import ggxAlbedo from '../../shaders/ggx_albedo.wgsl?raw';
 import julia2d from '../../shaders/julia2d.wgsl?raw';
 import light from '../../shaders/light.wgsl?raw';
 import path from '../../shaders/path.wgsl?raw';
@@ -13,8 +14,8 @@ import trace from '../../shaders/trace.wgsl?raw';
 
 /// The tracer in f32 (TRACE_MODULE): the prelude, quaternion arithmetic, the kernel.
 export const TRACE_MODULE = [real32, algebra, trace].join('\n');
-/// The path tracer in f32 (PATH_MODULE): the tracer's module, the material, the light, the
-/// sampler, then the path kernel.
-export const PATH_MODULE = [real32, algebra, trace, bsdf, light, sobol, path].join('\n');
+/// The path tracer in f32 (PATH_MODULE): the tracer's module, the material and its albedo
+/// tables, the light, the sampler, then the path kernel.
+export const PATH_MODULE = [real32, algebra, trace, bsdf, ggxAlbedo, light, sobol, path].join('\n');
 /// The 2D Julia view in f32 (JULIA2D_MODULE).
 export const JULIA2D_MODULE = [real32, julia2d].join('\n');

@@ -270,7 +270,7 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['roughness', f('material.roughness')],
     ['metallic', f('material.metallic')],
     ['specular', f('material.specular')],
-    ['pad', 0],
+    ['multiscatter', s.get('material.multiscatter') ? 1 : 0],
   ]);
 }
 
