@@ -40,6 +40,8 @@ fn main() {
         metallic: 0.0,
         specular: 0.5,
         multiscatter: true,
+        regularize: 0.0,
+        seed: 0,
     };
     let t = GpuPathTracer::new(GpuContext::new().unwrap()).unwrap();
     let start = std::time::Instant::now();

@@ -30,6 +30,12 @@ struct PathParams {
     specular: f32,
     // material.multiscatter: 1 on, 0 off.
     multiscatter: u32,
+    // path.regularize: the GGX roughness floor after a diffuse scattering (0: off).
+    regularize: f32,
+    // The sampler's seed (path.seed, plus the frame with path.animated_seed): 0 the default.
+    seed: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 @group(0) @binding(7) var<uniform> path: PathParams;
@@ -73,8 +79,15 @@ struct PathResult {
 // stream 0's.
 fn path_random(i: u32, j: u32, sample: u32, dim: u32) -> f32 {
     let s = sample_stream(sample);
-    let pixel = (j * params.width + i) | (s.x << 31u);
+    let pixel = ((j * params.width + i) | (s.x << 31u)) ^ seed_mask();
     return to_unit(sample_bits(path.sampler, pixel, s.y, dim));
+}
+
+// What the seed does to a pixel's number in path_random: XORs in seed * 0x9e3779b9 (the golden
+// ratio's 32 bits), so that seed 0 leaves every number as it was and each other seed draws
+// independently scrambled points.
+fn seed_mask() -> u32 {
+    return path.seed * 0x9e3779b9u;
 }
 
 fn path_sky() -> Sky {
@@ -87,6 +100,17 @@ fn path_sun() -> Sun {
 
 fn path_sphere_light() -> SphereLight {
     return SphereLight(vec3<f32>(params.light), f32(params.light_radius), path.light_intensity);
+}
+
+// Path regularisation (Kaplanyan and Dachsbacher 2013; Cycles' "filter glossy"): the material
+// of a vertex after the path has scattered by the cosine lobe (diffuse or multiple scattering),
+// its GGX roughness held at path.regularize at least, so that a caustic path (diffuse, then
+// glossy, then the sun) is a soft highlight and not a rare glint. A bias; 0 (the default) is
+// off: the material unchanged.
+fn regularized(m: Material) -> Material {
+    var out = m;
+    out.roughness = max(m.roughness, path.regularize);
+    return out;
 }
 
 // The hit's material: the albedo is the hit's base colour (hit_albedo: the diffuse colour, or
@@ -139,9 +163,10 @@ fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
 fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-    let u = vec2<f32>(path_random(i, j, sample, dim + DIM_LIGHT), path_random(i, j, sample, dim + DIM_LIGHT + 1u));
     let origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
+        // Each light its own point (DIM_SUN, DIM_SPHERE_LIGHT).
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
         let ls = sample_sun(path_sun(), u);
         let wi = to_local(f, ls.wi);
         if wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), 3.0e38) {
@@ -154,6 +179,7 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basi
     }
     if any(path.light_intensity > vec3<f32>(0.0)) {
         let light = path_sphere_light();
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
         let ls = sample_sphere_light(light, vec3<f32>(p), u);
         let wi = to_local(f, ls.wi);
         if ls.pdf > 0.0 && wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), Real(ls.distance)) {
@@ -255,6 +281,8 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
     var radiance = vec3<f32>(0.0);
     var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false, vec3<f32>(0.0), vec3<f32>(0.0));
     var pdf_prev: f32 = 0.0;
+    // Whether the path has scattered by the cosine lobe (regularized), with path.regularize on.
+    var diffuse_before = false;
     let light_on = params.light_radius > 0.0 && any(path.light_intensity > vec3<f32>(0.0));
     for (var bounce = 0u; bounce <= path.bounces; bounce++) {
         // The camera ray's trace is given; a scattered ray's is made here (no pixel epsilon).
@@ -310,7 +338,10 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         let n = face_viewer(vec3<f32>(estimate_normal(p, dir)), -dir32);
         let f = basis_from_normal(n);
         let wo = to_local(f, -dir32);
-        let m = path_material(p);
+        var m = path_material(p);
+        if diffuse_before {
+            m = regularized(m);
+        }
         if bounce == 0u {
             result.albedo = m.albedo;
             result.normal = n;
@@ -323,9 +354,13 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         }
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
-        let bs = bsdf_sample(m, wo, path_random(i, j, sample, dim + DIM_BSDF_CHOICE), u);
+        let lobe = path_random(i, j, sample, dim + DIM_BSDF_CHOICE);
+        let bs = bsdf_sample(m, wo, lobe, u);
         if bs.pdf <= 0.0 {
             break;
+        }
+        if path.regularize > 0.0 && lobe >= specular_probability(m, wo) {
+            diffuse_before = true;
         }
         throughput *= bs.f * (bs.wi.z / bs.pdf);
         pdf_prev = bs.pdf;

@@ -15,10 +15,12 @@ const SAMPLER_RANDOM: u32 = 1u;
 
 // The dimensions of a path, in the order they are drawn: the image plane first (2: x, y),
 // then the lens (2), then each bounce b its own DIMS_PER_BOUNCE dimensions from
-// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on: the light (its choice, then a 2D point on it), the
-// BSDF (its lobe's choice, then a 2D direction), Russian roulette (1), and one left unused so
-// that every bounce starts a new padding group (SOBOL_DIMS dimensions) and the BSDF's 2D point
-// is the first two dimensions of a group, as the image plane's is.
+// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on, three padding groups (SOBOL_DIMS dimensions each):
+// the sun's 2D point, the sphere light's 2D point, then the BSDF's 2D direction, its lobe's
+// choice and Russian roulette. Each 2D point takes its group's first two dimensions, the
+// best-stratified pair (a (0, 2)-sequence), as the image plane's does; a light and its lobe
+// choice share no group with another light. Dimensions 2 and 3 of the lights' groups are
+// free: a later issue's per-bounce dimensions go there.
 
 // The image plane's 2D point: dimensions 0 and 1.
 const DIM_PIXEL: u32 = 0u;
@@ -26,18 +28,18 @@ const DIM_PIXEL: u32 = 0u;
 const DIM_LENS: u32 = 2u;
 // Bounce 0's first dimension.
 const DIM_BOUNCE_BASE: u32 = 4u;
-// Dimensions each bounce takes (the last one unused).
-const DIMS_PER_BOUNCE: u32 = 8u;
-// Within a bounce: which light (1D).
-const DIM_LIGHT_CHOICE: u32 = 0u;
-// Within a bounce: the point on the light (2D).
-const DIM_LIGHT: u32 = 1u;
-// Within a bounce: which BSDF lobe (1D).
-const DIM_BSDF_CHOICE: u32 = 3u;
-// Within a bounce: the BSDF's direction (2D).
-const DIM_BSDF: u32 = 4u;
+// Dimensions each bounce takes: three padding groups.
+const DIMS_PER_BOUNCE: u32 = 12u;
+// Within a bounce: the point on the sun (2D), its first group's first two dimensions.
+const DIM_SUN: u32 = 0u;
+// Within a bounce: the point on the sphere light (2D), its second group's first two.
+const DIM_SPHERE_LIGHT: u32 = 4u;
+// Within a bounce: the BSDF's direction (2D), its third group's first two.
+const DIM_BSDF: u32 = 8u;
+// Within a bounce: which BSDF lobe (1D), in the direction's group.
+const DIM_BSDF_CHOICE: u32 = 10u;
 // Within a bounce: Russian roulette (1D).
-const DIM_ROULETTE: u32 = 6u;
+const DIM_ROULETTE: u32 = 11u;
 
 // Dimensions of the Sobol' sequence tabulated; dimension d is Sobol' dimension d % SOBOL_DIMS
 // of the padding group d / SOBOL_DIMS (Burley's padding).

@@ -424,3 +424,35 @@ fn a_stopped_run_keeps_its_frames_and_writes_no_video() {
     assert!(!video.exists(), "an incomplete video is not written");
     assert_eq!(files_in(dir.path()), ["anim.toml", "f"]);
 }
+
+/// Issue 35, item 8: `path.animated_seed` renders frame k with seed `path.seed + k`, so the
+/// noise moves between the frames of a still scene (c held, `path_radius = 0`), its PNG's scene
+/// says the seed, and the frames are the same bytes in any split.
+#[test]
+fn an_animated_seed_moves_the_noise_and_keeps_any_split() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[shading]\nmodel = \"path\"\n\n[image]\nwidth = 24\nheight = 16\nsamples = 2\n\n\
+                 [path]\nseed = 7\nanimated_seed = true\n\n[animation]\nframes = 3\n\
+                 path_radius = 0.0\n";
+    std::fs::write(dir.path().join("anim.toml"), scene).unwrap();
+    animate_cpu(dir.path(), &[]);
+    let whole = dir.path().join("qjulia-frames");
+    for range in ["2..2", "0..1"] {
+        animate_cpu(dir.path(), &["--frames", range, "--out", "split"]);
+    }
+    assert_same_files(&whole, &dir.path().join("split"));
+    let frame = |k: u32| std::fs::read(whole.join(format!("frame-{k:05}.png"))).unwrap();
+    assert_ne!(
+        frame(0),
+        frame(1),
+        "the noise did not move between frames 0 and 1"
+    );
+    let scene_of = |k: u32| {
+        let mut loader = qjulia::scene::SceneLoader::new();
+        let path = whole.join(format!("frame-{k:05}.png"));
+        loader.file(&path).unwrap_or_else(|e| panic!("{e}"));
+        loader.build().unwrap_or_else(|e| panic!("{e}"))
+    };
+    assert_eq!(scene_of(0).path.seed, 7);
+    assert_eq!(scene_of(2).path.seed, 9);
+}

@@ -50,6 +50,8 @@ fn furnace<F: Real>(bounces: u32, roughness: f64, metallic: f64, specular: f64) 
         metallic: F::lit(metallic),
         specular: F::lit(specular),
         multiscatter: true,
+        regularize: F::zero(),
+        seed: 0,
     }
 }
 

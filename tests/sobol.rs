@@ -218,3 +218,38 @@ fn gpu_draws_the_cpus_sobol_bits() {
 fn gpu_draws_the_cpus_random_bits() {
     gpu_matches_cpu(SAMPLER_RANDOM, "random sampler GPU == CPU");
 }
+
+/// Issue 35, item 8: the layout of a bounce's dimensions. Every 2D point (the sun's, the sphere
+/// light's, the BSDF's direction) is the first two dimensions of a padding group of its own, the
+/// best-stratified pair (`first_two_dimensions_are_nets_scrambled_or_not`); the lobe's choice
+/// is in its direction's group; every bounce starts a group; no two uses share a dimension.
+#[test]
+fn each_light_and_the_bsdf_take_a_groups_best_pair() {
+    use qjulia::cpu::sobol::{
+        DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_ROULETTE, DIM_SPHERE_LIGHT, DIM_SUN,
+        DIMS_PER_BOUNCE,
+    };
+    assert_eq!(DIM_BOUNCE_BASE % SOBOL_DIMS, 0);
+    assert_eq!(DIMS_PER_BOUNCE % SOBOL_DIMS, 0);
+    let points = [DIM_SUN, DIM_SPHERE_LIGHT, DIM_BSDF];
+    for first in points {
+        assert_eq!(first % SOBOL_DIMS, 0, "a 2D point at offset {first}");
+    }
+    let groups: Vec<u32> = points.iter().map(|d| d / SOBOL_DIMS).collect();
+    assert!(groups[0] != groups[1] && groups[1] != groups[2] && groups[0] != groups[2]);
+    assert_eq!(DIM_BSDF_CHOICE / SOBOL_DIMS, DIM_BSDF / SOBOL_DIMS);
+    let mut used = vec![
+        DIM_SUN,
+        DIM_SUN + 1,
+        DIM_SPHERE_LIGHT,
+        DIM_SPHERE_LIGHT + 1,
+        DIM_BSDF,
+        DIM_BSDF + 1,
+        DIM_BSDF_CHOICE,
+        DIM_ROULETTE,
+    ];
+    assert!(used.iter().all(|&d| d < DIMS_PER_BOUNCE));
+    used.sort();
+    used.dedup();
+    assert_eq!(used.len(), 8, "two uses share a dimension");
+}

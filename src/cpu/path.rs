@@ -3,7 +3,8 @@
 //! are f32 in both of its precisions). The book's chapter "Path tracing" gives the estimator.
 
 use super::bsdf::{
-    Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, to_local, to_world,
+    Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, specular_probability,
+    to_local, to_world,
 };
 use super::light::{
     Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
@@ -11,8 +12,8 @@ use super::light::{
     sun_radiance,
 };
 use super::sobol::{
-    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_LIGHT, DIM_PIXEL, DIM_ROULETTE,
-    DIMS_PER_BOUNCE, sample_bits, to_unit,
+    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_PIXEL, DIM_ROULETTE,
+    DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
 use super::trace::{Aovs, Primary, Trace, add_aovs, add_to_streams, sample_luminance};
 use crate::algebra::{Real, Vec3};
@@ -68,6 +69,10 @@ pub struct PathParams<F> {
     pub specular: F,
     /// `material.multiscatter`: Kulla and Conty's multiple-scattering lobe.
     pub multiscatter: bool,
+    /// `path.regularize`: the GGX roughness floor after a diffuse scattering (0: off).
+    pub regularize: F,
+    /// The sampler's seed: `path.seed` (animate adds the frame with `path.animated_seed`).
+    pub seed: u32,
 }
 
 /// Russian roulette starts at this scattering event (1-based: the paths of up to two events
@@ -103,6 +108,8 @@ impl<F: Real> PathParams<F> {
             metallic: F::lit(scene.material.metallic),
             specular: F::lit(scene.material.specular),
             multiscatter: scene.material.multiscatter,
+            regularize: F::lit(scene.path.regularize),
+            seed: scene.path.seed,
         }
     }
 }
@@ -136,7 +143,15 @@ impl<F: Real> TraceParams<F> {
     pub fn path_random(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32, dim: u32) -> F {
         let (stream, index) = self.sample_stream(sample);
         let pixel = j.wrapping_mul(self.width).wrapping_add(i) | (stream << 31);
+        let pixel = pixel ^ self.seed_mask(path);
         F::lit(to_unit(sample_bits(path.sampler, pixel, index, dim)) as f64)
+    }
+
+    /// What the seed does to a pixel's number in `path_random`: XORs in seed * 0x9e3779b9 (the
+    /// golden ratio's 32 bits), so that seed 0 leaves every number as it was and each other seed
+    /// draws independently scrambled points.
+    pub fn seed_mask(&self, path: &PathParams<F>) -> u32 {
+        path.seed.wrapping_mul(0x9e37_79b9)
     }
 
     pub fn path_sky(&self, path: &PathParams<F>) -> Sky<F> {
@@ -152,6 +167,18 @@ impl<F: Real> TraceParams<F> {
             center: self.light,
             radius: self.light_radius,
             intensity: path.light_intensity,
+        }
+    }
+
+    /// Path regularisation (Kaplanyan and Dachsbacher 2013; Cycles' "filter glossy"): the
+    /// material of a vertex after the path has scattered by the cosine lobe (diffuse or multiple
+    /// scattering), its GGX roughness held at `path.regularize` at least, so that a caustic path
+    /// (diffuse, then glossy, then the sun) is a soft highlight and not a rare glint. A bias; 0
+    /// (the default) is off: the material unchanged.
+    pub fn regularized(&self, path: &PathParams<F>, m: Material<F>) -> Material<F> {
+        Material {
+            roughness: m.roughness.max(path.regularize),
+            ..m
         }
     }
 
@@ -221,13 +248,16 @@ impl<F: Real> TraceParams<F> {
     ) -> Vec3<F> {
         let mut sum = Vec3::zero();
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-        let u = crate::algebra::Vec2::new(
-            self.path_random(path, i, j, sample, dim + DIM_LIGHT),
-            self.path_random(path, i, j, sample, dim + DIM_LIGHT + 1),
-        );
+        // Each light its own point (DIM_SUN, DIM_SPHERE_LIGHT).
+        let point = |first: u32| {
+            crate::algebra::Vec2::new(
+                self.path_random(path, i, j, sample, dim + first),
+                self.path_random(path, i, j, sample, dim + first + 1),
+            )
+        };
         let origin = p + f.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
         if any_positive(path.sun.irradiance) {
-            let ls = sample_sun(self.path_sun(path), u);
+            let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
             let wi = to_local(f, ls.wi);
             if wi.z > F::zero() && self.unoccluded(origin, ls.wi, F::lit(3.0e38)) {
                 let mut w = F::one();
@@ -239,7 +269,7 @@ impl<F: Real> TraceParams<F> {
         }
         if any_positive(path.light_intensity) {
             let light = self.path_sphere_light(path);
-            let ls = sample_sphere_light(light, p, u);
+            let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
             let wi = to_local(f, ls.wi);
             if ls.pdf > F::zero() && wi.z > F::zero() && self.unoccluded(origin, ls.wi, ls.distance)
             {
@@ -381,6 +411,9 @@ impl<F: Real> TraceParams<F> {
             normal: Vec3::zero(),
         };
         let mut pdf_prev = F::zero();
+        // Whether the path has scattered by the cosine lobe (`regularized`), with
+        // path.regularize on.
+        let mut diffuse_before = false;
         let light_on = self.light_radius > F::zero() && any_positive(path.light_intensity);
         for bounce in 0..=path.bounces {
             // The camera ray's trace is given; a scattered ray's is made here (no pixel
@@ -442,7 +475,10 @@ impl<F: Real> TraceParams<F> {
             let n = self.face_viewer(self.estimate_normal(p, dir), -dir);
             let f = basis_from_normal(n);
             let wo = to_local(f, -dir);
-            let m = self.path_material(path, p);
+            let mut m = self.path_material(path, p);
+            if diffuse_before {
+                m = self.regularized(path, m);
+            }
             if bounce == 0 {
                 result.albedo = m.albedo;
                 result.normal = n;
@@ -463,6 +499,9 @@ impl<F: Real> TraceParams<F> {
             let bs = bsdf_sample(m, wo, lobe, u);
             if bs.pdf <= F::zero() {
                 break;
+            }
+            if path.regularize > F::zero() && lobe >= specular_probability(m, wo) {
+                diffuse_before = true;
             }
             throughput = throughput.mul_elem(bs.f) * (bs.wi.z / bs.pdf);
             pdf_prev = bs.pdf;

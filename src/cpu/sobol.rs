@@ -12,10 +12,12 @@ pub const SAMPLER_RANDOM: u32 = 1;
 
 // The dimensions of a path, in the order they are drawn: the image plane first (2: x, y),
 // then the lens (2), then each bounce b its own DIMS_PER_BOUNCE dimensions from
-// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on: the light (its choice, then a 2D point on it), the
-// BSDF (its lobe's choice, then a 2D direction), Russian roulette (1), and one left unused so
-// that every bounce starts a new padding group (SOBOL_DIMS dimensions) and the BSDF's 2D point
-// is the first two dimensions of a group, as the image plane's is.
+// DIM_BOUNCE_BASE + b * DIMS_PER_BOUNCE on, three padding groups (SOBOL_DIMS dimensions each):
+// the sun's 2D point, the sphere light's 2D point, then the BSDF's 2D direction, its lobe's
+// choice and Russian roulette. Each 2D point takes its group's first two dimensions, the
+// best-stratified pair (a (0, 2)-sequence), as the image plane's does; a light and its lobe
+// choice share no group with another light. Dimensions 2 and 3 of the lights' groups are
+// free: a later issue's per-bounce dimensions go there.
 
 /// The image plane's 2D point: dimensions 0 and 1.
 pub const DIM_PIXEL: u32 = 0;
@@ -23,18 +25,18 @@ pub const DIM_PIXEL: u32 = 0;
 pub const DIM_LENS: u32 = 2;
 /// Bounce 0's first dimension.
 pub const DIM_BOUNCE_BASE: u32 = 4;
-/// Dimensions each bounce takes (the last one unused).
-pub const DIMS_PER_BOUNCE: u32 = 8;
-/// Within a bounce: which light (1D).
-pub const DIM_LIGHT_CHOICE: u32 = 0;
-/// Within a bounce: the point on the light (2D).
-pub const DIM_LIGHT: u32 = 1;
-/// Within a bounce: which BSDF lobe (1D).
-pub const DIM_BSDF_CHOICE: u32 = 3;
-/// Within a bounce: the BSDF's direction (2D).
-pub const DIM_BSDF: u32 = 4;
+/// Dimensions each bounce takes: three padding groups.
+pub const DIMS_PER_BOUNCE: u32 = 12;
+/// Within a bounce: the point on the sun (2D), its first group's first two dimensions.
+pub const DIM_SUN: u32 = 0;
+/// Within a bounce: the point on the sphere light (2D), its second group's first two.
+pub const DIM_SPHERE_LIGHT: u32 = 4;
+/// Within a bounce: the BSDF's direction (2D), its third group's first two.
+pub const DIM_BSDF: u32 = 8;
+/// Within a bounce: which BSDF lobe (1D), in the direction's group.
+pub const DIM_BSDF_CHOICE: u32 = 10;
 /// Within a bounce: Russian roulette (1D).
-pub const DIM_ROULETTE: u32 = 6;
+pub const DIM_ROULETTE: u32 = 11;
 
 /// Dimensions of the Sobol' sequence tabulated; dimension d is Sobol' dimension d % SOBOL_DIMS
 /// of the padding group d / SOBOL_DIMS (Burley's padding).

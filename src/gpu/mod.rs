@@ -482,8 +482,8 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
 /// The tracer's outputs: the image's three, the estimates made per pixel (u32), the running
 /// mean of the samples' colours (`vec4<f32>`, then a second plane for adaptive sampling's
 /// streams, trace.wgsl's `add_to_streams`, which stays on the device), and on demand the AOVs
-/// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within WebGPU's default of eight a
-/// stage.
+/// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
+/// WebGPU's default of eight a stage.
 pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[0],
     IMAGE_OUTPUTS[1],

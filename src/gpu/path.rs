@@ -47,6 +47,10 @@ pub struct GpuPathParams {
     pub specular: f32,
     /// `material.multiscatter`: 1 on, 0 off.
     pub multiscatter: u32,
+    pub regularize: f32,
+    pub seed: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 impl GpuPathParams {
@@ -55,7 +59,7 @@ impl GpuPathParams {
     /// prints it for the browser's host).
     pub const LAYOUT: Layout = Layout {
         name: "PathParams",
-        size: 128,
+        size: 144,
         align: 16,
         fields: &[
             FieldLayout {
@@ -184,6 +188,34 @@ impl GpuPathParams {
                 ty: "u32",
                 per_dispatch: false,
             },
+            FieldLayout {
+                name: "regularize",
+                offset: 128,
+                size: 4,
+                ty: "f32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "seed",
+                offset: 132,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "pad0",
+                offset: 136,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "pad1",
+                offset: 140,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
         ],
     };
 
@@ -210,6 +242,10 @@ impl GpuPathParams {
             metallic: x(p.metallic),
             specular: x(p.specular),
             multiscatter: p.multiscatter as u32,
+            regularize: x(p.regularize),
+            seed: p.seed,
+            pad0: 0,
+            pad1: 0,
         }
     }
 }

@@ -238,6 +238,10 @@ impl Animation {
         if !paths.contains(&"fractal.c") {
             scene.fractal.c = c_path(&base.fractal.c, self.path_radius, self.phase(frame));
         }
+        // path.animated_seed: the frame's own seed, which depends on the frame alone.
+        if scene.path.animated_seed && !paths.contains(&"path.seed") {
+            scene.path.seed = base.path.seed.wrapping_add(frame);
+        }
         scene
     }
 }

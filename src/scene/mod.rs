@@ -453,6 +453,19 @@ scene_schema! {
             /// each stream, one sample has no variance).
             min_samples: u32 = 16, integer(1, 4096), slider(1, 1024, log),
                 "adaptive sampling's floor: max(min(min_samples, image.samples), 4) samples, {range}";
+            /// Path regularisation (docs/book/path.md): after a vertex that scattered by the
+            /// cosine lobe, every later GGX lobe is at least this rough. 0 is off: it is a
+            /// bias, traded for the glints' noise.
+            regularize: f64 = 0.0, float(Range::closed(0.0, 1.0)), slider(0.0, 1.0),
+                "after a diffuse scattering, later GGX lobes are at least this rough, {range} (0 = off: it is a bias)";
+            /// The sampler's seed: 0 the default; each other seed draws independently
+            /// scrambled points (independent renders of one scene).
+            seed: u32 = 0, integer(0, 4_294_967_295), slider(0, 1000),
+                "the sampler's seed: each seed gives independent noise, {range}";
+            /// With `animate`, frame k renders with seed `seed + k` (its PNG's scene says so),
+            /// so that the noise moves between frames and no split of the frames changes it.
+            animated_seed: bool = false, boolean(),
+                "animate: frame k renders with path.seed + k, the noise moving between frames";
         }
 
         image: Image "" {

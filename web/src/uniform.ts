@@ -271,6 +271,10 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['metallic', f('material.metallic')],
     ['specular', f('material.specular')],
     ['multiscatter', s.get('material.multiscatter') ? 1 : 0],
+    ['regularize', f('path.regularize')],
+    ['seed', f('path.seed')],
+    ['pad0', 0],
+    ['pad1', 0],
   ]);
 }
 
