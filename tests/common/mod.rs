@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
+use qjulia::algebra::Vec3;
 use qjulia::compare::{Agreement, Tolerance, write_diff_images};
 use qjulia::gpu::{GpuContext, GpuTracer};
 use qjulia::scene::SceneLoader;
@@ -389,4 +390,26 @@ pub fn assert_same_file(name: &str, expected: &std::path::Path, actual: &std::pa
         [w, h],
         dir.display()
     );
+}
+
+/// A direction from polar angles about +z.
+pub fn dir(cos_theta: f64, phi: f64) -> Vec3<f64> {
+    let s = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    Vec3::new(s * phi.cos(), s * phi.sin(), cos_theta)
+}
+
+/// The integral of `f` over the sphere (or the upper hemisphere), midpoint rule in (cos theta,
+/// phi), `n` x `2n` cells: exact for the measure, since d omega = d(cos theta) d phi.
+pub fn integrate(n: usize, upper_only: bool, f: impl Fn(Vec3<f64>) -> f64) -> f64 {
+    let (lo, hi) = if upper_only { (0.0, 1.0) } else { (-1.0, 1.0) };
+    let dc = (hi - lo) / n as f64;
+    let dphi = 2.0 * std::f64::consts::PI / (2 * n) as f64;
+    let mut sum = 0.0;
+    for a in 0..n {
+        let c = lo + (a as f64 + 0.5) * dc;
+        for b in 0..2 * n {
+            sum += f(dir(c, (b as f64 + 0.5) * dphi));
+        }
+    }
+    sum * dc * dphi
 }
