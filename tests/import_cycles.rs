@@ -37,11 +37,9 @@ const ALLOWED: &[&str] = &[
      scene/mod.rs by the schema's own scene_keys! macro, where the keys are declared",
     "src/cpu/trace.rs -> src/cpu/mod.rs: ITERATIONS and the tracer's constants in cpu/mod.rs, \
      which calls trace.rs (cpu/ was being edited at the same time)",
-    "src/gpu/f64check.rs -> src/gpu/mod.rs: GpuContext in gpu/mod.rs",
     "src/gpu/julia2d.rs -> src/gpu/mod.rs: Readback in gpu/mod.rs",
     "src/gpu/path.rs -> src/gpu/mod.rs: Accumulated, Readback in gpu/mod.rs",
-    "src/gpu/tracer.rs -> src/gpu/mod.rs: Readback, GpuContext in gpu/mod.rs",
-    "src/gpu/kernel/mod.rs -> src/gpu/mod.rs: GpuContext in gpu/mod.rs",
+    "src/gpu/tracer.rs -> src/gpu/mod.rs: Readback in gpu/mod.rs",
     "src/gpu/kernel/buffers.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
     "src/gpu/kernel/pipeline.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
 ];

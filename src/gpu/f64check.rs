@@ -18,7 +18,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::GpuContext;
+use super::context::{F64Support, GpuContext};
 use super::kernel::{Kernel, KernelSpec, OutputSpec, Run};
 use super::shaders::F64CHECK_MODULE;
 use crate::error::{Error, Result};
@@ -105,18 +105,6 @@ pub const F64CHECK_KERNEL: KernelSpec = KernelSpec {
     trusted: false,
     second_uniform: None,
 };
-
-/// An adapter's f64, checked: the repairs its kernels need (override constants of
-/// shaders/real64.wgsl) and what the check cost.
-#[derive(Clone, Debug, PartialEq)]
-pub struct F64Support {
-    /// Override constants every f64 pipeline is built with (`SQRT_NEWTON`).
-    pub constants: Vec<(&'static str, f64)>,
-    /// The operations replaced, by name ("sqrt"); empty where the adapter's own are right.
-    pub repaired: Vec<&'static str>,
-    /// The check's wall time: building the kernel, its runs, the comparisons.
-    pub seconds: f64,
-}
 
 /// One wrong result.
 #[derive(Clone, Debug, PartialEq)]
@@ -345,6 +333,22 @@ fn split_exponent(x: f64) -> (f64, f64) {
         e -= 1.0;
     }
     (m, e)
+}
+
+impl GpuContext {
+    /// Whether f64 kernels run right on this device, and with which repairs: the start-up check
+    /// ([`check_f64`]) on the first call, its outcome after. Err (exit 1) where the adapter has
+    /// no SHADER_F64 or an operation fails beyond repair, saying which.
+    pub fn f64_support(&self) -> Result<&F64Support> {
+        self.f64_check
+            .get_or_init(|| {
+                inject_from_env()
+                    .and_then(|inject| check_f64(self, inject))
+                    .map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(|e| Error::Unsupported(e.clone()))
+    }
 }
 
 #[cfg(test)]
