@@ -2,8 +2,9 @@
 // and Conty 2017, "Revisiting Physically Based Shading at Imageworks"): shaders/bsdf.wgsl's
 // `multiscatter_eval` reads them. f32, needs nothing in front of it.
 // Twin: src/cpu/ggx_albedo.rs, same names, same order (tests/twins.rs); it reads its numbers
-// from this file. src/cpu/ggx_quadrature.rs makes them: `QJULIA_BLESS=1 cargo test --test bsdf`
-// writes the tables below again, and the test fails where they are not what its integrals give.
+// from this file. src/cpu/ggx_quadrature.rs makes them: `QJULIA_BLESS=1 cargo test --test
+// multiscatter` writes the tables below again, and the test fails where they are not what its
+// integrals give.
 //
 // E(mu, roughness) is the light a white (F = 1) single-scattering GGX lobe reflects from the
 // direction of cosine mu, over the hemisphere; E_avg(roughness) = 2 int_0^1 E(mu) mu dmu.

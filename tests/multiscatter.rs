@@ -51,7 +51,8 @@ fn a_rough_white_metal_with_multiple_scattering_reflects_everything() {
                 (mean - 1.0).abs() <= 3e-3 + 3.0 * se,
                 "roughness {roughness} cos {cos_o}: sampled {mean} +- {se}"
             );
-            // The quadrature resolves the rough lobes only (as the_directional_albedo_is_at_most_one).
+            // The quadrature resolves the rough lobes only (as tests/bsdf.rs's
+            // the_directional_albedo_is_at_most_one).
             if roughness < 0.3 {
                 continue;
             }
@@ -96,7 +97,7 @@ fn the_albedo_tables_are_the_integrals() {
             assert!(
                 (a - b).abs() <= 1e-6,
                 "{name}[{k}]: the quadrature gives {a}, shaders/ggx_albedo.wgsl holds {b} \
-                 (QJULIA_BLESS=1 cargo test --test bsdf writes it again)"
+                 (QJULIA_BLESS=1 cargo test --test multiscatter writes it again)"
             );
         }
     }

@@ -5,8 +5,9 @@
 //! E(mu, roughness) is the light a white (F = 1) single-scattering GGX lobe reflects from the
 //! direction of cosine mu, over the hemisphere; E_avg(roughness) = 2 int_0^1 E(mu) mu dmu. The
 //! WGSL file holds them tabulated (`ALBEDO_MU` x `ALBEDO_ROUGHNESS`, and `ALBEDO_ROUGHNESS`),
-//! as `ggx_quadrature::wgsl_tables` writes them; `QJULIA_BLESS=1 cargo test --test bsdf` writes
-//! the file again, and the test fails where the file is not what the integrals give.
+//! as `ggx_quadrature::wgsl_tables` writes them; `QJULIA_BLESS=1 cargo test --test
+//! multiscatter` writes the file again, and the test fails where the file is not what the
+//! integrals give.
 
 use std::sync::LazyLock;
 
@@ -53,7 +54,8 @@ pub fn ggx_average_albedo<F: Real>(roughness: F) -> F {
     low + (high - low) * b
 }
 
-/// The numbers of the two arrays `ggx_quadrature::wgsl_tables` writes, from a WGSL file that holds them.
+/// The numbers of the two arrays `ggx_quadrature::wgsl_tables` writes, from a WGSL file that
+/// holds them.
 pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
     let array = |name: &str| -> Vec<f32> {
         let start = wgsl
