@@ -160,19 +160,24 @@ fn multiscatter_fresnel(m: Material, e_avg: f32) -> vec3<f32> {
     return f_avg * f_avg * e_avg / (vec3<f32>(1.0) - f_avg * (1.0 - e_avg));
 }
 
-// Whether the material has the multiple-scattering lobe: multiscatter on, a specular lobe, and
-// a lobe rough enough to lose light (E_avg < 1).
-fn has_multiscatter(m: Material) -> bool {
-    return m.multiscatter && has_specular_lobe(m) && ggx_average_albedo(m.roughness) < 1.0;
+// The E_avg of the material's multiple-scattering lobe, looked up once for each use; 1 where
+// it has none (multiscatter off, or no specular lobe). The lobe is there where this is below 1:
+// where the GGX lobe is rough enough to lose light.
+fn multiscatter_average(m: Material) -> f32 {
+    if !(m.multiscatter && has_specular_lobe(m)) {
+        return 1.0;
+    }
+    return ggx_average_albedo(m.roughness);
 }
 
 // The multiple-scattering lobe's share of the light toward wo: lum(F_ms) (1 - E(wo.z)), the
 // light single scattering loses there; 0 without the lobe. The cosine lobe draws it.
 fn multiscatter_weight(m: Material, wo: vec3<f32>) -> f32 {
-    if !has_multiscatter(m) {
+    let e_avg = multiscatter_average(m);
+    if e_avg >= 1.0 {
         return 0.0;
     }
-    let f_ms = multiscatter_fresnel(m, ggx_average_albedo(m.roughness));
+    let f_ms = multiscatter_fresnel(m, e_avg);
     return luminance(f_ms) * (1.0 - ggx_albedo(wo.z, m.roughness));
 }
 
@@ -181,10 +186,10 @@ fn multiscatter_weight(m: Material, wo: vec3<f32>) -> f32 {
 // (shaders/ggx_albedo.wgsl's tables). With F0 = 1 it makes the directional albedo 1 at every
 // roughness; it is symmetric in wo and wi. 0 without the lobe.
 fn multiscatter_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    if !has_multiscatter(m) {
+    let e_avg = multiscatter_average(m);
+    if e_avg >= 1.0 {
         return vec3<f32>(0.0);
     }
-    let e_avg = ggx_average_albedo(m.roughness);
     let e_o = ggx_albedo(wo.z, m.roughness);
     let e_i = ggx_albedo(wi.z, m.roughness);
     let f_ms = multiscatter_fresnel(m, e_avg);

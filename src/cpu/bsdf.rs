@@ -175,19 +175,24 @@ pub fn multiscatter_fresnel<F: Real>(m: Material<F>, e_avg: F) -> Vec3<F> {
     Vec3::new(top.x / through.x, top.y / through.y, top.z / through.z)
 }
 
-/// Whether the material has the multiple-scattering lobe: multiscatter on, a specular lobe, and
-/// a lobe rough enough to lose light (E_avg < 1).
-pub fn has_multiscatter<F: Real>(m: Material<F>) -> bool {
-    m.multiscatter && has_specular_lobe(m) && ggx_average_albedo(m.roughness) < F::one()
+/// The E_avg of the material's multiple-scattering lobe, looked up once for each use; 1 where
+/// it has none (multiscatter off, or no specular lobe). The lobe is there where this is below
+/// 1: where the GGX lobe is rough enough to lose light.
+pub fn multiscatter_average<F: Real>(m: Material<F>) -> F {
+    if !(m.multiscatter && has_specular_lobe(m)) {
+        return F::one();
+    }
+    ggx_average_albedo(m.roughness)
 }
 
 /// The multiple-scattering lobe's share of the light toward `wo`: lum(F_ms) (1 - E(wo.z)), the
 /// light single scattering loses there; 0 without the lobe. The cosine lobe draws it.
 pub fn multiscatter_weight<F: Real>(m: Material<F>, wo: Vec3<F>) -> F {
-    if !has_multiscatter(m) {
+    let e_avg = multiscatter_average(m);
+    if e_avg >= F::one() {
         return F::zero();
     }
-    let f_ms = multiscatter_fresnel(m, ggx_average_albedo(m.roughness));
+    let f_ms = multiscatter_fresnel(m, e_avg);
     luminance(f_ms) * (F::one() - ggx_albedo(wo.z, m.roughness))
 }
 
@@ -196,10 +201,10 @@ pub fn multiscatter_weight<F: Real>(m: Material<F>, wo: Vec3<F>) -> F {
 /// (src/cpu/ggx_albedo.rs's tables). With F0 = 1 it makes the directional albedo 1 at every
 /// roughness; it is symmetric in wo and wi. 0 without the lobe.
 pub fn multiscatter_eval<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
-    if !has_multiscatter(m) {
+    let e_avg = multiscatter_average(m);
+    if e_avg >= F::one() {
         return Vec3::zero();
     }
-    let e_avg = ggx_average_albedo(m.roughness);
     let e_o = ggx_albedo(wo.z, m.roughness);
     let e_i = ggx_albedo(wi.z, m.roughness);
     let f_ms = multiscatter_fresnel(m, e_avg);
