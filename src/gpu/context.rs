@@ -64,17 +64,10 @@ impl GpuContext {
         let (device, queue) =
             pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))
                 .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
-        let pipeline_cache = pipeline_cache::DiskPipelineCache::open(&device, &info).map(Arc::new);
-        let fault = watch_for_faults(&device);
-        Ok(Self {
-            adapter,
-            device,
-            queue,
-            info,
-            f64_check: Arc::default(),
-            pipeline_cache,
-            fault,
-        })
+        // As a device made elsewhere, but ours: its faults are recorded.
+        let mut ctx = Self::from_device(adapter, device, queue);
+        ctx.fault = watch_for_faults(&ctx.device);
+        Ok(ctx)
     }
 
     /// Why the device stopped working (lost, or an error no scope caught), once it has: the
