@@ -11,7 +11,7 @@ use qjulia::cpu::bsdf::{
 use std::f64::consts::PI;
 
 mod common;
-use common::{SplitMix, dir, integrate};
+use common::{SplitMix, dir, integrate, sampled_albedo};
 
 fn material(albedo: f64, roughness: f64, metallic: f64, specular: f64) -> Material<f64> {
     Material {
@@ -178,20 +178,7 @@ fn the_directional_albedo_is_at_most_one() {
                 };
                 for cos_o in [1.0, 0.8, 0.5, 0.2, 0.05] {
                     let wo = dir(cos_o, 0.0);
-                    let n = 100_000;
-                    let (mut sum, mut sum2) = (0.0, 0.0);
-                    for _ in 0..n {
-                        let s = bsdf_sample(m, wo, rng.next(), rng.vec2());
-                        let w = if s.pdf > 0.0 {
-                            (s.f.x * s.wi.z) / s.pdf
-                        } else {
-                            0.0
-                        };
-                        sum += w;
-                        sum2 += w * w;
-                    }
-                    let mean = sum / n as f64;
-                    let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+                    let (mean, se) = sampled_albedo(m, wo, 100_000, &mut rng);
                     // The multiple-scattering lobe gives back 1 - E from the table: it
                     // reflects 1 + (E - E_table) of a white metal's light, within the table's
                     // error (the_albedo_table_interpolates_the_integral) of 1.

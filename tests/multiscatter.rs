@@ -4,10 +4,10 @@
 //! tests: tests/bsdf.rs; the furnace through the path tracer: tests/path.rs.)
 
 use qjulia::algebra::Vec3;
-use qjulia::cpu::bsdf::{Material, bsdf_eval, bsdf_sample};
+use qjulia::cpu::bsdf::{Material, bsdf_eval};
 
 mod common;
-use common::{SplitMix, dir, integrate};
+use common::{SplitMix, dir, integrate, sampled_albedo};
 
 /// Issue 35, item 7: with Kulla and Conty's lobe (`multiscatter`, the default) a white metal
 /// reflects all it receives, at every roughness and from every direction: its directional
@@ -29,20 +29,7 @@ fn a_rough_white_metal_with_multiple_scattering_reflects_everything() {
             let wo = dir(cos_o, 0.3);
             let white = metal(roughness, 1.0, true);
             let q = integrate(800, true, |wi| bsdf_eval(white, wo, wi).x * wi.z);
-            let n = 200_000;
-            let (mut sum, mut sum2) = (0.0, 0.0);
-            for _ in 0..n {
-                let s = bsdf_sample(white, wo, rng.next(), rng.vec2());
-                let w = if s.pdf > 0.0 {
-                    s.f.x * s.wi.z / s.pdf
-                } else {
-                    0.0
-                };
-                sum += w;
-                sum2 += w * w;
-            }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+            let (mean, se) = sampled_albedo(white, wo, 200_000, &mut rng);
             eprintln!(
                 "white metal with multiple scattering, roughness {roughness}, cos {cos_o}: \
                  quadrature {q:.4}, sampled {mean:.4} +- {se:.4}"

@@ -318,6 +318,30 @@ pub fn with_time_limit<T: Send + 'static>(
     receive.recv_timeout(limit).ok()
 }
 
+/// Renders twice with `render`, on its own thread under `limit` ([`with_time_limit`]), timing
+/// the first: (the first frame, the second, the first's seconds); None past the limit.
+pub fn render_twice(
+    limit: Duration,
+    render: impl Fn() -> crate::Result<Frame> + Send + 'static,
+) -> Option<crate::Result<(Frame, Frame, f64)>> {
+    with_time_limit(limit, move || {
+        let start = Instant::now();
+        let first = render()?;
+        let seconds = start.elapsed().as_secs_f64();
+        Ok((first, render()?, seconds))
+    })
+}
+
+/// The tracers a case runs on, in order: the f64 CPU first (the others' reference), the f32
+/// CPU, then each of the GPU's where there is one.
+pub fn runners(gpu: Option<&Arc<GpuKernels>>) -> Vec<Runner> {
+    let mut runners = vec![Runner::CpuF64, Runner::CpuF32];
+    if let Some(gpu) = gpu {
+        runners.extend(Runner::on_gpu(gpu));
+    }
+    runners
+}
+
 fn same(a: &Frame, b: &Frame) -> bool {
     a.colour == b.colour
         && a.steps == b.steps
@@ -354,13 +378,7 @@ pub fn run_case(
         versus_f64: None,
         warnings,
     };
-    let run = with_time_limit(limit, move || {
-        let start = Instant::now();
-        let (first, _) = runner.render(&scene, gpu.as_ref())?;
-        let seconds = start.elapsed().as_secs_f64();
-        let (second, _) = runner.render(&scene, gpu.as_ref())?;
-        Ok::<_, crate::Error>((first, second, seconds))
-    });
+    let run = render_twice(limit, move || Ok(runner.render(&scene, gpu.as_ref())?.0));
     match run {
         None => outcome.error = Some(format!("did not finish within {} s", limit.as_secs())),
         Some(Err(e)) => outcome.error = Some(e.to_string()),
@@ -397,11 +415,7 @@ pub fn run_all(
         })
         .flatten()
         .map(|(frame, _)| frame);
-        let mut runners = vec![Runner::CpuF64, Runner::CpuF32];
-        if let Some(gpu) = &gpu {
-            runners.extend(Runner::on_gpu(gpu));
-        }
-        for runner in runners {
+        for runner in runners(gpu.as_ref()) {
             let against = if runner == Runner::CpuF64 {
                 None
             } else {

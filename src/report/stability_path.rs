@@ -4,9 +4,9 @@
 //! sampler. Used by the tests and by `qjulia report --stability` (its second table).
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use super::stability::{Case, Runner, with_time_limit};
+use super::stability::{Case, Runner, render_twice, runners, with_time_limit};
 use crate::algebra::Vec3;
 use crate::cpu::bsdf::luminance;
 use crate::gpu::{GpuKernels, Readback};
@@ -272,12 +272,8 @@ pub fn run_path_case(
         mean: 0.0,
         versus_f64: None,
     };
-    let run = with_time_limit(limit, move || {
-        let start = Instant::now();
-        let first = render(runner, &scene, gpu.as_ref(), Readback::All)?;
-        let seconds = start.elapsed().as_secs_f64();
-        let second = render(runner, &scene, gpu.as_ref(), Readback::All)?;
-        Ok::<_, crate::Error>((first, second, seconds))
+    let run = render_twice(limit, move || {
+        render(runner, &scene, gpu.as_ref(), Readback::All)
     });
     match run {
         None => outcome.error = Some(format!("did not finish within {} s", limit.as_secs())),
@@ -317,11 +313,7 @@ pub fn run_all_path(
     let mut outcomes = Vec::new();
     for case in PATH_CASES {
         let reference = with_time_limit(limit, move || reference(case, size).ok()).flatten();
-        let mut runners = vec![Runner::CpuF64, Runner::CpuF32];
-        if let Some(gpu) = &gpu {
-            runners.extend(Runner::on_gpu(gpu));
-        }
-        for runner in runners {
+        for runner in runners(gpu.as_ref()) {
             let against = match runner {
                 Runner::CpuF64 => None,
                 _ => reference,

@@ -413,3 +413,30 @@ pub fn integrate(n: usize, upper_only: bool, f: impl Fn(Vec3<f64>) -> f64) -> f6
     }
     sum * dc * dphi
 }
+
+/// The directional albedo (red) of `m` from `wo` by importance sampling: the mean over `n`
+/// samples of `bsdf_sample` of f cos / pdf (0 where a sample has no direction), and its
+/// standard error.
+pub fn sampled_albedo(
+    m: qjulia::cpu::bsdf::Material<f64>,
+    wo: Vec3<f64>,
+    n: usize,
+    rng: &mut SplitMix,
+) -> (f64, f64) {
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for _ in 0..n {
+        let s = qjulia::cpu::bsdf::bsdf_sample(m, wo, rng.next(), rng.vec2());
+        let w = if s.pdf > 0.0 {
+            (s.f.x * s.wi.z) / s.pdf
+        } else {
+            0.0
+        };
+        sum += w;
+        sum2 += w * w;
+    }
+    let mean = sum / n as f64;
+    (
+        mean,
+        ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
+    )
+}
