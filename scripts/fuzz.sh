@@ -88,7 +88,8 @@ run() {
     shift
     local targets=("$@")
     [ "${#targets[@]}" -gt 0 ] || targets=("${TARGETS[@]}")
-    fuzz build -O "${targets[@]}" >/dev/null 2>&1 || fuzz build -O
+    # cargo fuzz builds one target, or all of them.
+    if [ "$#" -eq 1 ]; then fuzz build -O "$1"; else fuzz build -O; fi
     scratch=$(mktemp -d)
     for target in "${targets[@]}"; do
         cp -r "fuzz/corpus/$target" "$scratch/$target"
