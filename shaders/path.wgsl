@@ -390,7 +390,7 @@ fn sample_valid(c: vec3<f32>) -> bool {
 
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
 // the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
-// m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo and normal);
+// m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo, normal and depth);
 // sample 0 gives the depth and the steps (where the lens is open, the pinhole ray's through the
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
@@ -417,7 +417,7 @@ fn path_main(
     estimates = 0u;
     var mean = vec3<f32>(0.0);
     var made = 0u;
-    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
     // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`), and
     // the pixel's streams (add_to_streams).
     var state = 0.0;
@@ -487,7 +487,7 @@ fn path_main(
             if shown {
                 mean += (r.radiance - mean) / f32(n);
                 if AOVS {
-                    aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal);
+                    aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
                 }
             }
         } else {

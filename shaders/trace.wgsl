@@ -1149,14 +1149,15 @@ fn pack_colour(colour: vec3<Real>) -> u32 {
 // The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
 // colours and the sum of the squared deviations of their luminances from the running mean
 // (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
-// did and the means of their hits' base colours and shading normals (0 while none has). In f32
-// in both precisions, as the accumulator is.
+// did and the means of their hits' base colours, shading normals and depths (0 while none has).
+// In f32 in both precisions, as the accumulator is.
 struct Aovs {
     colour: vec3<f32>,
     hits: f32,
     albedo: vec3<f32>,
     normal: vec3<f32>,
     m2: f32,
+    depth: f32,
 }
 
 // Rec. 709 luminance of a linear colour, as shaders/bsdf.wgsl's `luminance` (the phong module
@@ -1174,9 +1175,9 @@ fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
 
 // Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
 // m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 (add_m2); where it
-// hit, its albedo and normal to the running means over the hits, by the same rule with the hits
-// counted so far.
-fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>) -> Aovs {
+// hit, its albedo, normal and depth to the running means over the hits, by the same rule with
+// the hits counted so far.
+fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>, depth: f32) -> Aovs {
     var out = a;
     out.colour = a.colour + (colour - a.colour) / f32(k + 1u);
     let l = sample_luminance(colour);
@@ -1185,31 +1186,34 @@ fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, no
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
         out.normal = a.normal + (normal - a.normal) / out.hits;
+        out.depth = a.depth + (depth - a.depth) / out.hits;
     }
     return out;
 }
 
 // Adds sample k's pixel to the AOVs: its colour, and where it hit, the base colour of its hit
-// (hit_albedo) and its shading normal. (The host sets AOVS only with SHADE: every hit is shaded.)
+// (hit_albedo), its shading normal and its depth. (The host sets AOVS only with SHADE: every hit
+// is shaded.)
 fn add_pixel_aovs(a: Aovs, k: u32, pixel: Pixel) -> Aovs {
     var albedo = vec3<f32>(0.0);
     if pixel.hit {
         albedo = vec3<f32>(hit_albedo(pixel.point));
     }
-    return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal));
+    return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal), f32(pixel.depth));
 }
 
-// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo and M2, normal.
+// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo and M2, normal and depth.
 fn load_aovs(index: u32) -> Aovs {
     let a = out_aovs[3u * index];
     let b = out_aovs[3u * index + 1u];
-    return Aovs(a.xyz, a.w, b.xyz, out_aovs[3u * index + 2u].xyz, b.w);
+    let c = out_aovs[3u * index + 2u];
+    return Aovs(a.xyz, a.w, b.xyz, c.xyz, b.w, c.w);
 }
 
 fn store_aovs(index: u32, a: Aovs) {
     out_aovs[3u * index] = vec4<f32>(a.colour, a.hits);
     out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, a.m2);
-    out_aovs[3u * index + 2u] = vec4<f32>(a.normal, 0.0);
+    out_aovs[3u * index + 2u] = vec4<f32>(a.normal, a.depth);
 }
 
 // Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"). Each
@@ -1341,7 +1345,7 @@ fn main(
     if SPECIALISED && !SAMPLES {
         samples = 1u;
     }
-    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
     // Where the lens is open, the depth and the steps are the pinhole ray's, traced for them.
     if params.sample_start == 0u && lens_open() {
         let pinhole = trace_primary(pinhole_ray(i, j, 0u, t_min));

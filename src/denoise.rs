@@ -3,9 +3,10 @@
 //! al. 2017), on the linear image of a whole frame before the display transform, in either
 //! model. This module owns the filter's steps around the passes:
 //!
-//! 1. [`prepare`]: each pixel's linear colour divided by its albedo AOV (the illumination), the
-//!    variance of its mean luminance (from the AOVs' Welford M2), and its guide (the mean normal
-//!    of its hits, sample 0's depth);
+//! 1. [`prepare`]: each pixel's linear colour divided by its demodulation, h A + (1 - h) of its
+//!    albedo AOV A and hit fraction h (the illumination), the variance of its mean luminance
+//!    (from the AOVs' Welford M2), and its guide (the mean normal and the mean depth of its
+//!    hits, where most of its samples hit);
 //! 2. the passes, on the GPU (src/gpu/denoise.rs over shaders/denoise.wgsl) or on the CPU
 //!    (its twin, src/cpu/denoise.rs);
 //! 3. [`finish`]: the illumination times the albedo again.
@@ -24,7 +25,7 @@ use crate::scene::Scene;
 pub use crate::scene::Denoiser;
 
 /// An albedo channel below this divides the colour as this (a black albedo would give no
-/// illumination to filter); a pixel none of whose samples hit is not divided at all.
+/// illumination to filter); the light of the samples that missed is not divided at all.
 pub const ALBEDO_FLOOR: f32 = 0.01;
 
 /// The image the passes filter, the guides they follow and the albedo to multiply back.
@@ -35,7 +36,8 @@ pub struct Prepared {
     /// Each pixel's illumination (linear colour / albedo) and the variance of its mean
     /// luminance.
     pub image: Vec<[f32; 4]>,
-    /// Each pixel's mean normal and depth (-1 where sample 0 missed).
+    /// Each pixel's mean normal and the mean depth of its hits, where most of its samples hit
+    /// ([`guide_hit`]); 0 and -1 elsewhere.
     pub guide: Vec<[f32; 4]>,
     /// What each pixel was divided by ([`demodulation`]).
     pub albedo: Vec<[f32; 3]>,
@@ -53,13 +55,28 @@ pub struct Denoised {
     pub backend: &'static str,
 }
 
-/// What a pixel's colour is divided by: its albedo AOV, each channel at least
-/// [`ALBEDO_FLOOR`]; 1 where none of its samples hit (the AOV is 0 there).
-pub fn demodulation(albedo: [f32; 3]) -> [f32; 3] {
-    if albedo == [0.0; 3] {
-        return [1.0; 3];
+/// What a pixel's colour is divided by: h A + (1 - h), of its albedo AOV A (the mean over its
+/// hits, each channel at least [`ALBEDO_FLOOR`]) and its hit fraction h ([`hit_fraction`]).
+/// The mean of its samples' own albedos, a miss's taken as 1: the sky seen past a silhouette
+/// is not divided by the surface's colour. 1 where none hit.
+pub fn demodulation(albedo: [f32; 3], hit_fraction: f32) -> [f32; 3] {
+    let h = hit_fraction;
+    albedo.map(|a| h * a.max(ALBEDO_FLOOR) + (1.0 - h))
+}
+
+/// The fraction of the samples a pixel's mean holds (`samples`, [`mean_samples`]) whose
+/// primary ray hit, from the AOVs' count of them; in [0, 1], 0 without samples.
+pub fn hit_fraction(hits: f32, samples: u32) -> f32 {
+    match samples {
+        0 => 0.0,
+        n => (hits / n as f32).clamp(0.0, 1.0),
     }
-    albedo.map(|a| a.max(ALBEDO_FLOOR))
+}
+
+/// Whether the guide takes a pixel as a hit: where at least half of its samples hit
+/// ([`hit_fraction`]); the filter mixes no hit with a miss.
+pub fn guide_hit(hit_fraction: f32) -> bool {
+    hit_fraction >= 0.5
 }
 
 fn vec3(v: [f32; 3]) -> Vec3<f32> {
@@ -118,8 +135,8 @@ pub fn frame_noise(frame: &Frame, samples: u32, adaptive: bool) -> Option<f64> {
 }
 
 /// Where a pixel has one sample, its variance is estimated from its neighbours: the variance of
-/// the luminances of the pixels within 2 of it (itself included) whose sample 0 did as its did
-/// (hit or missed).
+/// the luminances of the pixels within 2 of it (itself included) that the guide takes as it
+/// takes it (hit or missed, [`guide_hit`]: with one sample, whether that sample hit).
 pub const SPATIAL_RADIUS: i32 = 2;
 
 fn spatial_variance(luma: &[f32], hit: &[bool], (w, h): (usize, usize), i: usize, j: usize) -> f32 {
@@ -155,12 +172,25 @@ pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
         linear.len() == pixels
             && frame.albedo.len() == pixels
             && frame.normal.len() == pixels
-            && frame.luminance_m2.len() == pixels,
+            && frame.luminance_m2.len() == pixels
+            && frame.hits.len() == pixels
+            && frame.hit_depth.len() == pixels,
         "the denoiser needs the AOVs (Readback::Hdr)"
     );
     let (w, h) = (frame.width as usize, frame.height as usize);
-    let albedo: Vec<[f32; 3]> = frame.albedo.par_iter().map(|&a| demodulation(a)).collect();
-    let hit: Vec<bool> = frame.depth.par_iter().map(|d| !d.is_nan()).collect();
+    // Each pixel's hit fraction, of the samples its mean holds.
+    let fraction: Vec<f32> = (0..pixels)
+        .into_par_iter()
+        .map(|k| {
+            let n = mean_samples(frame.samples_of(k, samples), adaptive);
+            hit_fraction(frame.hits[k], n)
+        })
+        .collect();
+    let albedo: Vec<[f32; 3]> = (0..pixels)
+        .into_par_iter()
+        .map(|k| demodulation(frame.albedo[k], fraction[k]))
+        .collect();
+    let hit: Vec<bool> = fraction.par_iter().map(|&f| guide_hit(f)).collect();
     let variance: Vec<f32> = if samples >= 2 {
         // Each pixel's own count: adaptive sampling stops pixels at different ones, and its
         // mean holds half of them ([`mean_samples`]).
@@ -193,10 +223,12 @@ pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
         .collect();
     let guide = (0..pixels)
         .into_par_iter()
-        .map(|k| {
-            let n = frame.normal[k];
-            let depth = if hit[k] { frame.depth[k] } else { -1.0 };
-            [n[0], n[1], n[2], depth]
+        .map(|k| match hit[k] {
+            true => {
+                let n = frame.normal[k];
+                [n[0], n[1], n[2], frame.hit_depth[k]]
+            }
+            false => [0.0, 0.0, 0.0, -1.0],
         })
         .collect();
     Prepared {
@@ -307,6 +339,38 @@ mod tests {
         let dark = relative_noise(0.02, 2, 0.0).unwrap();
         assert!((dark - 0.1 / NOISE_LUMINANCE_FLOOR).abs() < 1e-3, "{dark}");
         assert_eq!(relative_noise(0.02, 1, 0.5), None);
+    }
+
+    #[test]
+    fn the_demodulation_is_the_mean_albedo_of_the_samples_a_miss_counting_1() {
+        // Half the samples hit an orange surface: the sky's half is not divided by its colour.
+        let d = demodulation([0.9, 0.3, 0.0], 0.5);
+        assert_eq!(d, [0.95, 0.65, 0.5 * ALBEDO_FLOOR + 0.5]);
+        assert_eq!(demodulation([0.9, 0.3, 0.0], 1.0), [0.9, 0.3, ALBEDO_FLOOR]);
+        assert_eq!(demodulation([0.0; 3], 0.0), [1.0; 3]);
+        assert_eq!(hit_fraction(3.0, 4), 0.75);
+        assert_eq!(hit_fraction(0.0, 0), 0.0);
+        // Adaptively, the mean holds stream 1's half: 3 hits of 8 taken is 3 of 4.
+        assert_eq!(hit_fraction(3.0, mean_samples(8, true)), 0.75);
+    }
+
+    #[test]
+    fn the_guide_is_the_mean_depth_of_the_hits_where_most_samples_hit() {
+        let mut frame = Frame::empty(3);
+        frame.height = 1;
+        frame.radiance = vec![[0.5; 3]; 3];
+        frame.albedo = vec![[0.5; 3]; 3];
+        frame.normal = vec![[0.0, 0.0, 1.0]; 3];
+        frame.luminance_m2 = vec![0.0; 3];
+        // 4 of 4 samples hit at a mean depth of 2.5 (the pinhole ray's is 2), 2 of 4 at 3, 1 of 4.
+        frame.depth = vec![2.0, f32::NAN, 3.0];
+        frame.hits = vec![4.0, 2.0, 1.0];
+        frame.hit_depth = vec![2.5, 3.0, 3.5];
+        let prepared = prepare(&frame, 4, false);
+        let depths: Vec<f32> = prepared.guide.iter().map(|g| g[3]).collect();
+        assert_eq!(depths, [2.5, 3.0, -1.0]);
+        assert_eq!(prepared.albedo[1], [0.75; 3]);
+        assert_eq!(prepared.albedo[2], [0.875; 3]);
     }
 
     #[test]

@@ -42,6 +42,14 @@ pub struct Frame {
     /// (Welford's M2), of which the denoiser makes each pixel's variance; empty where the AOVs
     /// were not asked for.
     pub luminance_m2: Vec<f32>,
+    /// The AOVs: how many of the samples the pixel's mean holds hit (its hit fraction, times
+    /// those samples: all it kept, or with adaptive sampling stream 1's); the denoiser's
+    /// demodulation and guide. Empty where the AOVs were not asked for.
+    pub hits: Vec<f32>,
+    /// The AOVs: the depth of the hits (the primary ray's t, through the lens where it is
+    /// open), averaged over the samples whose primary ray hit; 0 where none did. The denoiser's
+    /// depth guide. Empty where the AOVs were not asked for.
+    pub hit_depth: Vec<f32>,
     /// Where the frame was denoised (`image.denoise`): the linear mean before the denoiser
     /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
     pub noisy: Vec<[f32; 3]>,
@@ -80,6 +88,8 @@ impl Frame {
             albedo: Vec::new(),
             normal: Vec::new(),
             luminance_m2: Vec::new(),
+            hits: Vec::new(),
+            hit_depth: Vec::new(),
             noisy: Vec::new(),
             samples: Vec::new(),
             non_finite: 0,
@@ -106,6 +116,8 @@ impl Frame {
         self.albedo.extend_from_slice(&band.albedo);
         self.normal.extend_from_slice(&band.normal);
         self.luminance_m2.extend_from_slice(&band.luminance_m2);
+        self.hits.extend_from_slice(&band.hits);
+        self.hit_depth.extend_from_slice(&band.hit_depth);
         self.noisy.extend_from_slice(&band.noisy);
         self.samples.extend_from_slice(&band.samples);
         self.non_finite += band.non_finite;

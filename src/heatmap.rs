@@ -437,6 +437,8 @@ mod tests {
             albedo: Vec::new(),
             normal: Vec::new(),
             luminance_m2: Vec::new(),
+            hits: Vec::new(),
+            hit_depth: Vec::new(),
             noisy: Vec::new(),
             samples: Vec::new(),
             non_finite: 0,

@@ -18,6 +18,8 @@
 //! | `colour8` | uint32 | the 8-bit colour the tracer made, 0xFFBBGGRR (phong mode's PNG pixels: the mean of the clamped samples, rounded on the device; path mode's is the display transform of `R`, `G`, `B`, which `merge` makes again) |
 //! | `steps` | uint32 | primary-ray steps (for `--stats` and the heat-map views) |
 //! | `luminance.M2` | float32 | the sum of the squared deviations of the samples' luminances from their mean (Welford's M2, the AOVs' fourth float of the albedo): the denoiser's variance |
+//! | `hits` | float32 | how many of the samples the pixel's mean holds hit ([`Frame::hits`]): the denoiser's hit fraction |
+//! | `Z.mean` | float32 | the depth of the hits, averaged over them, 0 where none hit ([`Frame::hit_depth`]): the denoiser's depth guide |
 //! | `samples` | uint32 | samples each pixel took: `image.samples`, or fewer where adaptive sampling (`path.noise_target`) stopped it; each pixel decides alone, so a tile's counts are the whole render's |
 //!
 //! The accumulators keep a running mean in float32 (m_k = m_(k-1) + (x_k - m_(k-1)) / (k + 1)),
@@ -52,10 +54,10 @@ use crate::scene::{SCENE_EXR_ATTRIBUTE, Scene, SceneLoader, SceneSource};
 use crate::stats::{RenderStats, Summary};
 
 /// The partial format's version (`qjulia-partial`); `merge` reads this one only.
-pub const FORMAT_VERSION: i32 = 1;
+pub const FORMAT_VERSION: i32 = 2;
 
 /// The float32 channels, in the order [`Frame`] gives them (the `--hdr` channels).
-const FLOAT_CHANNELS: [&str; 11] = [
+const FLOAT_CHANNELS: [&str; 13] = [
     "R",
     "G",
     "B",
@@ -67,6 +69,8 @@ const FLOAT_CHANNELS: [&str; 11] = [
     "N.Z",
     "Z",
     "luminance.M2",
+    "hits",
+    "Z.mean",
 ];
 /// The uint32 channels.
 const UINT_CHANNELS: [&str; 3] = ["colour8", "steps", "samples"];
@@ -176,7 +180,9 @@ fn write_exr(
         linear.len() == pixels
             && band.albedo.len() == pixels
             && band.normal.len() == pixels
-            && band.luminance_m2.len() == pixels,
+            && band.luminance_m2.len() == pixels
+            && band.hits.len() == pixels
+            && band.hit_depth.len() == pixels,
         "a tile carries its AOVs (Readback::Hdr)"
     );
     let mut floats: Vec<Vec<f32>> = Vec::new();
@@ -187,6 +193,8 @@ fn write_exr(
     }
     floats.push(band.depth.clone());
     floats.push(band.luminance_m2.clone());
+    floats.push(band.hits.clone());
+    floats.push(band.hit_depth.clone());
     let samples = match band.samples.len() == pixels {
         true => band.samples.clone(),
         false => vec![scene.image.samples.max(1); pixels],
@@ -418,6 +426,8 @@ fn read_part_from(
     frame.normal = triple(&FLOAT_CHANNELS[6..9])?;
     frame.depth = float("Z")?.to_vec();
     frame.luminance_m2 = float("luminance.M2")?.to_vec();
+    frame.hits = float("hits")?.to_vec();
+    frame.hit_depth = float("Z.mean")?.to_vec();
     frame.colour = uint("colour8")?.to_vec();
     frame.steps = uint("steps")?.to_vec();
     frame.samples = uint("samples")?.to_vec();

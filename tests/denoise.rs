@@ -54,6 +54,10 @@ fn frame(
             f.albedo.push(albedo);
             f.normal.push(normal);
             f.luminance_m2.push(variance * n * (n - 1.0));
+            // Every sample hit where the depth is a number, none elsewhere.
+            let hit = !depth.is_nan();
+            f.hits.push(if hit { n } else { 0.0 });
+            f.hit_depth.push(if hit { depth } else { 0.0 });
         }
     }
     f

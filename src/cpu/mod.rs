@@ -326,6 +326,8 @@ where
         albedo: aov(|a| a.albedo),
         normal: aov(|a| a.normal),
         luminance_m2: aovs.par_iter().map(|a| a.m2).collect(),
+        hits: aovs.par_iter().map(|a| a.hits).collect(),
+        hit_depth: aovs.par_iter().map(|a| a.depth).collect(),
         noisy: Vec::new(),
         samples,
         non_finite: non_finite.into_inner(),

@@ -613,8 +613,8 @@ pub fn render_path_rows<F: Real>(
                         mean += (r.radiance - mean) / F::lit(n as f64);
                         if aovs {
                             let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
-                            made =
-                                add_aovs(made, n - 1, radiance, r.hit, albedo, r.normal.to_f32());
+                            let (normal, depth) = (r.normal.to_f32(), r.depth.to_f64() as f32);
+                            made = add_aovs(made, n - 1, radiance, r.hit, albedo, normal, depth);
                         }
                     }
                 } else {

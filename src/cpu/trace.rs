@@ -98,8 +98,8 @@ pub struct Pixel<F> {
 /// The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
 /// colours and the sum of the squared deviations of their luminances from the running mean
 /// (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
-/// did and the means of their hits' base colours and shading normals (0 while none has). In f32
-/// in both precisions, as the shader keeps them.
+/// did and the means of their hits' base colours, shading normals and depths (0 while none has).
+/// In f32 in both precisions, as the shader keeps them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Aovs {
     pub colour: Vec3<f32>,
@@ -107,6 +107,7 @@ pub struct Aovs {
     pub albedo: Vec3<f32>,
     pub normal: Vec3<f32>,
     pub m2: f32,
+    pub depth: f32,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -1175,8 +1176,8 @@ pub fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
 
 /// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
 /// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 ([`add_m2`]); where
-/// it hit, its albedo and normal to the running means over the hits, by the same rule with the
-/// hits counted so far.
+/// it hit, its albedo, normal and depth to the running means over the hits, by the same rule
+/// with the hits counted so far.
 pub fn add_aovs(
     a: Aovs,
     k: u32,
@@ -1184,6 +1185,7 @@ pub fn add_aovs(
     hit: bool,
     albedo: Vec3<f32>,
     normal: Vec3<f32>,
+    depth: f32,
 ) -> Aovs {
     let mut out = a;
     out.colour = a.colour + (colour - a.colour) / (k + 1) as f32;
@@ -1198,21 +1200,23 @@ pub fn add_aovs(
         out.hits = a.hits + 1.0;
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
         out.normal = a.normal + (normal - a.normal) / out.hits;
+        out.depth = a.depth + (depth - a.depth) / out.hits;
     }
     out
 }
 
 impl<F: Real> TraceParams<F> {
     /// Adds sample k's pixel to the AOVs: its colour, and where it hit, the base colour of its
-    /// hit (hit_albedo) and its shading normal. (AOVs are made only of shaded pictures: every
-    /// hit is shaded.)
+    /// hit (hit_albedo), its shading normal and its depth. (AOVs are made only of shaded
+    /// pictures: every hit is shaded.)
     pub fn add_pixel_aovs(&self, a: Aovs, k: u32, pixel: &Pixel<F>) -> Aovs {
         let mut albedo = Vec3::zero();
         if pixel.hit {
             albedo = self.hit_albedo(pixel.point).to_f32();
         }
         let (colour, normal) = (pixel.colour.to_f32(), pixel.normal.to_f32());
-        add_aovs(a, k, colour, pixel.hit, albedo, normal)
+        let depth = pixel.depth.to_f64() as f32;
+        add_aovs(a, k, colour, pixel.hit, albedo, normal, depth)
     }
 
     /// Whether this render samples adaptively (the shader's `adaptive`: `noise_target` > 0 with

@@ -904,6 +904,8 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 frame.albedo = aov(1);
                 frame.normal = aov(2);
                 frame.luminance_m2 = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[1][3]);
+                frame.hits = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[0][3]);
+                frame.hit_depth = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[2][3]);
                 frame.depth = depth;
                 frame.samples = counts.clone();
                 Arc::new(frame)

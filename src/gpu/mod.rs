@@ -460,6 +460,8 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
         albedo: aov(1),
         normal: aov(2),
         luminance_m2: aovs.par_iter().map(|a| a[1][3]).collect(),
+        hits: aovs.par_iter().map(|a| a[0][3]).collect(),
+        hit_depth: aovs.par_iter().map(|a| a[2][3]).collect(),
         noisy: Vec::new(),
         samples: match kept.samples {
             true => accumulated.par_iter().map(|a| (-a[3]) as u32).collect(),
