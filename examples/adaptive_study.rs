@@ -8,7 +8,9 @@
 //! - `rmse [SIZE] [REF]`: the time (GPU seconds, the denoiser's included) to the RMSE of 1,024
 //!   plain Sobol' samples against a reference of REF samples of the `random` sampler, for plain
 //!   Sobol', adaptive sampling (1,024 at most, the noise target swept down), the denoiser
-//!   (samples swept up) and both.
+//!   (samples swept up), both, path regularisation (`path.regularize` = 0.5, samples swept up)
+//!   and regularisation denoised; each rung with its bias, the image's mean radiance against the
+//!   reference's.
 //!
 //! Run as:
 //!
@@ -19,7 +21,7 @@ use std::sync::Arc;
 
 use qjulia::denoise::Denoiser;
 use qjulia::gpu::{GpuContext, GpuKernels};
-use qjulia::report::monte_carlo::{TRIM, rmse, rmse_trimmed};
+use qjulia::report::monte_carlo::{REGULARIZE, TRIM, image_mean, rmse, rmse_trimmed};
 use qjulia::scene::PathSampler;
 use qjulia::scene::presets::find;
 use qjulia::stats::RenderStats;
@@ -122,17 +124,23 @@ fn time_to_rmse(renderer: &Renderer, size: u32, reference_samples: u32) -> qjuli
     reference_scene.path.sampler = PathSampler::Random;
     let (reference, _, reference_seconds) = render(renderer, &reference_scene)?;
     let reference = reference.radiance;
-    println!("reference: {reference_samples} random samples, {reference_seconds:.2} s");
-    let measure = |scene: &Scene| -> qjulia::Result<(f64, f64, f64, u64)> {
+    let reference_mean = image_mean(&reference);
+    println!(
+        "reference: {reference_samples} random samples, {reference_seconds:.2} s, mean \
+         {reference_mean:.5}"
+    );
+    // RMSE, trimmed RMSE, seconds, samples taken and the mean's bias in percent.
+    let measure = |scene: &Scene| -> qjulia::Result<(f64, f64, f64, u64, f64)> {
         let (frame, stats, seconds) = render(renderer, scene)?;
         let error = rmse(&frame.radiance, &reference);
         let trimmed = rmse_trimmed(&frame.radiance, &reference, TRIM);
-        Ok((error, trimmed, seconds, stats.summary.samples_total))
+        let bias = 100.0 * (image_mean(&frame.radiance) / reference_mean - 1.0);
+        Ok((error, trimmed, seconds, stats.summary.samples_total, bias))
     };
-    let (goal, goal_trimmed, plain_seconds, _) = measure(&preset(size, 1024))?;
+    let (goal, goal_trimmed, plain_seconds, _, plain_bias) = measure(&preset(size, 1024))?;
     println!(
         "plain Sobol', 1024 samples: RMSE {goal:.5} (trimmed {goal_trimmed:.5}), \
-         {plain_seconds:.2} s"
+         {plain_seconds:.2} s, mean {plain_bias:+.3}%"
     );
     // Each way's ladder, cheapest first; its time is that of the first rung at the goal.
     let targets = [
@@ -153,25 +161,32 @@ fn time_to_rmse(renderer: &Renderer, size: u32, reference_samples: u32) -> qjuli
             })
             .collect()
     };
-    let denoised: Vec<Rung> = ladder_samples
-        .iter()
-        .map(|&n| {
-            let mut s = preset(size, n);
-            s.image.denoise = Denoiser::Atrous;
-            (format!("{n} samples"), s)
-        })
-        .collect();
+    let swept = |denoise: bool, regularize: f64| -> Vec<Rung> {
+        ladder_samples
+            .iter()
+            .map(|&n| {
+                let mut s = preset(size, n);
+                if denoise {
+                    s.image.denoise = Denoiser::Atrous;
+                }
+                s.path.regularize = regularize;
+                (format!("{n} samples"), s)
+            })
+            .collect()
+    };
     for (way, ladder) in [
         ("adaptive", adaptive(false)),
-        ("denoised", denoised),
+        ("denoised", swept(true, 0.0)),
         ("adaptive + denoised", adaptive(true)),
+        ("regularized", swept(false, REGULARIZE)),
+        ("regularized + denoised", swept(true, REGULARIZE)),
     ] {
         let mut reached = None;
         for (rung, scene) in &ladder {
-            let (error, trimmed, seconds, total) = measure(scene)?;
+            let (error, trimmed, seconds, total, bias) = measure(scene)?;
             println!(
                 "  {way}, {rung}: RMSE {error:.5} (trimmed {trimmed:.5}), {seconds:.3} s, \
-                 {:.1} samples a pixel",
+                 {:.1} samples a pixel, mean {bias:+.3}%",
                 total as f64 / (size * size) as f64
             );
             if error <= goal {

@@ -111,6 +111,7 @@ fn the_zoom_sweep_shows_f32_leaving_f64_as_the_zoom_deepens() {
 #[test]
 fn the_monte_carlo_page_measures_every_case() {
     use qjulia::report::monte_carlo as mc;
+    use qjulia::report::monte_carlo_page as page;
     let mut planner = qjulia::Planner::new(qjulia::Backend::Cpu, qjulia::PrecisionChoice::F32);
     let curves = mc::run(&mut planner, 8, 1024, &mut |_, _, _| {}).unwrap();
     assert_eq!(curves.len(), mc::cases().len());
@@ -125,11 +126,15 @@ fn the_monte_carlo_page_measures_every_case() {
         assert!(c.points.iter().all(|p| p.rmse > 0.0 && p.rmse.is_finite()));
         assert!(c.reference_mean > 0.0);
     }
-    let csv = mc::csv(&curves);
+    let csv = page::csv(&curves);
     assert_eq!(csv.lines().count(), 1 + curves.len() * mc::SAMPLES.len());
-    // Each scene: denoised, adaptive, and both.
-    assert_eq!(curves.iter().filter(|c| c.case.denoise).count(), 6);
+    // Each scene: denoised, adaptive, both, regularised, and regularised and denoised.
+    assert_eq!(curves.iter().filter(|c| c.case.denoise).count(), 9);
     assert_eq!(curves.iter().filter(|c| c.case.adaptive).count(), 6);
+    assert_eq!(curves.iter().filter(|c| c.case.regularize).count(), 6);
+    for c in &curves {
+        assert!(c.last_mean > 0.0 && c.last_mean.is_finite(), "{:?}", c.case);
+    }
     for c in &curves {
         for p in &c.points {
             // Adaptive sampling takes at most the samples, and at most min_samples (16) always.
@@ -148,7 +153,7 @@ fn the_monte_carlo_page_measures_every_case() {
         let s = c.split;
         assert!(s.edge.is_finite() && s.flat.is_finite() && (0.0..=1.0).contains(&s.edge_share));
     }
-    let md = mc::markdown(&curves, 8, 1024, "a test machine");
+    let md = page::markdown(&curves, 8, 1024, "a test machine");
     for verdict in [
         "Sobol' against random",
         "**Bounces**",
@@ -157,11 +162,14 @@ fn the_monte_carlo_page_measures_every_case() {
         "adaptive sampling**",
         "Sobol' adaptive denoised",
         "on edge pixels",
+        "regularisation**",
+        "Sobol' regularized denoised",
+        "off the reference's",
     ] {
         assert!(md.contains(verdict), "{md}");
     }
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("mc.png");
-    mc::plot(&png, &curves).unwrap();
+    page::plot(&png, &curves).unwrap();
     assert!(image::open(&png).unwrap().width() >= 800);
 }

@@ -100,10 +100,11 @@ fn monte_carlo(
         let path = args.out.join(name);
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
     };
-    write("monte_carlo.csv", &mc::csv(&curves))?;
+    use qjulia::report::monte_carlo_page as page;
+    write("monte_carlo.csv", &page::csv(&curves))?;
     let png = args.out.join("monte_carlo.png");
-    mc::plot(&png, &curves).map_err(|e| anyhow::anyhow!("{}: {e}", png.display()))?;
-    let md = mc::markdown(&curves, size, args.reference_samples, &machine);
+    page::plot(&png, &curves).map_err(|e| anyhow::anyhow!("{}: {e}", png.display()))?;
+    let md = page::markdown(&curves, size, args.reference_samples, &machine);
     write("monte_carlo.md", &md)?;
     println!("{md}");
     Ok(())

@@ -5,6 +5,7 @@
 
 pub mod dimensions;
 pub mod monte_carlo;
+pub mod monte_carlo_page;
 pub mod plot;
 pub mod stability;
 pub mod stability_path;
