@@ -28,20 +28,22 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-/// Known cycles, each broken here at one edge: "FROM -> TO: WHY". Every one is a child that uses
-/// its parent's items while the parent uses the child's; none crosses a directory. The test
-/// fails when an entry is no longer needed (the edge is gone, or no cycle runs through it), so
-/// that the list only shrinks. Cut one by moving what both sides use into a module of its own.
+/// Known cycles, each broken here at one edge: "FROM -> TO: WHY". The test fails when an entry
+/// is no longer needed (the edge is gone, or no cycle runs through it), so that the list only
+/// shrinks; it may not grow. Cut one by moving what both sides use into a module of its own.
+///
+/// The one left is the scene's declaration and its schema, which are one definition in two
+/// files: `scene_schema!` (schema/mod.rs) expands the key declarations in scene/mod.rs into the
+/// `Scene` struct and, beside it, the tables `SCHEMA`, `TABLES` and `KEYS` of the schema's
+/// `Key`s, whose `Kind` reads and writes each key in a `Scene` (`At`'s `fn(&Scene)`). The
+/// declarations name the schema's `Range`, and the macro's body its `Key`, `Kind`, `At`,
+/// `Table` and `Slider`; the schema names `Scene`, and finds a key in `SCHEMA` (`key`). No
+/// module can sit between them: the edge goes only where the declaration and those types share
+/// one file (the declaration moved into schema/mod.rs, beside the macros and the types).
 const ALLOWED: &[&str] = &[
-    "src/scene/schema/mod.rs -> src/scene/mod.rs: KEYS, SCHEMA and TABLES are made in \
-     scene/mod.rs by the schema's own scene_keys! macro, where the keys are declared",
-    "src/cpu/trace.rs -> src/cpu/mod.rs: ITERATIONS and the tracer's constants in cpu/mod.rs, \
-     which calls trace.rs (cpu/ was being edited at the same time)",
-    "src/gpu/julia2d.rs -> src/gpu/mod.rs: Readback in gpu/mod.rs",
-    "src/gpu/path.rs -> src/gpu/mod.rs: Accumulated, Readback in gpu/mod.rs",
-    "src/gpu/tracer.rs -> src/gpu/mod.rs: Readback in gpu/mod.rs",
-    "src/gpu/kernel/buffers.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
-    "src/gpu/kernel/pipeline.rs -> src/gpu/kernel/mod.rs: Kernel in kernel/mod.rs",
+    "src/scene/schema/mod.rs -> src/scene/mod.rs: the schema's Kind reads and writes a Scene \
+     (At's fn(&Scene)) and key() searches SCHEMA, while Scene and SCHEMA, TABLES and KEYS are \
+     made together in scene/mod.rs by the schema's scene_schema! macro from the declarations",
 ];
 
 /// An entry of [`ALLOWED`] as (from, to).

@@ -2,6 +2,7 @@
 //! f64, parallel over rows with rayon. The tests hold the GPU to it.
 
 pub mod bsdf;
+mod counters;
 pub mod denoise;
 pub mod ggx_albedo;
 pub mod ggx_quadrature;
@@ -12,14 +13,9 @@ pub mod sample;
 pub mod sobol;
 pub mod trace;
 
-use std::cell::Cell;
-
-thread_local! {
-    /// Work done on this thread: distance estimates, and quaternion iterations (z <- z^2 + c,
-    /// in estimates and normals). Read through [`count_work`].
-    pub(crate) static ESTIMATES: Cell<u64> = const { Cell::new(0) };
-    pub(crate) static ITERATIONS: Cell<u64> = const { Cell::new(0) };
-}
+// The counters live in a module of their own: the tracers (trace.rs, path.rs) count into them
+// and this module, which calls the tracers, reads them.
+pub(crate) use counters::{ESTIMATES, ITERATIONS};
 
 /// The cone starts of the blocks in the row of blocks holding pixel row `j` (none for the
 /// seed's tracing: every ray starts at the ball).

@@ -4,12 +4,9 @@
 //! change to one file is a change to both, and the GPU-vs-CPU tests hold them together. The
 //! kernel's `main` is cpu/mod.rs's `render_rows`.
 //!
-//! Why it passes 600 lines: it mirrors shaders/trace.wgsl function by function, so it is as
-//! long as the kernel; a split must split both alike.
-//!
-//! Over 600 lines by exception (issue 18 excepts the twins' bodies): this file mirrors
-//! shaders/trace.wgsl function by function in the same order, and tests/twins.rs holds that
-//! order, so it stays one file as the shader is.
+//! Why it passes 600 lines: it mirrors shaders/trace.wgsl function by function in the same
+//! order (tests/twins.rs holds that order; issue 18 excepts the twins' bodies), so it is as long
+//! as the kernel and stays one file as the shader is; a split must split both alike.
 
 use crate::algebra::{
     Hyper, Real, Vec3, Vec4, hyper_add, hyper_dot, hyper_mul, hyper_scale, hyper_sq, hyper_sub,

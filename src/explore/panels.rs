@@ -6,19 +6,22 @@
 //! and the Phong-only keys are greyed out. The denoiser switch (none or à-trous) sits under it,
 //! in either model, and the "Denoising" group holds the `[denoise]` keys, which the view applies
 //! to the mean it keeps without tracing again; adaptive sampling's noise target follows it.
+//!
+//! The groups of the light, the shading, path tracing and denoising are `lighting.rs`; the
+//! sliders of scene keys and the colour picker they share are `widgets.rs`.
+
+mod lighting;
+mod widgets;
 
 use super::c_loop::CLoop;
 use super::command::Command;
 use super::hypersphere::{from_hyperspherical, hyperspherical, magnitude_and_direction};
-use super::input::slider;
 use super::state::{ExplorerState, Mode, SliceRotation};
 use crate::denoise::Denoiser;
-use crate::display::ToneMap;
 use crate::scene::rotation::{axis_name, plane_name, planes};
-use crate::scene::{
-    Camera, Cut, Denoise, Fractal, Image, Light, Material, Path, PathSampler, Scene, Shading,
-    ShadingModel, Sky, Slice, Sun, View, View2d,
-};
+use crate::scene::{Camera, Cut, Fractal, Image, ShadingModel, Slice, View, View2d};
+use lighting::{adaptive_sampling, denoiser_switch, denoising, path_tracing, shading};
+use widgets::{key_slider, key_slider_u32};
 
 /// The side panel: what the view shows, then the groups of controls.
 pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
@@ -279,209 +282,6 @@ fn camera(ui: &mut egui::Ui, cam: &mut Camera, home: &Camera) {
     }
 }
 
-/// The light and the shading values; in path mode the Phong-only ones greyed out.
-fn shading(ui: &mut egui::Ui, light: &mut Light, sh: &mut Shading) {
-    for (k, name) in ["light x", "light y", "light z"].iter().enumerate() {
-        ui.add(key_slider(&mut light.position[k], "light.position").text(*name));
-    }
-    ui.add(key_slider(&mut light.radius, "light.radius").text("light radius"));
-    ui.horizontal(|ui| {
-        colour_edit(ui, &mut sh.diffuse);
-        ui.label("diffuse (path mode: the albedo)");
-    });
-    egui::ComboBox::from_label("normal")
-        .selected_text(sh.normal.name())
-        .show_ui(ui, |ui| {
-            for method in crate::scene::NormalMethod::ALL {
-                ui.selectable_value(&mut sh.normal, method, method.name());
-            }
-        });
-    ui.add(key_slider(&mut sh.normal_delta, "shading.normal_delta").text("normal delta"));
-    egui::ComboBox::from_label("colouring")
-        .selected_text(sh.colouring.name())
-        .show_ui(ui, |ui| {
-            for colouring in crate::scene::Colouring::ALL {
-                ui.selectable_value(&mut sh.colouring, colouring, colouring.name());
-            }
-        });
-    ui.add(key_slider(&mut sh.trap_radius, "shading.trap_radius").text("trap radius"));
-    ui.add(key_slider(&mut sh.trap_scale, "shading.trap_scale").text("trap scale"));
-    for (k, name) in ["phase red", "phase green", "phase blue"]
-        .iter()
-        .enumerate()
-    {
-        ui.add(key_slider(&mut sh.palette_phase[k], "shading.palette_phase").text(*name));
-    }
-    ui.separator();
-    let phong = sh.model == ShadingModel::Phong;
-    if !phong {
-        ui.label("Phong only (path mode ignores these):");
-    }
-    ui.add_enabled_ui(phong, |ui| phong_only(ui, sh));
-}
-
-/// The keys only Phong shading reads: shadows, the highlight, the background, ambient light
-/// and occlusion.
-fn phong_only(ui: &mut egui::Ui, sh: &mut Shading) {
-    ui.checkbox(&mut sh.shadows, "shadows");
-    ui.add(key_slider(&mut sh.shadow_factor, "shading.shadow_factor").text("shadow factor"));
-    ui.horizontal(|ui| {
-        colour_edit(ui, &mut sh.background);
-        ui.label("background");
-    });
-    ui.add(key_slider(&mut sh.normal_tint, "shading.normal_tint").text("normal tint"));
-    ui.add(key_slider(&mut sh.specular, "shading.specular").text("specular"));
-    ui.add(key_slider(&mut sh.shininess, "shading.shininess").text("shininess"));
-    ui.add(key_slider(&mut sh.ambient, "shading.ambient").text("ambient"));
-    ui.add(key_slider(&mut sh.occlusion, "shading.occlusion").text("occlusion"));
-}
-
-/// Path mode's keys: the display transform (which the view applies without tracing again),
-/// the material, the sphere light's intensity, the sky, the sun and the paths.
-fn path_tracing(ui: &mut egui::Ui, scene: &mut Scene) {
-    ui.label("Display (applied at once, no new trace):");
-    display(ui, &mut scene.image);
-    ui.separator();
-    material(ui, &mut scene.material);
-    ui.add(
-        key_slider(&mut scene.light.intensity, "light.intensity")
-            .text("light intensity (sphere light)"),
-    );
-    ui.separator();
-    sky(ui, &mut scene.sky);
-    ui.separator();
-    sun(ui, &mut scene.sun);
-    ui.separator();
-    paths(ui, &mut scene.path);
-}
-
-/// `image.denoise`: the denoiser the view and the exports run, in either model.
-fn denoiser_switch(ui: &mut egui::Ui, denoise: &mut Denoiser) {
-    ui.horizontal(|ui| {
-        ui.label("Denoiser");
-        for denoiser in Denoiser::ALL {
-            ui.selectable_value(denoise, denoiser, denoiser.name());
-        }
-    })
-    .response
-    .on_hover_text("the idle view shows the denoised running mean (docs/book/denoise.md)");
-}
-
-/// Adaptive sampling, in either model: `path.noise_target` (0: off) and, while it is on,
-/// `path.min_samples`.
-fn adaptive_sampling(ui: &mut egui::Ui, path: &mut Path) {
-    ui.add(key_slider(&mut path.noise_target, "path.noise_target").text("noise target (0 = off)"))
-        .on_hover_text(
-            "adaptive sampling: a pixel stops once the standard error of its mean luminance, \
-             relative to it, is at most this (docs/book/adaptive.md)",
-        );
-    if path.noise_target > 0.0 {
-        ui.add(key_slider_u32(&mut path.min_samples, "path.min_samples").text("min samples"));
-    }
-}
-
-/// The `[denoise]` keys: the view denoises the mean it keeps again, with no new trace.
-fn denoising(ui: &mut egui::Ui, d: &mut Denoise) {
-    ui.label("Applied to the kept mean at once, no new trace:");
-    ui.add(key_slider_u32(&mut d.iterations, "denoise.iterations").text("denoiser passes"));
-    ui.add(key_slider(&mut d.sigma_luminance, "denoise.sigma_luminance").text("sigma luminance"));
-    ui.add(key_slider(&mut d.sigma_normal, "denoise.sigma_normal").text("sigma normal"));
-    ui.add(key_slider(&mut d.sigma_depth, "denoise.sigma_depth").text("sigma depth"));
-}
-
-/// `image.exposure` and `image.tone_map`.
-fn display(ui: &mut egui::Ui, image: &mut Image) {
-    ui.add(key_slider(&mut image.exposure, "image.exposure").text("exposure (stops)"));
-    egui::ComboBox::from_label("tone map")
-        .selected_text(image.tone_map.name())
-        .show_ui(ui, |ui| {
-            for tone_map in ToneMap::ALL {
-                ui.selectable_value(&mut image.tone_map, tone_map, tone_map.name());
-            }
-        });
-}
-
-/// `[material]`: Lambert plus GGX.
-fn material(ui: &mut egui::Ui, m: &mut Material) {
-    ui.add(key_slider(&mut m.roughness, "material.roughness").text("roughness"));
-    ui.add(key_slider(&mut m.metallic, "material.metallic").text("metallic"));
-    ui.add(key_slider(&mut m.specular, "material.specular").text("material specular (F0 / 0.08)"));
-}
-
-/// `[sky]`: its three colours, its up (as two angles) and its intensity.
-fn sky(ui: &mut egui::Ui, sky: &mut Sky) {
-    linear_colour(ui, &mut sky.zenith, "sky zenith");
-    linear_colour(ui, &mut sky.horizon, "sky horizon");
-    linear_colour(ui, &mut sky.ground, "sky ground");
-    direction(ui, &mut sky.up, "sky up");
-    ui.add(key_slider(&mut sky.intensity, "sky.intensity").text("sky intensity"));
-}
-
-/// `[sun]`: its direction (as two angles), size, colour and intensity.
-fn sun(ui: &mut egui::Ui, sun: &mut Sun) {
-    direction(ui, &mut sun.direction, "sun");
-    ui.add(
-        key_slider(
-            &mut sun.angular_radius_degrees,
-            "sun.angular_radius_degrees",
-        )
-        .text("sun angular radius (°)"),
-    );
-    linear_colour(ui, &mut sun.colour, "sun colour");
-    ui.add(key_slider(&mut sun.intensity, "sun.intensity").text("sun intensity"));
-}
-
-/// `[path]`: bounces, the clamp and the sampler.
-fn paths(ui: &mut egui::Ui, path: &mut Path) {
-    ui.add(key_slider_u32(&mut path.bounces, "path.bounces").text("bounces"));
-    ui.add(key_slider(&mut path.clamp, "path.clamp").text("clamp (0 = off)"));
-    egui::ComboBox::from_label("sampler")
-        .selected_text(path.sampler.name())
-        .show_ui(ui, |ui| {
-            for sampler in PathSampler::ALL {
-                ui.selectable_value(&mut path.sampler, sampler, sampler.name());
-            }
-        });
-}
-
-/// A direction (not zero; its length is ignored) as its elevation above the y = 0 plane and
-/// its azimuth about +y from +z toward +x, in degrees; written back only when moved.
-fn direction(ui: &mut egui::Ui, v: &mut [f64; 3], name: &str) {
-    let (mut elevation, mut azimuth) = elevation_azimuth(*v);
-    let mut turned = ui
-        .add(egui::Slider::new(&mut elevation, -90.0..=90.0).text(format!("{name} elevation (°)")))
-        .changed();
-    turned |= ui
-        .add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text(format!("{name} azimuth (°)")))
-        .changed();
-    if turned {
-        *v = from_elevation_azimuth(elevation, azimuth);
-    }
-}
-
-/// A linear colour of channels >= 0 (above 1 too): a picker for colours within [0, 1], and
-/// each channel by value.
-fn linear_colour(ui: &mut egui::Ui, colour: &mut [f64; 3], name: &str) {
-    ui.horizontal(|ui| {
-        colour_edit(ui, colour);
-        let drags: Vec<egui::Response> = colour
-            .iter_mut()
-            .map(|c| {
-                ui.add(
-                    egui::DragValue::new(c)
-                        .speed(0.005)
-                        .range(0.0..=f64::INFINITY)
-                        .max_decimals(3),
-                )
-            })
-            .collect();
-        let label = ui.label(name).id;
-        for drag in drags {
-            drag.labelled_by(label);
-        }
-    });
-}
-
 /// The cut plane: on or off, its normal as two angles (so it is never zero) and its offset.
 fn cut(ui: &mut egui::Ui, cut: &mut Cut) {
     ui.checkbox(&mut cut.enabled, "cut the set (n . p <= offset)");
@@ -536,48 +336,9 @@ fn normal_from_angles(polar: f64, azimuth: f64) -> [f64; 3] {
     [p.sin() * a.cos(), p.sin() * a.sin(), p.cos()]
 }
 
-/// A direction's elevation above the y = 0 plane and azimuth about +y (from +z toward +x), in
-/// degrees.
-fn elevation_azimuth(v: [f64; 3]) -> (f64, f64) {
-    let horizontal = v[0].hypot(v[2]);
-    (
-        v[1].atan2(horizontal).to_degrees(),
-        v[0].atan2(v[2]).to_degrees(),
-    )
-}
-
-/// The unit direction at these angles (see [`elevation_azimuth`]).
-fn from_elevation_azimuth(elevation: f64, azimuth: f64) -> [f64; 3] {
-    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-    [e.cos() * a.sin(), e.sin(), e.cos() * a.cos()]
-}
-
-/// A colour picker for an `[f64; 3]` in [0, 1].
-fn colour_edit(ui: &mut egui::Ui, colour: &mut [f64; 3]) {
-    let mut rgb = colour.map(|c| c as f32);
-    if ui.color_edit_button_rgb(&mut rgb).changed() {
-        *colour = rgb.map(|c| (c as f64).clamp(0.0, 1.0));
-    }
-}
-
-/// The slider of a float scene key: range and scale from the scene schema.
-fn key_slider<'a>(value: &'a mut f64, path: &str) -> egui::Slider<'a> {
-    let s = slider(path);
-    egui::Slider::new(value, s.range())
-        .logarithmic(s.logarithmic)
-        .clamping(egui::SliderClamping::Edits)
-}
-
-/// The slider of an integer scene key: range and scale from the scene schema.
-fn key_slider_u32<'a>(value: &'a mut u32, path: &str) -> egui::Slider<'a> {
-    let s = slider(path);
-    egui::Slider::new(value, s.range_u32())
-        .logarithmic(s.logarithmic)
-        .clamping(egui::SliderClamping::Edits)
-}
-
 #[cfg(test)]
 mod tests {
+    use super::lighting::{elevation_azimuth, from_elevation_azimuth};
     use super::*;
 
     #[test]

@@ -2,13 +2,12 @@
 //! `qjulia render2d` and the explorer's 2D mode, in f32 or (where the adapter passes the
 //! start-up check) f64: [`GpuJulia2d<F>`].
 
-use super::Readback;
+use super::GpuContext;
+use super::image::{IMAGE_OUTPUTS, IMAGE64_OUTPUTS, Readback, image_readback, render_image_bands};
 use super::kernel::{Band, Kernel, KernelSpec, RunTimes};
 use super::params::{GpuJulia2dParams, GpuJulia2dParams64};
+use super::real::GpuReal;
 use super::shaders::{JULIA2D_MODULE, JULIA2D64_MODULE};
-use super::{
-    GpuContext, GpuReal, IMAGE_OUTPUTS, IMAGE64_OUTPUTS, image_readback, render_image_bands,
-};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::Julia2dParams;

@@ -8,14 +8,15 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::GpuContext;
+use super::image::{
+    Accumulated, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
+};
 use super::kernel::{Band, Kernel, KernelSpec, RunTimes, SecondUniform};
 use super::params::{GpuParams, GpuParams64};
+use super::real::GpuReal;
 use super::shaders::{PATH_MODULE, PATH64_MODULE};
 use super::variant::Variant;
-use super::{
-    Accumulated, GpuContext, GpuReal, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback,
-    render_image_bands,
-};
 use crate::algebra::{Real, Vec3};
 use crate::cpu::path::PathParams;
 use crate::error::Result;

@@ -2,15 +2,16 @@
 //! scene [`Variant`], and renders into host memory band by band, in f32 or (where the adapter
 //! passes the start-up check) f64: [`GpuTracer<F>`], one kernel per precision.
 
-use super::Readback;
+use super::GpuContext;
+use super::image::{
+    Accumulated, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
+    stream_frames,
+};
 use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
 use super::params::{GpuParams, GpuParams64};
+use super::real::GpuReal;
 use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
 use super::variant::Variant;
-use super::{
-    Accumulated, GpuContext, GpuReal, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback,
-    render_image_bands, stream_frames,
-};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;

@@ -11,17 +11,22 @@
 //!
 //! This module owns the kernel's description ([`KernelSpec`], [`Run`] and what a run returns)
 //! and building its module and layouts ([`Kernel::new`]). Its parts: `pipeline.rs`, the
-//! pipelines cached per specialisation, bind groups, one pass's encoding and the band size;
-//! `buffers.rs`, a band's device buffers and their readback; `stream.rs`, running bands as a
-//! stream of steps, two in flight; `specialise.rs`, a specialisation's branches cut before the
-//! driver sees them.
+//! pipelines built per specialisation, bind groups, one pass's encoding and the band size;
+//! `cache.rs`, the pipelines held, bounded; `buffers.rs`, a band's device buffers;
+//! `readback.rs`, making them and reading a band back through them; `stream.rs`, running bands
+//! as a stream of steps, two in flight; `specialise.rs`, a specialisation's branches cut before
+//! the driver sees them. The types of the kernel's state (`cache.rs`, `buffers.rs`) use nothing
+//! of this module; the parts that add the kernel's methods use this module, which uses none of
+//! theirs (no import cycle, tests/import_cycles.rs).
 
 mod buffers;
+mod cache;
 mod pipeline;
+mod readback;
 mod specialise;
 mod stream;
 
-pub use pipeline::MAX_PIPELINES;
+pub use cache::MAX_PIPELINES;
 pub use stream::{Step, StepDone};
 
 use std::sync::{Mutex, OnceLock};
@@ -129,8 +134,8 @@ pub struct Kernel {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     /// Pipelines by their constants, whether each has run once (warmed up), and the least
-    /// recently used dropped past [`pipeline::MAX_PIPELINES`].
-    pipelines: Mutex<pipeline::Pipelines>,
+    /// recently used dropped past [`MAX_PIPELINES`].
+    pipelines: Mutex<cache::Pipelines>,
     /// Held while a pipeline is built ([`Kernel::pipeline`]).
     building: Mutex<()>,
     /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
@@ -206,7 +211,7 @@ impl Kernel {
             module,
             layout,
             pipeline_layout,
-            pipelines: Mutex::new(pipeline::Pipelines::default()),
+            pipelines: Mutex::new(cache::Pipelines::default()),
             building: Mutex::new(()),
             parsed,
             uniforms_as_storage,
