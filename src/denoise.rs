@@ -293,7 +293,11 @@ pub fn pack_phong(linear: &[[f32; 3]]) -> Vec<u32> {
 /// `scene`'s denoiser over a whole `frame` (with its AOVs): on `gpu` where there is one and the
 /// image fits its buffers, else on the CPU.
 #[cfg(feature = "gpu")]
-pub fn denoise(frame: &Frame, scene: &Scene, gpu: Option<&GpuKernels>) -> crate::Result<Denoised> {
+pub fn denoise(
+    frame: &Frame,
+    scene: &Scene,
+    gpu: Option<&GpuKernels>,
+) -> crate::error::Result<Denoised> {
     let start = std::time::Instant::now();
     let prepared = prepare(frame, scene.image.samples, scene.adaptive());
     let passes = passes(scene, frame.width, frame.height);

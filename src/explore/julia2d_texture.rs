@@ -14,7 +14,7 @@ use super::precision_switch::{Either, PrecisionSwitch};
 use crate::gpu::{GpuJulia2d, GpuKernels, GpuReal};
 use crate::params::Julia2dParams;
 use crate::precision::Precision;
-use crate::render::Picture;
+use crate::render::{Picture, Planner};
 use crate::scene::Scene;
 
 /// The 2D view in one precision.
@@ -149,6 +149,8 @@ impl<F: GpuReal> Julia2dView<F> {
 pub struct Julia2dTexture {
     /// The device's kernels, shared with the explorer's exports.
     kernels: Arc<GpuKernels>,
+    /// Decides the view's precision ([`Planner::for_view`]).
+    planner: Planner,
     views: PrecisionSwitch<Julia2dView<f32>, Julia2dView<f64>>,
     /// Seconds the last finished render of the view shown took (submission to completion).
     pub render_seconds: f64,
@@ -163,6 +165,7 @@ impl Julia2dTexture {
     ) -> crate::Result<Self> {
         let view = Julia2dView::new(kernels.julia2d()?, renderer);
         Ok(Self {
+            planner: Planner::for_view(kernels.clone()),
             kernels,
             views: PrecisionSwitch::new(view),
             render_seconds: 0.0,
@@ -174,11 +177,14 @@ impl Julia2dTexture {
         let kernels = &self.kernels;
         let build = |view: &Julia2dView<f32>| {
             Ok(Julia2dView::new(
-                kernels.julia2d64()?,
+                kernels.julia2d_in::<f64>()?,
                 view.renderer.clone(),
             ))
         };
-        self.render_seconds = match self.views.pick(scene, Picture::Julia2d, build) {
+        self.render_seconds = match self
+            .views
+            .pick(&self.planner, scene, Picture::Julia2d, build)
+        {
             Either::F32(view) => {
                 view.update(scene);
                 view.render_seconds

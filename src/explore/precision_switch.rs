@@ -1,13 +1,13 @@
 //! The explorer's views in two precisions: f32 wherever f32 resolves the view, and f64 on the
-//! GPU where it does not (the rule of `--precision auto`), switched by itself as the view zooms
+//! GPU where it does not (the rule of `--precision auto`, as the render module's planner for
+//! views decides it: [`crate::render::Planner::for_view`]), switched by itself as the view zooms
 //! in and out. The f64 view is built on the first deep view, on the same device; where the
 //! device has no f64 (or fails its start-up check), the view stays in f32 and the reason says
 //! why. The 3D view ([`super::slice_texture::SliceTexture`]) and the 2D view
 //! ([`super::julia2d_texture::Julia2dTexture`]) both switch through it.
 
 use crate::precision::Precision;
-use crate::precision::{self, PrecisionChoice};
-use crate::render::Picture;
+use crate::render::{Picture, Planner};
 use crate::scene::Scene;
 
 /// One of the two views.
@@ -46,15 +46,17 @@ impl<A, B> PrecisionSwitch<A, B> {
         self.f64_view.as_ref()?.as_ref().ok()
     }
 
-    /// The view `picture` of `scene` needs, by the auto rule; the f64 one built with `build`
+    /// The view `picture` of `scene` needs, as `planner` decides ([`Planner::for_view`]: the
+    /// auto rule, and f32 on the GPU where f64 cannot run); the f64 one built with `build`
     /// (from the f32 one) the first time it is needed.
     pub fn pick(
         &mut self,
+        planner: &Planner,
         scene: &Scene,
         picture: Picture,
         build: impl FnOnce(&A) -> crate::Result<B>,
     ) -> Either<&mut A, &mut B> {
-        let decision = precision::decide(PrecisionChoice::Auto, scene, &picture.into());
+        let decision = planner.decide(scene, &picture.into());
         self.reason = decision.reason;
         self.active = Precision::F32;
         if decision.precision == Precision::F64 {

@@ -6,9 +6,14 @@
 //! frame rate up, then refines to full resolution, and the idle view adds samples to a running
 //! mean pass by pass.
 //!
-//! Why it passes 600 lines: it still holds the live view's own progressive schedule (tiles,
-//! readback, running mean, denoiser hand-off, adaptive counts), which issue 36 item 2 moves into
-//! the render module's progressive session; what stays here is the texture and its wiring.
+//! The schedule's rules (the tile's and the frame's budgets, the preview's scale, the cost
+//! learned from the tiles' device time) and the decoding of what a pass reads back are the
+//! render module's ([`crate::render::progressive`]).
+//!
+//! Why it passes 600 lines: it still drives the kernels on that schedule itself (jobs, passes,
+//! pipeline builds, readbacks, the running mean, the denoiser's hand-off), which issue 36 item
+//! 2 moves into a progressive session in the render module; what stays here is the texture and
+//! its wiring.
 //!
 //! Path mode (`shading.model = "path"`, the shaded view) runs the path tracer
 //! ([`GpuPathTracer`]) on the same schedule, tiles and passes: each pass adds one sample to its
@@ -42,9 +47,8 @@
 //! line's mean, and the denoiser's per-pixel counts.
 
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use super::denoise_worker::{DenoiseKey, DenoiseWorker, Request};
 use super::frame_spans::span;
@@ -57,36 +61,17 @@ use crate::display::{Display, ToneMap};
 use crate::frame::Frame;
 use crate::gpu::kernel::Band;
 use crate::gpu::path::{GpuPathParams, GpuPathTracer};
-use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, Readback, WORKGROUP_SIZE};
+use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, Readback};
 use crate::params::TraceParams;
 use crate::precision::Precision;
-use crate::render::Picture;
+use crate::render::progressive::{
+    self, FRAME_SECONDS, IDLE_DELAY, MAX_IN_FLIGHT, MeanLayout, Pace, Quality, TileTimer,
+};
+use crate::render::{Picture, Planner};
 use crate::scene::{Denoise, Scene, View};
 use crate::stats::{Summary, SummaryBuilder};
 
-/// Frames per second to hold while the view changes.
-pub const INTERACTIVE_FPS: f64 = 15.0;
-/// Share of a frame's time the tracer may take while interacting (the rest is the UI's).
-const INTERACTIVE_SHARE: f64 = 0.45;
-/// Estimated GPU time one tile may take: the longest the UI can wait behind one.
-const TILE_SECONDS: f64 = 0.015;
-/// Estimated GPU time submitted per UI frame, while the view changes and while it refines
-/// alike: at least one tile, and no tile past it. On a CPU adapter (lavapipe) a submission
-/// runs on the thread that submits it, so this is the frame's own share of the tracer; one
-/// figure for both keeps the frames even, and the UI as quick to answer while the view refines
-/// as while it moves. (A refining frame once took 80 ms and more: the soak's 95th percentile.)
-const FRAME_SECONDS: f64 = 0.03;
-/// Submissions in flight at most.
-const MAX_IN_FLIGHT: u32 = 4;
-/// How long the scene must stay unchanged before the full-resolution render starts.
-pub const IDLE_DELAY: Duration = Duration::from_millis(150);
-
-/// The two images the view keeps: a quick one while things move and the full one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Quality {
-    Preview = 0,
-    Full = 1,
-}
+pub use crate::render::progressive::INTERACTIVE_FPS;
 
 /// What the view shows now, for the status line.
 #[derive(Clone, Debug, Default)]
@@ -268,14 +253,6 @@ struct Encoding {
     denoise: Option<Denoise>,
 }
 
-/// Where the sections of a mean's readback are: bytes per pixel of each, 0 where left out.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct MeanLayout {
-    accumulated: u64,
-    aovs: u64,
-    depth: u64,
-}
-
 /// The scene as the tracers see it: the display transform (`image.exposure`, `image.tone_map`)
 /// left out, since only the host's encoding of path mode's radiance uses it.
 /// The `[denoise]` table is left out too (the host runs the denoiser); the switch,
@@ -316,8 +293,8 @@ pub struct SliceView<F: GpuReal = f32> {
     /// The scene, full size and quality of the last render started.
     last_start: Option<(Scene, [u32; 2], Quality)>,
     changed_at: Instant,
-    /// Estimated seconds per pixel of the device, learned frame by frame ([`Self::learn_cost`]).
-    seconds_per_pixel: f64,
+    /// The device's estimated cost per pixel, learned frame by frame from `timer`.
+    pace: Pace,
     in_flight: Arc<AtomicU32>,
     /// The device's time on the tiles, as a thread of its own sees them finish.
     timer: TileTimer,
@@ -350,8 +327,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         kernels: Arc<GpuKernels>,
     ) -> Self {
         let uniform = kernel.kernel().uniform_buffer("view params");
-        // About lavapipe on 2 cores; corrected after the first render.
-        let seconds_per_pixel = if kernel.is_path() { 1e-5 } else { 1e-6 };
+        let pace = Pace::new(kernel.is_path());
         let timer = TileTimer::new(kernel.context().device.clone());
         Self {
             kernel,
@@ -363,7 +339,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             wanted: None,
             last_start: None,
             changed_at: Instant::now(),
-            seconds_per_pixel,
+            pace,
             in_flight: Arc::new(AtomicU32::new(0)),
             timer,
             stats: TextureStats::default(),
@@ -498,7 +474,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         span("poll", || {
             self.kernel.context().device.poll(wgpu::PollType::Poll).ok()
         });
-        self.learn_cost();
+        self.pace.learn(self.timer.take());
         self.reap_build();
         self.asked = scene.clone();
         self.display = Display::of(scene);
@@ -543,40 +519,14 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 .as_ref()
                 .is_some_and(|(.., q)| *q == Quality::Preview);
             let idle = !interacting && self.changed_at.elapsed() >= IDLE_DELAY;
-            let full_pixels = size[0] as f64 * size[1] as f64;
-            let full_fast =
-                full_pixels * self.seconds_per_pixel <= INTERACTIVE_SHARE / INTERACTIVE_FPS;
-            if !current && !full_fast && !idle {
-                let scale = self.preview_scale(full_pixels);
-                let preview = [
-                    ((size[0] as f64 * scale).round() as u32).max(1),
-                    ((size[1] as f64 * scale).round() as u32).max(1),
-                ];
+            if !current && !self.pace.interactive(size) && !idle {
+                let preview = self.pace.preview_size(size);
                 self.start(Quality::Preview, scene, preview, size);
             } else if !current || (preview_shown && idle) {
                 self.start(Quality::Full, scene, size, size);
             }
         }
         span("submit", || self.submit_tiles(FRAME_SECONDS));
-    }
-
-    /// Learns the device's cost per pixel from the tiles finished since the last frame, as
-    /// their device time (not the frames between: see [`TileTimer`]); a slow start-up tile,
-    /// e.g. shader compilation, is damped.
-    fn learn_cost(&mut self) {
-        let (seconds, pixels) = self.timer.take();
-        if pixels > 0 {
-            let measured = (seconds / pixels as f64).clamp(1e-10, 1e-3);
-            self.seconds_per_pixel = 0.5 * self.seconds_per_pixel + 0.5 * measured;
-        }
-    }
-
-    /// The resolution scale that keeps a preview within the interactive frame budget.
-    fn preview_scale(&self, full_pixels: f64) -> f64 {
-        let budget = INTERACTIVE_SHARE / INTERACTIVE_FPS;
-        (budget / (self.seconds_per_pixel * full_pixels))
-            .sqrt()
-            .clamp(1.0 / 16.0, 1.0)
     }
 
     /// Starts a render of `scene` at `size` (the view's full size `full`) once its pipeline is
@@ -677,9 +627,8 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         let kernel = self.kernel.kernel();
         let (device, queue) = (&kernel.context().device, &kernel.context().queue);
         let width = target.width;
-        let row_seconds = self.seconds_per_pixel * width as f64;
-        let tile_rows = ((TILE_SECONDS / row_seconds) as u32 / WORKGROUP_SIZE.1 * WORKGROUP_SIZE.1)
-            .max(WORKGROUP_SIZE.1);
+        let row_seconds = self.pace.seconds(width as f64);
+        let tile_rows = self.pace.tile_rows(width);
         let mut budget = budget;
         let mut first = true;
         while job.next_row < target.height && self.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT
@@ -719,22 +668,21 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
             // The samples view reads the accumulator back for its counts (the heat map stands
             // in the texture's place, so phong mode's colour need not reach the texture).
             let counts = self.asked.image.view == View::Samples;
-            let layout = MeanLayout {
-                accumulated: match self.kernel.is_path() || (job.aovs && job.adaptive) || counts {
-                    true => 16,
-                    false => 0,
-                },
-                aovs: if job.aovs { 48 } else { 0 },
-                depth: if job.aovs { size_of::<F>() as u64 } else { 0 },
-            };
-            let radiance = match layout.accumulated + layout.aovs > 0 {
+            let path = self.kernel.is_path();
+            let depth = size_of::<F>() as u64;
+            let layout = MeanLayout::of(path, job.aovs, job.adaptive, counts, depth);
+            let radiance = match layout.reads() {
                 false => {
                     target.copy_rows(&mut encoder, job.next_row, rows);
                     None
                 }
                 true if last_tile => {
                     let spare = self.spare_readback.take();
-                    Some(copy_mean(device, &mut encoder, target, spare, layout))
+                    let items = target.row_stride as u64 * target.height as u64;
+                    let outputs = &target.outputs;
+                    let copy =
+                        progressive::copy_mean(device, &mut encoder, outputs, items, spare, layout);
+                    Some(copy)
                 }
                 true => None,
             };
@@ -773,7 +721,7 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 in_flight.fetch_sub(1, Ordering::AcqRel);
             });
             job.next_row += rows;
-            budget -= rows as f64 * width as f64 * self.seconds_per_pixel;
+            budget -= rows as f64 * row_seconds;
         }
     }
 
@@ -856,60 +804,14 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
                 rb.size[1] as usize,
                 rb.row_stride as usize,
             );
-            let items = (rb.row_stride as u64 * rb.size[1] as u64) as usize;
-            let (accumulated, rest) = view.split_at(items * rb.layout.accumulated as usize);
-            let (aovs, depth) = rest.split_at(items * rb.layout.aovs as usize);
-            // Mapped ranges are aligned to 8 bytes at least, and so is each section.
-            let radiance = match self.kernel.is_path() {
-                true => unpad::<[f32; 4], _>(accumulated, shape, |a| [a[0], a[1], a[2]]),
-                false => Vec::new(),
-            };
-            // Adaptive sampling: a done pixel's fourth float is minus its samples; the others
-            // have taken every pass's.
-            let taken = rb.samples;
-            let counts = match rb.adaptive && !accumulated.is_empty() {
-                true => unpad::<[f32; 4], _>(accumulated, shape, move |a| match a[3] < 0.0 {
-                    true => (-a[3]) as u32,
-                    false => taken,
-                }),
-                false => Vec::new(),
-            };
-            self.stats.samples_taken = (!counts.is_empty())
-                .then(|| counts.iter().map(|&n| n as f64).sum::<f64>() / counts.len() as f64);
-            // Without adaptive sampling every pixel has taken every pass's sample.
-            if !accumulated.is_empty() {
-                let all = match counts.is_empty() {
-                    true => vec![taken; shape.0 * shape.1],
-                    false => counts.clone(),
-                };
-                self.stats.counts = Some((Arc::new(all), rb.size));
+            let flags = (rb.adaptive, self.kernel.is_path());
+            let mean = progressive::decode_mean::<F>(&view, rb.layout, shape, rb.samples, flags);
+            self.stats.samples_taken = mean.samples_taken;
+            if !mean.counts.is_empty() {
+                self.stats.counts = Some((Arc::new(mean.counts), rb.size));
                 self.stats.counts_generation += 1;
             }
-            let frame = (rb.layout.aovs > 0).then(|| {
-                let aov = |k: usize| {
-                    unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]])
-                };
-                // As decode_frame makes a render's: a miss (a negative depth) is NaN.
-                let depth = unpad::<F, _>(depth, shape, |&d: &F| match d.to_f64() {
-                    d if d < 0.0 => f32::NAN,
-                    d => d as f32,
-                });
-                let mut frame = Frame::empty(rb.size[0]);
-                frame.height = rb.size[1];
-                frame.radiance = radiance.clone();
-                // Phong mode's linear mean is the AOVs' colour (unclamped).
-                if radiance.is_empty() {
-                    frame.unclamped = aov(0);
-                }
-                frame.albedo = aov(1);
-                frame.normal = aov(2);
-                frame.luminance_m2 = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[1][3]);
-                frame.hits = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[0][3]);
-                frame.hit_depth = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[2][3]);
-                frame.depth = depth;
-                frame.samples = counts.clone();
-                Arc::new(frame)
-            });
+            let (radiance, frame) = (mean.radiance, mean.frame);
             drop(view);
             rb.buffer.unmap();
             self.spare_readback = Some(rb.buffer);
@@ -1049,28 +951,12 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let (w, h, stride) = (
+            let shape = (
                 rb.size[0] as usize,
                 rb.size[1] as usize,
                 rb.row_stride as usize,
             );
-            let (depth, steps) = view.split_at(view.len() / (size_of::<F>() + 4) * size_of::<F>());
-            fn rows<T: Copy>(all: &[T], (w, h, stride): (usize, usize, usize)) -> Vec<T> {
-                (0..h)
-                    .flat_map(|j| &all[j * stride..j * stride + w])
-                    .copied()
-                    .collect()
-            }
-            let shape = (w, h, stride);
-            let steps = rows::<u32>(bytemuck::cast_slice(steps), shape);
-            // The kernel marks a miss by a negative depth; the summary counts hits by non-NaN.
-            let depth: Vec<f32> = rows::<F>(bytemuck::cast_slice(depth), shape)
-                .into_iter()
-                .map(|d| match d.to_f64() {
-                    d if d < 0.0 => f32::NAN,
-                    d => d as f32,
-                })
-                .collect();
+            let (depth, steps) = progressive::decode_steps::<F>(&view, shape);
             let mut summary = SummaryBuilder::new(rb.size[0]);
             summary.add_arrays(&depth, &steps);
             self.stats.summary = Some(summary.finish());
@@ -1107,117 +993,6 @@ impl<F: GpuReal + bytemuck::Pod> SliceView<F> {
     }
 }
 
-/// Times the view's tiles on the device: a thread that waits for each tile's submission in
-/// turn and notes when it finished, so that a tile's device time (from its submission, or the
-/// end of the tile before, to its end) is known to the millisecond. The UI thread sees a tile
-/// finish only at its next frame's poll: timing tiles by that, as this view once did, counts
-/// the frames between, and where a frame took longer than its budget of tiles the estimate fed
-/// on itself and submitted ever less per frame (on lavapipe with the CPU shared, a
-/// path-traced pass took ten times the device's time).
-struct TileTimer {
-    send: mpsc::Sender<(wgpu::SubmissionIndex, Instant, u64)>,
-    /// Device seconds and pixels of the tiles finished since the last [`Self::take`].
-    done: Arc<Mutex<(f64, u64)>>,
-}
-
-impl TileTimer {
-    fn new(device: wgpu::Device) -> Self {
-        let (send, receive) = mpsc::channel::<(wgpu::SubmissionIndex, Instant, u64)>();
-        let done = Arc::new(Mutex::new((0.0, 0)));
-        let shared = done.clone();
-        let spawned = std::thread::Builder::new()
-            .name("qjulia view timer".into())
-            .spawn(move || {
-                let mut last_end: Option<Instant> = None;
-                // Ends when the view (the sender) is dropped.
-                while let Ok((index, submitted, pixels)) = receive.recv() {
-                    let wait = wgpu::PollType::Wait {
-                        submission_index: Some(index),
-                        timeout: Some(Duration::from_secs(10)),
-                    };
-                    if device.poll(wait).is_err() {
-                        continue;
-                    }
-                    let end = Instant::now();
-                    let start = last_end.map_or(submitted, |t| t.max(submitted));
-                    last_end = Some(end);
-                    let mut done = shared.lock().unwrap();
-                    done.0 += end.duration_since(start).as_secs_f64();
-                    done.1 += pixels;
-                }
-            });
-        if let Err(e) = spawned {
-            eprintln!("qjulia: the view's timer did not start ({e}); its cost stays a guess");
-        }
-        Self { send, done }
-    }
-
-    /// Times the tile of `pixels` submitted at `submitted` as `index`.
-    fn time(&self, index: wgpu::SubmissionIndex, submitted: Instant, pixels: u64) {
-        self.send.send((index, submitted, pixels)).ok();
-    }
-
-    /// Device seconds and pixels of the tiles finished since the last call.
-    fn take(&self) -> (f64, u64) {
-        std::mem::take(&mut *self.done.lock().unwrap())
-    }
-}
-
-/// Records the copy of a target's mean (its whole image, the sections of `layout`: path mode's
-/// accumulator; with a denoiser the AOVs and the depth) into a buffer the host can map: `spare`
-/// where it has the size, else a new one.
-fn copy_mean(
-    device: &wgpu::Device,
-    encoder: &mut wgpu::CommandEncoder,
-    target: &KernelTarget,
-    spare: Option<wgpu::Buffer>,
-    layout: MeanLayout,
-) -> wgpu::Buffer {
-    let items = target.row_stride as u64 * target.height as u64;
-    let bytes = items * (layout.accumulated + layout.aovs + layout.depth);
-    let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("mean readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    });
-    let sections = [
-        (crate::gpu::ACCUMULATED_OUTPUT, layout.accumulated),
-        (crate::gpu::AOVS_OUTPUT, layout.aovs),
-        (crate::gpu::DEPTH_OUTPUT, layout.depth),
-    ];
-    let mut offset = 0;
-    for (output, per_item) in sections.into_iter().filter(|(_, b)| *b > 0) {
-        encoder.copy_buffer_to_buffer(
-            &target.outputs[output],
-            0,
-            &buffer,
-            offset,
-            items * per_item,
-        );
-        offset += items * per_item;
-    }
-    buffer
-}
-
-/// The `w` x `h` pixels of an image whose rows are `stride` items of `T` apart, each made into
-/// an `R` by `f`, row after row (in parallel).
-fn unpad<T: bytemuck::Pod + Sync, R: Send>(
-    bytes: &[u8],
-    (w, h, stride): (usize, usize, usize),
-    f: impl Fn(&T) -> R + Sync + Send,
-) -> Vec<R> {
-    use rayon::prelude::*;
-    let items: &[T] = bytemuck::cast_slice(bytes);
-    items
-        .par_chunks(stride.max(1))
-        .take(h)
-        .flat_map_iter(|row| row[..w].iter().map(&f))
-        .collect()
-}
-
 /// A view in f32 and, by itself, f64.
 type Views = PrecisionSwitch<SliceView<f32>, SliceView<f64>>;
 
@@ -1236,6 +1011,8 @@ macro_rules! on_shown {
 pub struct SliceTexture {
     /// The device's kernels, shared with the explorer's exports.
     kernels: Arc<GpuKernels>,
+    /// Decides the views' precision ([`Planner::for_view`]).
+    planner: Planner,
     views: Views,
     /// The path tracer's views, built at the first path-traced view; Err: it cannot run here,
     /// and why (the tracer's view stands in).
@@ -1258,6 +1035,7 @@ impl SliceTexture {
             kernels.clone(),
         );
         Ok(Self {
+            planner: Planner::for_view(kernels.clone()),
             kernels,
             views: PrecisionSwitch::new(view),
             path_views: None,
@@ -1283,14 +1061,14 @@ impl SliceTexture {
             if let Ok(views) = slot {
                 self.path_shown = true;
                 let build = |view: &SliceView<f32>| {
-                    let path64 = ViewKernel::Path(kernels.path64()?);
+                    let path64 = ViewKernel::Path(kernels.path_in::<f64>()?);
                     Ok(SliceView::new(
                         path64,
                         view.renderer.clone(),
                         kernels.clone(),
                     ))
                 };
-                match views.pick(scene, Picture::SHADED, build) {
+                match views.pick(&self.planner, scene, Picture::SHADED, build) {
                     Either::F32(view) => view.update(scene, size, interacting),
                     Either::F64(view) => view.update(scene, size, interacting),
                 }
@@ -1299,14 +1077,17 @@ impl SliceTexture {
             }
         }
         let build = |view: &SliceView<f32>| {
-            let tracer64 = ViewKernel::Phong(kernels.tracer64()?);
+            let tracer64 = ViewKernel::Phong(kernels.tracer_in::<f64>()?);
             Ok(SliceView::new(
                 tracer64,
                 view.renderer.clone(),
                 kernels.clone(),
             ))
         };
-        match self.views.pick(scene, Picture::SHADED, build) {
+        match self
+            .views
+            .pick(&self.planner, scene, Picture::SHADED, build)
+        {
             Either::F32(view) => view.update(scene, size, interacting),
             Either::F64(view) => view.update(scene, size, interacting),
         }

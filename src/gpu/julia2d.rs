@@ -58,7 +58,8 @@ impl GpuJulia2d<f64> {
 }
 
 impl<F: GpuReal> GpuJulia2d<F> {
-    fn build(ctx: GpuContext) -> Result<Self> {
+    /// Builds this precision's kernel on `ctx` (`GpuKernels` keeps one of each).
+    pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;
         let kernel = Kernel::new(ctx, F::JULIA2D_KERNEL)?;
         kernel.pipeline(&device_constants)?;

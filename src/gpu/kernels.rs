@@ -4,24 +4,44 @@
 //! The explorer's views, its exports and the renders of a command all take their kernels from
 //! one of these, so a kernel is built once per device.
 
+use std::any::Any;
 use std::sync::{Arc, Mutex};
 
 use super::denoise::GpuDenoiser;
 use super::path::GpuPathTracer;
-use super::{GpuContext, GpuJulia2d, GpuSampler, GpuTracer};
+use super::{GpuContext, GpuJulia2d, GpuReal, GpuSampler, GpuTracer};
 use crate::error::Result;
 
-/// The GPU kernels of one device, each built on first use.
+/// A kernel slot: empty until the kernel is first asked for.
+type Slot<T> = Mutex<Option<Arc<T>>>;
+
+/// One precision's kernels, each built on first use.
+struct Slots<R: GpuReal> {
+    tracer: Slot<GpuTracer<R>>,
+    path: Slot<GpuPathTracer<R>>,
+    julia2d: Slot<GpuJulia2d<R>>,
+}
+
+impl<R: GpuReal> Default for Slots<R> {
+    fn default() -> Self {
+        Self {
+            tracer: Mutex::new(None),
+            path: Mutex::new(None),
+            julia2d: Mutex::new(None),
+        }
+    }
+}
+
+/// The GPU kernels of one device, each built on first use: those of a precision through the
+/// accessors generic over it ([`Self::tracer_in`], [`Self::path_in`], [`Self::julia2d_in`];
+/// [`Self::tracer`], [`Self::path`] and [`Self::julia2d`] are f32's), the f32-only sampler and
+/// denoiser through their own.
 pub struct GpuKernels {
     ctx: GpuContext,
-    tracer: Mutex<Option<Arc<GpuTracer>>>,
-    julia2d: Mutex<Option<Arc<GpuJulia2d>>>,
-    tracer64: Mutex<Option<Arc<GpuTracer<f64>>>>,
-    julia2d64: Mutex<Option<Arc<GpuJulia2d<f64>>>>,
-    sampler: Mutex<Option<Arc<GpuSampler>>>,
-    path: Mutex<Option<Arc<GpuPathTracer>>>,
-    path64: Mutex<Option<Arc<GpuPathTracer<f64>>>>,
-    denoiser: Mutex<Option<Arc<GpuDenoiser>>>,
+    f32: Slots<f32>,
+    f64: Slots<f64>,
+    sampler: Slot<GpuSampler>,
+    denoiser: Slot<GpuDenoiser>,
 }
 
 impl GpuKernels {
@@ -29,13 +49,9 @@ impl GpuKernels {
     pub fn new(ctx: GpuContext) -> Self {
         Self {
             ctx,
-            tracer: Mutex::new(None),
-            julia2d: Mutex::new(None),
-            tracer64: Mutex::new(None),
-            julia2d64: Mutex::new(None),
+            f32: Slots::default(),
+            f64: Slots::default(),
             sampler: Mutex::new(None),
-            path: Mutex::new(None),
-            path64: Mutex::new(None),
             denoiser: Mutex::new(None),
         }
     }
@@ -44,7 +60,7 @@ impl GpuKernels {
     /// tracer; the other kernels are built on use.
     pub fn with_tracer(tracer: Arc<GpuTracer>) -> Self {
         let kernels = Self::new(tracer.context().clone());
-        *kernels.tracer.lock().expect("kernel slot") = Some(tracer);
+        *kernels.f32.tracer.lock().expect("kernel slot") = Some(tracer);
         kernels
     }
 
@@ -52,41 +68,59 @@ impl GpuKernels {
         &self.ctx
     }
 
-    pub fn tracer(&self) -> Result<Arc<GpuTracer>> {
-        built(&self.tracer, || GpuTracer::new(self.ctx.clone()))
+    /// The kernels of precision `R`: f32's or f64's (GpuReal has no other impl).
+    fn slots<R: GpuReal>(&self) -> &Slots<R> {
+        let f32: &dyn Any = &self.f32;
+        let f64: &dyn Any = &self.f64;
+        f32.downcast_ref()
+            .or_else(|| f64.downcast_ref())
+            .expect("GpuReal is f32 or f64")
     }
 
+    /// The tracer in `R`; in f64 where the device passes the start-up check of f64
+    /// ([`GpuContext::f64_support`]; Err saying why not).
+    pub fn tracer_in<R: GpuReal>(&self) -> Result<Arc<GpuTracer<R>>> {
+        built(&self.slots::<R>().tracer, || {
+            GpuTracer::build(self.ctx.clone())
+        })
+    }
+
+    /// The path tracer (`shading.model = "path"`) in `R`, as [`Self::tracer_in`].
+    pub fn path_in<R: GpuReal>(&self) -> Result<Arc<GpuPathTracer<R>>> {
+        built(&self.slots::<R>().path, || {
+            GpuPathTracer::build(self.ctx.clone())
+        })
+    }
+
+    /// The 2D view in `R`, as [`Self::tracer_in`].
+    pub fn julia2d_in<R: GpuReal>(&self) -> Result<Arc<GpuJulia2d<R>>> {
+        built(&self.slots::<R>().julia2d, || {
+            GpuJulia2d::build(self.ctx.clone())
+        })
+    }
+
+    /// The f32 tracer.
+    pub fn tracer(&self) -> Result<Arc<GpuTracer>> {
+        self.tracer_in()
+    }
+
+    /// The f32 2D view.
     pub fn julia2d(&self) -> Result<Arc<GpuJulia2d>> {
-        built(&self.julia2d, || GpuJulia2d::new(self.ctx.clone()))
+        self.julia2d_in()
+    }
+
+    /// The f32 path tracer.
+    pub fn path(&self) -> Result<Arc<GpuPathTracer>> {
+        self.path_in()
     }
 
     pub fn sampler(&self) -> Result<Arc<GpuSampler>> {
         built(&self.sampler, || GpuSampler::new(self.ctx.clone()))
     }
 
-    /// The path tracer (`shading.model = "path"`).
-    pub fn path(&self) -> Result<Arc<GpuPathTracer>> {
-        built(&self.path, || GpuPathTracer::new(self.ctx.clone()))
-    }
-
-    /// The f64 path tracer, where the device passes the start-up check of f64.
-    pub fn path64(&self) -> Result<Arc<GpuPathTracer<f64>>> {
-        built(&self.path64, || GpuPathTracer::new_f64(self.ctx.clone()))
-    }
-
     /// The denoiser's a-trous pass (`image.denoise = "atrous"`).
     pub fn denoiser(&self) -> Result<Arc<GpuDenoiser>> {
         built(&self.denoiser, || GpuDenoiser::new(self.ctx.clone()))
-    }
-
-    /// The f64 tracer, where the device passes the start-up check of f64.
-    pub fn tracer64(&self) -> Result<Arc<GpuTracer<f64>>> {
-        built(&self.tracer64, || GpuTracer::new_f64(self.ctx.clone()))
-    }
-
-    /// The f64 2D view, where the device passes the start-up check of f64.
-    pub fn julia2d64(&self) -> Result<Arc<GpuJulia2d<f64>>> {
-        built(&self.julia2d64, || GpuJulia2d::new_f64(self.ctx.clone()))
     }
 
     /// Whether f64 runs on this device: SHADER_F64 and the start-up check
@@ -96,7 +130,7 @@ impl GpuKernels {
     }
 }
 
-fn built<T>(slot: &Mutex<Option<Arc<T>>>, make: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
+fn built<T>(slot: &Slot<T>, make: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
     let mut slot = slot.lock().expect("kernel slot");
     if let Some(k) = slot.as_ref() {
         return Ok(k.clone());

@@ -43,37 +43,15 @@ pub use tracer::{GpuRender, GpuTracer, TRACE_KERNEL, TRACE64_KERNEL};
 pub use variant::Variant;
 
 use crate::error::Result;
-use crate::params::{Julia2dParams, TraceParams};
-use kernel::Band;
 
-// Each precision's kernels and uniforms.
+// Each precision's kernels and uniforms (real.rs makes the uniforms of either alike).
 
 impl GpuReal for f32 {
     const TRACE_KERNEL: KernelSpec = TRACE_KERNEL;
     const JULIA2D_KERNEL: KernelSpec = JULIA2D_KERNEL;
     const PATH_KERNEL: KernelSpec = path::PATH_KERNEL;
-    fn trace_uniform(p: &TraceParams<f32>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
-        let gpu = GpuParams::new(p, band.row, band.rows).with_samples(start, end);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn view_uniform(
-        p: &TraceParams<f32>,
-        band: Band,
-        row_stride: u32,
-        (start, end): (u32, u32),
-    ) -> Vec<u8> {
-        let gpu = GpuParams::new(p, band.row, band.rows)
-            .with_output(row_stride, band.row)
-            .with_samples(start, end);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn julia2d_view_uniform(p: &Julia2dParams<f32>, row_stride: u32) -> Vec<u8> {
-        let gpu = GpuJulia2dParams::new(p, 0, p.height).with_output(row_stride, 0);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn julia2d_uniform(p: &Julia2dParams<f32>, band: Band) -> Vec<u8> {
-        bytemuck::bytes_of(&GpuJulia2dParams::new(p, band.row, band.rows)).to_vec()
-    }
+    type TraceUniform = GpuParams;
+    type Julia2dUniform = GpuJulia2dParams;
     fn device_constants(_: &GpuContext) -> Result<Vec<(&'static str, f64)>> {
         Ok(Vec::new())
     }
@@ -83,28 +61,8 @@ impl GpuReal for f64 {
     const TRACE_KERNEL: KernelSpec = TRACE64_KERNEL;
     const JULIA2D_KERNEL: KernelSpec = JULIA2D64_KERNEL;
     const PATH_KERNEL: KernelSpec = path::PATH64_KERNEL;
-    fn trace_uniform(p: &TraceParams<f64>, band: Band, (start, end): (u32, u32)) -> Vec<u8> {
-        let gpu = GpuParams64::new(p, band.row, band.rows).with_samples(start, end);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn view_uniform(
-        p: &TraceParams<f64>,
-        band: Band,
-        row_stride: u32,
-        (start, end): (u32, u32),
-    ) -> Vec<u8> {
-        let gpu = GpuParams64::new(p, band.row, band.rows)
-            .with_output(row_stride, band.row)
-            .with_samples(start, end);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn julia2d_view_uniform(p: &Julia2dParams<f64>, row_stride: u32) -> Vec<u8> {
-        let gpu = GpuJulia2dParams64::new(p, 0, p.height).with_output(row_stride, 0);
-        bytemuck::bytes_of(&gpu).to_vec()
-    }
-    fn julia2d_uniform(p: &Julia2dParams<f64>, band: Band) -> Vec<u8> {
-        bytemuck::bytes_of(&GpuJulia2dParams64::new(p, band.row, band.rows)).to_vec()
-    }
+    type TraceUniform = GpuParams64;
+    type Julia2dUniform = GpuJulia2dParams64;
     fn device_constants(ctx: &GpuContext) -> Result<Vec<(&'static str, f64)>> {
         Ok(ctx.f64_support()?.constants.clone())
     }

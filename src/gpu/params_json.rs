@@ -9,9 +9,9 @@ use super::path::GpuPathParams;
 use super::{
     GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64, GpuReal, GpuTracer, Variant,
 };
-use crate::Precision;
 use crate::cpu::path::PathParams;
 use crate::params::{Julia2dParams, TraceParams};
+use crate::precision::Precision;
 use crate::scene::Scene;
 use crate::uniform::Layout;
 

@@ -320,7 +320,8 @@ impl GpuPathTracer<f64> {
 }
 
 impl<F: GpuReal> GpuPathTracer<F> {
-    fn build(ctx: GpuContext) -> Result<Self> {
+    /// Builds this precision's kernel on `ctx` (`GpuKernels` keeps one of each).
+    pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;
         Ok(Self {
             kernel: Kernel::new(ctx, F::PATH_KERNEL)?,

@@ -91,7 +91,8 @@ impl GpuTracer<f64> {
 }
 
 impl<F: GpuReal> GpuTracer<F> {
-    fn build(ctx: GpuContext) -> Result<Self> {
+    /// Builds this precision's kernel on `ctx` (`GpuKernels` keeps one of each).
+    pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;
         let tracer = Self {
             kernel: Kernel::new(ctx, F::TRACE_KERNEL)?,

@@ -15,25 +15,27 @@
 //! let renderer = qjulia::Renderer { gpu: None, precision: qjulia::Precision::F32, reason: String::new() };
 //! ```
 
+mod banded;
 mod plan;
+pub mod progressive;
+
+pub use banded::{BandedRender, Cpu};
+use banded::{InPrecision, PreciseWork};
 
 pub use crate::gpu::Readback;
 pub use crate::memory::band_pixels;
 pub use crate::picture::{Picture, Work};
 pub use plan::{Backend, GPU_F64_UNSUPPORTED, Plan, Planner};
 
+use std::marker::PhantomData;
 use std::sync::Arc;
 
-use crate::algebra::Real;
-use crate::cpu;
-use crate::cpu::path::PathParams;
 use crate::denoise::Denoiser;
 use crate::display::Display;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::frame::Frame;
 use crate::gpu::GpuKernels;
 use crate::grid::GridSpec;
-use crate::params::{Julia2dParams, TraceParams};
 use crate::precision::Precision;
 use crate::scene::Scene;
 use crate::stats::{RenderStats, SummaryBuilder};
@@ -188,102 +190,21 @@ impl Renderer {
             }
             sink(&band)
         };
-        if picture.path_traced(scene) {
-            return self
-                .render_path(scene, readback, rows, &mut counted)
-                .map(|times| self.stats(size, times, summary.finish()));
-        }
-        let (render_seconds, gpu_seconds) = match &self.gpu {
-            Some(kernels) => {
-                let owned = &mut counted;
-                let times = match (picture, self.precision) {
-                    (Picture::Slice { shade }, Precision::F32) => {
-                        kernels.tracer()?.render_band_rows(
-                            &TraceParams::<f32>::new(scene),
-                            shade,
-                            readback,
-                            rows,
-                            owned,
-                        )?
-                    }
-                    (Picture::Slice { shade }, Precision::F64) => {
-                        kernels.tracer64()?.render_band_rows(
-                            &TraceParams::<f64>::new(scene),
-                            shade,
-                            readback,
-                            rows,
-                            owned,
-                        )?
-                    }
-                    (Picture::Julia2d, Precision::F32) => kernels.julia2d()?.render_bands(
-                        &Julia2dParams::<f32>::new(scene),
-                        readback,
-                        owned,
-                    )?,
-                    (Picture::Julia2d, Precision::F64) => kernels.julia2d64()?.render_bands(
-                        &Julia2dParams::<f64>::new(scene),
-                        readback,
-                        owned,
-                    )?,
+        let banded = self.in_precision().banded(scene, picture)?;
+        let times = match picture.path_traced(scene) {
+            // Each band's colour is the display transform of its mean radiance.
+            true => {
+                let display = Display::of(scene);
+                let mut displayed = |mut band: Frame| {
+                    band.take_path_counters();
+                    display.show(&mut band);
+                    counted(band)
                 };
-                (times.seconds, times.gpu_seconds)
+                banded.render_bands(scene, picture, readback, rows, &mut displayed)?
             }
-            None => {
-                let aovs = readback.aovs();
-                let seconds = match self.precision {
-                    Precision::F32 => render_cpu::<f32>(scene, picture, aovs, rows, &mut counted)?,
-                    Precision::F64 => render_cpu::<f64>(scene, picture, aovs, rows, &mut counted)?,
-                };
-                (seconds, None)
-            }
+            false => banded.render_bands(scene, picture, readback, rows, &mut counted)?,
         };
-        Ok(self.stats(size, (render_seconds, gpu_seconds), summary.finish()))
-    }
-
-    /// A path-traced picture (`shading.model = "path"`) band by band: each band's colour is
-    /// the display transform of its mean radiance ([`Display`]). Returns (render seconds, GPU
-    /// seconds).
-    fn render_path(
-        &self,
-        scene: &Scene,
-        readback: Readback,
-        rows: std::ops::Range<u32>,
-        sink: &mut dyn FnMut(Frame) -> Result<()>,
-    ) -> Result<(f64, Option<f64>)> {
-        let display = Display::of(scene);
-        let mut displayed = |mut band: Frame| {
-            band.take_path_counters();
-            display.show(&mut band);
-            sink(band)
-        };
-        match (&self.gpu, self.precision) {
-            (Some(kernels), Precision::F32) => {
-                let times = kernels.path()?.render_band_rows(
-                    &TraceParams::<f32>::new(scene),
-                    &PathParams::new(scene),
-                    readback,
-                    rows,
-                    &mut displayed,
-                )?;
-                Ok((times.seconds, times.gpu_seconds))
-            }
-            (Some(kernels), Precision::F64) => {
-                let times = kernels.path64()?.render_band_rows(
-                    &TraceParams::<f64>::new(scene),
-                    &PathParams::new(scene),
-                    readback,
-                    rows,
-                    &mut displayed,
-                )?;
-                Ok((times.seconds, times.gpu_seconds))
-            }
-            (None, Precision::F32) => {
-                path_cpu::<f32>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
-            }
-            (None, Precision::F64) => {
-                path_cpu::<f64>(scene, readback.aovs(), rows, &mut displayed).map(|s| (s, None))
-            }
-        }
+        Ok(self.stats(size, times, summary.finish()))
     }
 
     /// The stats of a render of this renderer.
@@ -354,20 +275,8 @@ impl Renderer {
             );
             sink(frame, stats)
         };
-        match self.precision {
-            Precision::F32 => {
-                let mut params = scenes.map(|scene| (TraceParams::<f32>::new(&scene), shade));
-                kernels
-                    .tracer()?
-                    .render_frames(&mut params, readback, &mut sink)
-            }
-            Precision::F64 => {
-                let mut params = scenes.map(|scene| (TraceParams::<f64>::new(&scene), shade));
-                kernels
-                    .tracer64()?
-                    .render_frames(&mut params, readback, &mut sink)
-            }
-        }
+        self.in_precision()
+            .stream_frames(kernels, &mut scenes, shade, readback, &mut sink)
     }
 
     /// As [`Self::render`], the whole image in host memory.
@@ -390,113 +299,21 @@ impl Renderer {
         grid: &GridSpec,
         sink: &mut dyn FnMut(&[f32]) -> Result<()>,
     ) -> Result<f64> {
-        match (&self.gpu, self.precision) {
-            (Some(kernels), Precision::F32) => {
-                let times = kernels.sampler()?.sample(
-                    &TraceParams::<f32>::new(scene),
-                    &grid.in_precision(),
-                    grid.size[1] * grid.size[2],
-                    &mut |_, levels| sink(levels),
-                )?;
-                Ok(times.seconds)
-            }
-            (Some(_), Precision::F64) => Err(Error::Unsupported(SAMPLER_F32_ONLY.into())),
-            (None, Precision::F32) => sample_cpu::<f32>(scene, grid, sink),
-            (None, Precision::F64) => sample_cpu::<f64>(scene, grid, sink),
+        self.in_precision().sample_levels(scene, grid, sink)
+    }
+
+    /// This renderer's work in its precision: the one place it matches on the precision.
+    fn in_precision(&self) -> Box<dyn PreciseWork + '_> {
+        let gpu = self.gpu.as_deref();
+        match self.precision {
+            Precision::F32 => Box::new(InPrecision::<f32> {
+                gpu,
+                precision: PhantomData,
+            }),
+            Precision::F64 => Box::new(InPrecision::<f64> {
+                gpu,
+                precision: PhantomData,
+            }),
         }
     }
-}
-
-/// A picture on the CPU in `F`, band by band, with the AOVs where `aovs` asks; returns the
-/// seconds spent rendering (the sink's time left out).
-fn render_cpu<F: Real>(
-    scene: &Scene,
-    picture: Picture,
-    aovs: bool,
-    rows: std::ops::Range<u32>,
-    sink: &mut dyn FnMut(Frame) -> Result<()>,
-) -> Result<f64> {
-    match picture {
-        Picture::Slice { shade } => {
-            let p = TraceParams::<F>::new(scene);
-            let rows_of = |rows| cpu::render_rows(&p, shade, aovs, rows);
-            cpu_bands(p.width, rows, &rows_of, sink)
-        }
-        Picture::Julia2d => {
-            let p = Julia2dParams::<F>::new(scene);
-            let rows = |rows| cpu::julia2d::render_rows(&p, rows);
-            cpu_bands(p.width, 0..p.height, &rows, sink)
-        }
-    }
-}
-
-/// A path-traced picture on the CPU in `F`, band by band (each band's colour still to be
-/// made), with the AOVs where `aovs` asks; returns the seconds spent rendering.
-fn path_cpu<F: Real>(
-    scene: &Scene,
-    aovs: bool,
-    rows: std::ops::Range<u32>,
-    sink: &mut dyn FnMut(Frame) -> Result<()>,
-) -> Result<f64> {
-    let p = TraceParams::<F>::new(scene);
-    let path = PathParams::<F>::new(scene);
-    let render = |rows| cpu::path::render_path_rows(&p, &path, aovs, rows);
-    cpu_bands(p.width, rows, &render, sink)
-}
-
-/// Samples the grid on the CPU in `F`, a layer at a time; the seconds spent sampling.
-fn sample_cpu<F: Real>(
-    scene: &Scene,
-    grid: &GridSpec,
-    sink: &mut dyn FnMut(&[f32]) -> Result<()>,
-) -> Result<f64> {
-    let params = TraceParams::<F>::new(scene);
-    let sample_grid = grid.in_precision::<F>();
-    let (rows, layers) = (grid.size[1], grid.size[2]);
-    let mut seconds = 0.0;
-    for z in 0..layers {
-        let start = std::time::Instant::now();
-        let levels = cpu::sample::sample_rows(&params, &sample_grid, z * rows..(z + 1) * rows);
-        let layer: Vec<f32> = levels.into_iter().map(to_f32_level).collect();
-        seconds += start.elapsed().as_secs_f64();
-        sink(&layer)?;
-    }
-    Ok(seconds)
-}
-
-/// A level in f32 with its sign kept: a negative level too small for f32 stays negative.
-fn to_f32_level<F: Real>(level: F) -> f32 {
-    let l = level.to_f64();
-    let r = l as f32;
-    if l < 0.0 && r == 0.0 {
-        -f32::MIN_POSITIVE
-    } else {
-        r
-    }
-}
-
-/// Why a mesh in f64 is not sampled on the GPU (it samples on the CPU instead).
-const SAMPLER_F32_ONLY: &str = "the mesh sampler runs in f32 on the GPU";
-
-/// Renders the rows `rows` of an image `width` wide on the CPU band by band with
-/// `render_rows`, handing each band to `sink`; returns the seconds spent rendering (the sink's
-/// time left out). A pixel depends on its own row alone, so any rows can be rendered.
-fn cpu_bands(
-    width: u32,
-    rows: std::ops::Range<u32>,
-    render_rows: &dyn Fn(std::ops::Range<u32>) -> Frame,
-    sink: &mut dyn FnMut(Frame) -> Result<()>,
-) -> Result<f64> {
-    let band_rows = (band_pixels() / width.max(1) as u64).clamp(1, u32::MAX as u64) as u32;
-    let mut seconds = 0.0;
-    let (mut row, end) = (rows.start, rows.end);
-    while row < end {
-        let rows = band_rows.min(end - row);
-        let start = std::time::Instant::now();
-        let band = render_rows(row..row + rows);
-        seconds += start.elapsed().as_secs_f64();
-        sink(band)?;
-        row += rows;
-    }
-    Ok(seconds)
 }

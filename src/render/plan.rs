@@ -6,7 +6,8 @@
 
 use std::sync::Arc;
 
-use super::{Renderer, SAMPLER_F32_ONLY};
+use super::Renderer;
+use super::banded::SAMPLER_F32_ONLY;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuKernels};
 use crate::picture::{Picture, Work};
@@ -94,6 +95,21 @@ impl Planner {
             device: Some(Ok(kernels)),
             ..Self::new(backend, choice)
         }
+    }
+
+    /// The planner of the explorer's live views, on its device: `auto`, and `Backend::Gpu`'s
+    /// rule where auto wants f64 and the device has none, which keeps the view on the GPU in
+    /// f32 (the view says "f64 unavailable" and why), where `render`'s default
+    /// (`Backend::Auto`) goes to the CPU in f64. A view that fell to the CPU would not keep
+    /// its frame rate.
+    pub fn for_view(kernels: Arc<GpuKernels>) -> Self {
+        Self::on_device(kernels, Backend::Gpu, PrecisionChoice::Auto)
+    }
+
+    /// The precision [`Self::plan`] decides for `work` on `scene`, and why, without making a
+    /// renderer (the explorer's views make their own kernels' views of it).
+    pub fn decide(&self, scene: &Scene, work: &Work) -> Decision {
+        precision::decide(self.choice, scene, work)
     }
 
     /// The one decision: the precision of `work` on `scene` (`auto`: by the scene), then its
@@ -241,11 +257,11 @@ impl Planner {
         let built = match (kernel, precision) {
             (Kernel::Slice, Precision::F32) => kernels.tracer().map(drop),
             (Kernel::Path, Precision::F32) => kernels.path().map(drop),
-            (Kernel::Path, Precision::F64) => kernels.path64().map(drop),
+            (Kernel::Path, Precision::F64) => kernels.path_in::<f64>().map(drop),
             (Kernel::Julia2d, Precision::F32) => kernels.julia2d().map(drop),
             (Kernel::Sampler, Precision::F32) => kernels.sampler().map(drop),
-            (Kernel::Slice, Precision::F64) => kernels.tracer64().map(drop),
-            (Kernel::Julia2d, Precision::F64) => kernels.julia2d64().map(drop),
+            (Kernel::Slice, Precision::F64) => kernels.tracer_in::<f64>().map(drop),
+            (Kernel::Julia2d, Precision::F64) => kernels.julia2d_in::<f64>().map(drop),
             (Kernel::Sampler, Precision::F64) => Err(Error::Unsupported(SAMPLER_F32_ONLY.into())),
         };
         built.map_err(|e| match precision {

@@ -431,7 +431,7 @@ mod tests {
         let parsed = Parsed::new(&TRACE_MODULE.source(), false).expect("the tracer parses");
         let fixed = [interleave_constant(2), compact_constant(true)];
         let whole = parsed.specialise("main", &fixed).unwrap();
-        let scene = crate::Scene::default();
+        let scene = crate::scene::Scene::default();
         let mut constants = Variant::of(&TraceParams::<f32>::new(&scene), true).constants();
         constants.extend_from_slice(&fixed);
         let cut = parsed.specialise("main", &constants).unwrap();
