@@ -1,17 +1,15 @@
 //! `qjulia explore`: the desktop explorer, an eframe/egui app on winit whose view is drawn by
 //! the same GPU tracer as `qjulia render`, on the same device as the UI. The app and its frame
 //! loop are `app`'s; what the user edits is `state`'s, the panels' `menu`, `panels`, `status`,
-//! `viewport` and `timeline::panel`, the jobs `export` and `timeline::job`, the view's
-//! denoiser thread `denoise_worker`.
+//! `viewport` and `timeline::panel`, the jobs `export` and `timeline::job`; the 3D view's
+//! textures `slice_texture`, which the render module's live view draws into.
 
 pub mod app;
 pub mod c_loop;
 pub mod camera;
 pub mod command;
-mod denoise_worker;
 pub mod export;
 pub mod file_dialog;
-pub mod frame_spans;
 mod heat_texture;
 mod hypersphere;
 pub mod input;
@@ -20,8 +18,6 @@ mod kernel_texture;
 mod menu;
 mod panels;
 pub mod persistence;
-mod pipeline_builder;
-pub mod precision_switch;
 pub mod slice_texture;
 pub mod state;
 pub mod status;

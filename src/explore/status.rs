@@ -172,7 +172,7 @@ impl StatusLine {
     /// `QJULIA_EXPLORE_LOG=frames`, one line a frame instead: its number, the time the frame's
     /// own work took (from `now`, its start, to this call at its end: input, jobs polled,
     /// panels and view) and the time since the last frame began (idle waits included), then
-    /// the frame's spans of a millisecond or more ([`super::frame_spans`]), as
+    /// the frame's spans of a millisecond or more ([`crate::render::progressive::spans`]), as
     /// `explore frame 12: 3.41 ms work, 16.70 ms since the last; controls 1.20, view 2.05`.
     pub fn log(&mut self, now: Instant, viewport: &Viewport) {
         let mode = std::env::var_os("QJULIA_EXPLORE_LOG");
@@ -183,8 +183,8 @@ impl StatusLine {
                 .map_or(0.0, |t| now.duration_since(t).as_secs_f64() * 1e3);
             // The first frame logged turns the spans on; each frame's of a millisecond or
             // more follow its figures.
-            super::frame_spans::keep(true);
-            let spans = super::frame_spans::take(1.0);
+            crate::render::progressive::spans::keep(true);
+            let spans = crate::render::progressive::spans::take(1.0);
             eprintln!(
                 "explore frame {}: {work:.2} ms work, {since:.2} ms since the last{}{spans}",
                 self.frames_logged,

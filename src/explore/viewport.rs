@@ -4,7 +4,6 @@
 
 use std::sync::Arc;
 
-use super::frame_spans::span;
 use super::heat_texture::HeatTexture;
 use super::input;
 use super::julia2d_texture::Julia2dTexture;
@@ -13,6 +12,7 @@ use super::state::Mode;
 use crate::gpu::{GpuContext, GpuKernels};
 use crate::heatmap::Legend;
 use crate::precision::PrecisionChoice;
+use crate::render::progressive::spans::span;
 use crate::render::{Backend, Planner};
 use crate::scene::{Scene, View};
 
@@ -71,11 +71,11 @@ impl Viewport {
         let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
         self.adapter_label = ctx.adapter_label();
         let kernels = Arc::new(GpuKernels::new(ctx));
-        match Julia2dTexture::new(kernels.clone(), rs.renderer.clone()) {
+        match Julia2dTexture::on_textures(kernels.clone(), rs.renderer.clone()) {
             Ok(view) => self.julia2d_texture = Some(view),
             Err(e) => self.gpu_error = Some(e.to_string()),
         }
-        match SliceTexture::new(kernels.clone(), rs.renderer.clone()) {
+        match SliceTexture::on_textures(kernels.clone(), rs.renderer.clone()) {
             Ok(view) => self.slice_texture = Some(view),
             Err(e) => self.gpu_error = Some(e.to_string()),
         }

@@ -1,10 +1,9 @@
-//! The explorer's views in two precisions: f32 wherever f32 resolves the view, and f64 on the
-//! GPU where it does not (the rule of `--precision auto`, as the render module's planner for
-//! views decides it: [`crate::render::Planner::for_view`]), switched by itself as the view zooms
-//! in and out. The f64 view is built on the first deep view, on the same device; where the
-//! device has no f64 (or fails its start-up check), the view stays in f32 and the reason says
-//! why. The 3D view ([`super::slice_texture::SliceTexture`]) and the 2D view
-//! ([`super::julia2d_texture::Julia2dTexture`]) both switch through it.
+//! The live views in two precisions: f32 wherever f32 resolves the view, and f64 on the GPU
+//! where it does not (the rule of `--precision auto`, as the planner for views decides it:
+//! [`crate::render::Planner::for_view`]), switched by itself as the view zooms in and out. The
+//! f64 view is built on the first deep view, on the same device; where the device has no f64
+//! (or fails its start-up check), the view stays in f32 and the reason says why. The 3D view
+//! ([`super::live::LiveView`]) and the explorer's 2D view both switch through it.
 
 use crate::precision::Precision;
 use crate::render::{Picture, Planner};
