@@ -278,68 +278,83 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
     md
 }
 
-/// `monte_carlo.png`: RMSE against samples (left) and against seconds (right), log-log, one
-/// series per curve.
+/// `monte_carlo.png`: a row a scene, its curves' RMSE against samples (left) and against
+/// seconds (right), log-log, one series per curve.
 pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
     use plotters::prelude::*;
     crate::heatmap::register_plot_font();
-    let (w, h) = (1400u32, 640u32);
+    // One row of panels a scene, in the order the curves first name them: each row's few
+    // curves keep colours of their own and a legend that hides none of them.
+    let mut scenes: Vec<&str> = Vec::new();
+    for c in curves {
+        if !scenes.contains(&c.case.scene_name) {
+            scenes.push(c.case.scene_name);
+        }
+    }
+    let (w, row_h) = (1400u32, 520u32);
+    let h = row_h * scenes.len().max(1) as u32;
     let mut buffer = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let panels = root.split_evenly((1, 2));
+        let rows = root.split_evenly((scenes.len().max(1), 1));
         type Axis = (&'static str, fn(&Point) -> f64);
         let x_of: [Axis; 2] = [
             ("samples per pixel (log)", |p| p.taken),
             ("seconds per image (log)", |p| p.seconds.max(1e-5)),
         ];
-        for (panel, (x_desc, x)) in panels.iter().zip(x_of) {
-            let all: Vec<(f64, f64)> = curves
+        for (row, scene) in rows.iter().zip(&scenes) {
+            let mine: Vec<&Curve> = curves
                 .iter()
-                .flat_map(|c| c.points.iter())
-                .map(|p| (x(p).log10(), p.rmse.max(1e-6).log10()))
+                .filter(|c| c.case.scene_name == *scene)
                 .collect();
-            let (x0, x1) = all
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
-            let (y0, y1) = all
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
-            let mut chart = ChartBuilder::on(panel)
-                .caption(
-                    format!(
-                        "linear RMSE against {}",
-                        x_desc.split(' ').next().unwrap_or("")
-                    ),
-                    ("sans-serif", 24),
-                )
-                .margin(16)
-                .x_label_area_size(48)
-                .y_label_area_size(70)
-                .build_cartesian_2d(x0 - 0.1..x1 + 0.1, y0 - 0.1..y1 + 0.1)
-                .map_err(|e| e.to_string())?;
-            chart
-                .configure_mesh()
-                .x_labels(8)
-                .y_labels(8)
-                .x_label_formatter(&|v| format!("{:.3}", 10f64.powf(*v)))
-                .y_label_formatter(&|v| format!("{:.4}", 10f64.powf(*v)))
-                .x_desc(x_desc)
-                .y_desc("RMSE vs reference (log)")
-                .label_style(("sans-serif", 15))
-                .axis_desc_style(("sans-serif", 17))
-                .draw()
-                .map_err(|e| e.to_string())?;
-            for (k, c) in curves.iter().enumerate() {
-                let points: Vec<(f64, f64)> = c
-                    .points
+            for (panel, (x_desc, x)) in row.split_evenly((1, 2)).iter().zip(x_of) {
+                let all: Vec<(f64, f64)> = mine
                     .iter()
+                    .flat_map(|c| c.points.iter())
                     .map(|p| (x(p).log10(), p.rmse.max(1e-6).log10()))
                     .collect();
-                super::plot::draw_series(&mut chart, &points, k, &label(&c.case), 3)?;
+                let (x0, x1) = all
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+                let (y0, y1) = all
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+                let against = x_desc.split(' ').next().unwrap_or("");
+                let mut chart = ChartBuilder::on(panel)
+                    .caption(
+                        format!("{scene}: linear RMSE against {against}"),
+                        ("sans-serif", 22),
+                    )
+                    .margin(14)
+                    .x_label_area_size(44)
+                    .y_label_area_size(70)
+                    .build_cartesian_2d(x0 - 0.1..x1 + 0.1, y0 - 0.1..y1 + 0.1)
+                    .map_err(|e| e.to_string())?;
+                chart
+                    .configure_mesh()
+                    .x_labels(8)
+                    .y_labels(8)
+                    .x_label_formatter(&|v| format!("{:.3}", 10f64.powf(*v)))
+                    .y_label_formatter(&|v| format!("{:.4}", 10f64.powf(*v)))
+                    .x_desc(x_desc)
+                    .y_desc("RMSE vs reference (log)")
+                    .label_style(("sans-serif", 14))
+                    .axis_desc_style(("sans-serif", 16))
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+                for (k, c) in mine.iter().enumerate() {
+                    let points: Vec<(f64, f64)> = c
+                        .points
+                        .iter()
+                        .map(|p| (x(p).log10(), p.rmse.max(1e-6).log10()))
+                        .collect();
+                    let name = label(&c.case);
+                    let name = name.strip_prefix(scene).unwrap_or(&name).trim_start();
+                    super::plot::draw_series(&mut chart, &points, k, name, 3)?;
+                }
+                super::plot::draw_legend(&mut chart, 14)?;
             }
-            super::plot::draw_legend(&mut chart, 14)?;
         }
         root.present().map_err(|e| e.to_string())?;
     }
