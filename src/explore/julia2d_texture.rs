@@ -14,9 +14,8 @@ pub type Julia2dTexture = Live2d<ViewTextures>;
 impl Live2d<ViewTextures> {
     /// The view on the 2D kernels of `kernels` ([`Live2d::new`]), drawing through `renderer`.
     pub fn on_textures(kernels: Arc<GpuKernels>, renderer: EguiRenderer) -> crate::Result<Self> {
-        let device = kernels.context().device.clone();
-        let new_canvas = move || ViewTextures::new(device.clone(), renderer.clone());
-        Live2d::new(kernels, Arc::new(new_canvas))
+        let new_canvas = ViewTextures::maker(&kernels, renderer);
+        Live2d::new(kernels, new_canvas)
     }
 
     /// The texture to draw and its size in pixels, once there is one.

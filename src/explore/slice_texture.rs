@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use crate::gpu::GpuKernels;
 use crate::render::progressive::Quality;
-use crate::render::progressive::canvas::Canvas;
+use crate::render::progressive::canvas::{Canvas, NewCanvas};
 use crate::render::progressive::live::LiveView;
 
 pub use crate::render::progressive::INTERACTIVE_FPS;
@@ -31,6 +31,12 @@ impl ViewTextures {
             renderer,
             textures: [None, None],
         }
+    }
+
+    /// What makes each view's textures on `kernels`' device, drawn through `renderer`.
+    pub fn maker(kernels: &GpuKernels, renderer: EguiRenderer) -> NewCanvas<Self> {
+        let device = kernels.context().device.clone();
+        Arc::new(move || Self::new(device.clone(), renderer.clone()))
     }
 
     /// The egui texture of `quality`, once made.
@@ -80,9 +86,8 @@ pub type SliceTexture = LiveView<ViewTextures>;
 impl LiveView<ViewTextures> {
     /// The view on the kernels of `kernels` ([`LiveView::new`]), drawing through `renderer`.
     pub fn on_textures(kernels: Arc<GpuKernels>, renderer: EguiRenderer) -> crate::Result<Self> {
-        let device = kernels.context().device.clone();
-        let new_canvas = move || ViewTextures::new(device.clone(), renderer.clone());
-        LiveView::new(kernels, Arc::new(new_canvas))
+        let new_canvas = ViewTextures::maker(&kernels, renderer);
+        LiveView::new(kernels, new_canvas)
     }
 
     /// The texture to draw and its size in pixels, once there is one.

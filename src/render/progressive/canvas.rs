@@ -27,6 +27,10 @@ pub trait Canvas {
     fn release(&mut self);
 }
 
+/// Makes the canvas of a new session or view (the caller's: a session is made when a view
+/// first needs it).
+pub type NewCanvas<C> = std::sync::Arc<dyn Fn() -> C + Send + Sync>;
+
 /// Texture rows must be 256 bytes apart for buffer-to-texture copies: 64 RGBA8 pixels.
 const ROW_ALIGN: u32 = 64;
 

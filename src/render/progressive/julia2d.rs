@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use super::Quality;
-use super::canvas::{Canvas, Target};
+use super::canvas::{Canvas, NewCanvas, Target};
 use super::spans::span;
 use super::switch::{Either, PrecisionSwitch};
 use crate::gpu::{GpuJulia2d, GpuKernels, GpuReal};
@@ -148,7 +148,7 @@ pub struct Live2d<C: Canvas> {
     /// The device's kernels, shared with the explorer's exports.
     kernels: Arc<GpuKernels>,
     /// Makes the canvas of a new view.
-    new_canvas: Arc<dyn Fn() -> C + Send + Sync>,
+    new_canvas: NewCanvas<C>,
     /// Decides the view's precision ([`Planner::for_view`]).
     planner: Planner,
     views: PrecisionSwitch<Julia2dView<f32, C>, Julia2dView<f64, C>>,
@@ -160,10 +160,7 @@ impl<C: Canvas> Live2d<C> {
     /// The view on the f32 2D kernel of `kernels` (built now: a shader the device rejects is an
     /// error); the f64 one is taken from them at the first deep view. Each shows its image on
     /// a canvas of `new_canvas`.
-    pub fn new(
-        kernels: Arc<GpuKernels>,
-        new_canvas: Arc<dyn Fn() -> C + Send + Sync>,
-    ) -> crate::Result<Self> {
+    pub fn new(kernels: Arc<GpuKernels>, new_canvas: NewCanvas<C>) -> crate::Result<Self> {
         let view = Julia2dView::new(kernels.julia2d()?, new_canvas());
         Ok(Self {
             new_canvas,

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use super::Quality;
-use super::canvas::Canvas;
+use super::canvas::{Canvas, NewCanvas};
 use super::session::{KeptRadiance, Session, TextureStats, ViewKernel};
 use super::switch::{Either, PrecisionSwitch};
 use crate::gpu::GpuKernels;
@@ -34,7 +34,7 @@ pub struct LiveView<C: Canvas> {
     /// The device's kernels, shared with the explorer's exports.
     kernels: Arc<GpuKernels>,
     /// Makes the canvas of a new session.
-    new_canvas: Arc<dyn Fn() -> C + Send + Sync>,
+    new_canvas: NewCanvas<C>,
     /// Decides the views' precision ([`Planner::for_view`]).
     planner: Planner,
     views: Views<C>,
@@ -49,10 +49,7 @@ impl<C: Canvas> LiveView<C> {
     /// The view on the f32 tracer of `kernels` (built now: a shader the device rejects is an
     /// error); the f64 one is taken from them at the first deep view, the path tracer's at the
     /// first path-traced view. Each session shows its images on a canvas of `new_canvas`.
-    pub fn new(
-        kernels: Arc<GpuKernels>,
-        new_canvas: Arc<dyn Fn() -> C + Send + Sync>,
-    ) -> crate::Result<Self> {
+    pub fn new(kernels: Arc<GpuKernels>, new_canvas: NewCanvas<C>) -> crate::Result<Self> {
         let view = Session::new(
             ViewKernel::Phong(kernels.tracer()?),
             new_canvas(),

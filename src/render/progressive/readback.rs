@@ -77,6 +77,11 @@ pub fn copy_mean(
 /// An image's shape in a readback: width, height and the row stride, in pixels.
 pub type Shape = (usize, usize, usize);
 
+/// The shape of an image of `size` pixels whose rows are `row_stride` pixels apart.
+pub fn shape(size: [u32; 2], row_stride: u32) -> Shape {
+    (size[0] as usize, size[1] as usize, row_stride as usize)
+}
+
 /// A pass's mean, decoded.
 pub struct Mean {
     /// Path mode: the mean linear radiance, row after row (empty in phong mode).

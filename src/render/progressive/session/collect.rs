@@ -27,11 +27,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let shape = (
-                rb.size[0] as usize,
-                rb.size[1] as usize,
-                rb.row_stride as usize,
-            );
+            let shape = readback::shape(rb.size, rb.row_stride);
             let flags = (rb.adaptive, self.kernel.is_path());
             let mean = readback::decode_mean::<F>(&view, rb.layout, shape, rb.samples, flags);
             self.stats.samples_taken = mean.samples_taken;
@@ -180,11 +176,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         if result.is_ok()
             && let Ok(view) = rb.buffer.slice(..).get_mapped_range()
         {
-            let shape = (
-                rb.size[0] as usize,
-                rb.size[1] as usize,
-                rb.row_stride as usize,
-            );
+            let shape = readback::shape(rb.size, rb.row_stride);
             let (depth, steps) = readback::decode_steps::<F>(&view, shape);
             let mut summary = SummaryBuilder::new(rb.size[0]);
             summary.add_arrays(&depth, &steps);

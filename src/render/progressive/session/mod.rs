@@ -344,10 +344,6 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         }
     }
 
-    pub fn kernel(&self) -> &ViewKernel<F> {
-        &self.kernel
-    }
-
     pub fn stats(&self) -> &TextureStats {
         &self.stats
     }
