@@ -147,6 +147,7 @@ fn spec(entry_point: &'static str) -> KernelSpec {
         band_row_multiple: 1,
         trusted: true,
         second_uniform: None,
+        bake_keeps: None,
     }
 }
 

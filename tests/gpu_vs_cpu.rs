@@ -153,6 +153,50 @@ fn over_relaxed_steps_and_pixel_epsilon() {
     );
 }
 
+/// With the scene's values baked into the pipeline (`QJULIA_BAKE=1`; by default from 512x512
+/// camera rays), the scenes above and a 4-sampled one agree with the CPU twin as the
+/// unbaked ones do; and one whose values differ from the first only in c gets a pipeline of
+/// its own, not the first's.
+#[test]
+fn baked_pipelines_agree_too() {
+    let Some(_) = common::gpu("baked") else {
+        return;
+    };
+    let mut baked = qjulia::gpu::GpuTracer::new(qjulia::gpu::GpuContext::new().unwrap()).unwrap();
+    baked.set_bake(qjulia::gpu::variant::Bake::Always);
+    let scenes = [
+        ("baked_seed_look", with(&[])),
+        ("baked_no_shadows", with(&["shading.shadows=false"])),
+        (
+            "baked_rotated_over_relaxed",
+            with(&[
+                "slice.offset=[0.1, 0, 0, 0.2]",
+                "fractal.step_scale=1.5",
+                "shading.normal=analytic",
+            ]),
+        ),
+        // The seed's look but for c: the same variant, and so the same unbaked pipeline.
+        ("baked_other_c", with(&["fractal.c=[-0.4, 0.6, 0.1, 0.0]"])),
+        ("baked_samples", with(&["image.samples=4"])),
+        (
+            "baked_orbit_trap_occlusion",
+            with(&["shading.colouring=\"orbit_trap\"", "shading.occlusion=0.5"]),
+        ),
+    ];
+    for (k, (name, scene)) in scenes.iter().enumerate() {
+        let params = TraceParams::<f32>::new(scene);
+        let (expected, _) = cpu::render(&params);
+        let actual = baked.render(&params).unwrap().frame;
+        common::assert_agree(name, &expected, &actual, &CONTRACT_TOLERANCE);
+        common::assert_steps_mostly_agree(name, &expected, &actual);
+        assert_eq!(
+            baked.pipelines_held(),
+            k + 1,
+            "{name}: a pipeline of its own"
+        );
+    }
+}
+
 #[test]
 fn the_generic_pipeline_and_depth_only_agree_too() {
     let Some(_) = common::gpu("generic_pipeline") else {

@@ -56,6 +56,7 @@ const ACCUMULATE: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: None,
 };
 
 #[test]

@@ -102,6 +102,7 @@ const PROBE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: None,
 };
 
 /// Input `k` (0..4) of item `n`, in [0, 1): the random sampler's number for (n, 0, k), as the

@@ -75,6 +75,7 @@ const DENOISE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: None,
 };
 
 /// The denoiser's kernel on one device.

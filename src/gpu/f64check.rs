@@ -104,6 +104,7 @@ pub const F64CHECK_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: None,
 };
 
 /// One wrong result.

@@ -23,6 +23,7 @@ pub const JULIA2D_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: Some(super::kernel::JULIA2D_BAKE_KEEPS),
 };
 
 /// [`JULIA2D_KERNEL`] in f64: uniform [`GpuJulia2dParams64`], the marker in f64.
@@ -39,6 +40,9 @@ pub struct GpuJulia2d<F: GpuReal = f32> {
     kernel: Kernel,
     /// Override constants of its pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
+    /// When renders bake the view's values into their pipeline (the explorer's live view,
+    /// which draws through [`Self::pipeline`], never does).
+    bake: super::variant::Bake,
     precision: std::marker::PhantomData<F>,
 }
 
@@ -62,10 +66,12 @@ impl<F: GpuReal> GpuJulia2d<F> {
     pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;
         let kernel = Kernel::new(ctx, F::JULIA2D_KERNEL)?;
+        let bake = super::variant::bake_from_env();
         kernel.pipeline(&device_constants)?;
         Ok(Self {
             kernel,
             device_constants,
+            bake,
             precision: std::marker::PhantomData,
         })
     }
@@ -105,11 +111,14 @@ impl<F: GpuReal> GpuJulia2d<F> {
     ) -> Result<RunTimes> {
         let uniform = |band: Band| F::julia2d_uniform(params, band);
         let size = (params.width, params.height);
-        let constants = &self.device_constants;
+        let mut constants = self.device_constants.clone();
+        if self.bake.bakes(size.0 as u64 * size.1 as u64) {
+            constants.push(super::kernel::BAKE_VALUES);
+        }
         let read = image_readback(&self.kernel, readback);
         render_image_bands(
             &self.kernel,
-            constants,
+            &constants,
             (size, 1),
             &read,
             Default::default(),

@@ -271,6 +271,7 @@ pub const PATH_KERNEL: KernelSpec = KernelSpec {
         binding: 7,
         bytes: size_of::<GpuPathParams>() as u64,
     }),
+    bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
 
 /// [`PATH_KERNEL`] in f64: the geometry in f64 (uniform [`GpuParams64`], the depth in f64); the
@@ -300,6 +301,8 @@ pub struct GpuPathTracer<F: GpuReal = f32> {
     interleave: u32,
     /// Adaptive sampling's compaction (the `COMPACT` override).
     compact: bool,
+    /// When renders bake the scene's values into their pipeline.
+    bake: super::variant::Bake,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -330,9 +333,16 @@ impl<F: GpuReal> GpuPathTracer<F> {
                 super::variant::DEFAULT_PATH_INTERLEAVE,
             ),
             compact: super::variant::compact_from_env(),
+            bake: super::variant::bake_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         })
+    }
+
+    /// When renders bake the scene's values into their pipeline (by default
+    /// [`super::variant::bake_from_env`]).
+    pub fn set_bake(&mut self, bake: super::variant::Bake) {
+        self.bake = bake;
     }
 
     /// Camera rays an invocation traces together: 1 or 2 (by default
@@ -452,6 +462,9 @@ impl<F: GpuReal> GpuPathTracer<F> {
         };
         let mut constants = self.constants(params);
         constants.extend_from_slice(readback.constants());
+        if self.bake.bakes(super::variant::camera_rays(params)) {
+            constants.push(super::kernel::BAKE_VALUES);
+        }
         render_image_bands(
             &self.kernel,
             &constants,

@@ -53,6 +53,8 @@ pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
         binding: 7,
         bytes: size_of::<GpuSampleGrid>() as u64,
     }),
+    // The grid's band (row_offset, row_count) shares its names with the tracer's.
+    bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
 
 /// The sampler's pipelines on one device, one per scene [`Variant`] (built on first use).
@@ -96,7 +98,11 @@ impl GpuSampler {
         total_rows: u32,
         sink: &mut dyn FnMut(u32, &[f32]) -> Result<()>,
     ) -> Result<RunTimes> {
-        let constants = Variant::of(params, false).constants();
+        let mut constants = Variant::of(params, false).constants();
+        let points = grid.width as u64 * total_rows as u64;
+        if super::variant::bake_from_env().bakes(points) {
+            constants.push(super::kernel::BAKE_VALUES);
+        }
         let trace = GpuParams::new(params, 0, grid.rows);
         let uniform = |band: Band| {
             let grid = Self::grid_uniform(grid, band.row, band.rows);

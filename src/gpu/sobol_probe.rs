@@ -41,6 +41,7 @@ pub const SOBOL_PROBE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    bake_keeps: None,
 };
 
 /// Test support: the bits of `sampler` (`cpu::sobol::SAMPLER_SOBOL` or `SAMPLER_RANDOM`) drawn

@@ -7,11 +7,11 @@ use super::image::{
     Accumulated, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
     stream_frames,
 };
-use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
+use super::kernel::{BAKE_VALUES, Band, Kernel, KernelSpec, Run, RunTimes};
 use super::params::{GpuParams, GpuParams64};
 use super::real::GpuReal;
 use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
-use super::variant::Variant;
+use super::variant::{Bake, Variant};
 use crate::error::Result;
 use crate::frame::Frame;
 use crate::params::TraceParams;
@@ -33,6 +33,7 @@ pub const TRACE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: super::WORKGROUP_SIZE.1,
     trusted: true,
     second_uniform: None,
+    bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
 
 /// [`TRACE_KERNEL`] in f64: uniform [`GpuParams64`], the depth in f64. Trusted for the same
@@ -60,6 +61,8 @@ pub struct GpuTracer<F: GpuReal = f32> {
     interleave: u32,
     /// Adaptive sampling's compaction (the `COMPACT` override).
     compact: bool,
+    /// When renders bake the scene's values into their pipeline.
+    bake: Bake,
     /// Override constants of every pipeline: the f64 check's repairs (none in f32).
     device_constants: Vec<(&'static str, f64)>,
     precision: std::marker::PhantomData<F>,
@@ -99,6 +102,7 @@ impl<F: GpuReal> GpuTracer<F> {
             specialise: super::variant::specialise_from_env(),
             interleave: super::variant::interleave_from_env(super::variant::DEFAULT_INTERLEAVE),
             compact: super::variant::compact_from_env(),
+            bake: super::variant::bake_from_env(),
             device_constants,
             precision: std::marker::PhantomData,
         };
@@ -115,6 +119,12 @@ impl<F: GpuReal> GpuTracer<F> {
     /// Whether scenes get their own specialised pipelines.
     pub fn set_specialise(&mut self, on: bool) {
         self.specialise = on;
+    }
+
+    /// When renders bake the scene's values into their pipeline (by default
+    /// [`super::variant::bake_from_env`]).
+    pub fn set_bake(&mut self, bake: Bake) {
+        self.bake = bake;
     }
 
     /// Camera rays an invocation traces together: 1 or 2 (by default
@@ -237,7 +247,10 @@ impl<F: GpuReal> GpuTracer<F> {
         rows: std::ops::Range<u32>,
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
-        let constants = self.constants(params, shade, readback);
+        let mut constants = self.constants(params, shade, readback);
+        if self.bake.bakes(super::variant::camera_rays(params)) {
+            constants.push(BAKE_VALUES);
+        }
         let size = (params.width, params.height);
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
@@ -269,7 +282,10 @@ impl<F: GpuReal> GpuTracer<F> {
         sink: &mut dyn FnMut(Frame, RunTimes) -> Result<()>,
     ) -> Result<()> {
         let mut steps = frames.flat_map(|(params, shade)| {
-            let constants = self.constants(&params, shade, readback);
+            let mut constants = self.constants(&params, shade, readback);
+            if self.bake.bakes(super::variant::camera_rays(&params)) {
+                constants.push(BAKE_VALUES);
+            }
             let uniform = self.uniforms(&params);
             let read = image_readback(&self.kernel, readback);
             let run = Run {

@@ -60,6 +60,56 @@ pub fn compact_constant(compact: bool) -> (&'static str, f64) {
     ("COMPACT", if compact { 1.0 } else { 0.0 })
 }
 
+/// When a kernel's runs bake the scene's values into their pipeline
+/// ([`super::kernel::BAKE_VALUES`]): a pipeline compiled for one scene's numbers, which the
+/// driver folds (on lavapipe the seed's look at 512x512 in 0.076 s against 0.177 s with the
+/// values read from storage; docs/PERFORMANCE.md), at the price of a pipeline built per set of
+/// values. `QJULIA_BAKE=0` never, `1` always; unset, [`Bake::Auto`]. A device's choice, like
+/// the interleaving: the explorer's live views never bake (their values change at each drag),
+/// whatever this says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bake {
+    Never,
+    Always,
+    /// A run bakes where it has at least [`BAKE_MIN_RAYS`] camera rays (pixels x samples; a
+    /// mesh's grid points): there the time it saves pays for a pipeline of its own even in a
+    /// process that renders many scenes (a report, an animation, the tests). A process that
+    /// renders once builds one pipeline either way, baked or not, at the same cost.
+    Auto,
+}
+
+/// Camera rays (pixels x samples) from which a run bakes by default: the break-even of a
+/// baked pipeline's build (about 0.1 s for phong, 0.3 s for path mode on lavapipe) against what
+/// it saves (0.37 us a phong ray, 0.85 us a path sample at the seed's scene): about 512x512
+/// either way (docs/PERFORMANCE.md).
+pub const BAKE_MIN_RAYS: u64 = 512 * 512;
+
+/// [`Bake`] from `QJULIA_BAKE`.
+pub fn bake_from_env() -> Bake {
+    match std::env::var("QJULIA_BAKE").as_deref() {
+        Ok("0") => Bake::Never,
+        Ok("1") => Bake::Always,
+        _ => Bake::Auto,
+    }
+}
+
+impl Bake {
+    /// Whether a run of `rays` camera rays (pixels x samples; a mesh's grid points) bakes.
+    pub fn bakes(self, rays: u64) -> bool {
+        match self {
+            Bake::Never => false,
+            Bake::Always => true,
+            Bake::Auto => rays >= BAKE_MIN_RAYS,
+        }
+    }
+}
+
+/// The camera rays of a render of `params`: pixels x samples, the whole image's (a tile of
+/// it decides as the whole image does, so that the tiles merge into the same bytes).
+pub fn camera_rays<F: Real>(params: &TraceParams<F>) -> u64 {
+    params.width as u64 * params.height as u64 * params.samples.max(1) as u64
+}
+
 /// What one pipeline is built for. Keep in sync with the `override` constants of
 /// shaders/trace.wgsl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -4,11 +4,15 @@
 
 use std::collections::HashMap;
 
-/// Override constants as a hash key (the values' bits).
-pub(super) type ConstantsKey = Vec<(&'static str, u64)>;
+/// Override constants as a hash key (the values' bits), and the uniform bytes baked in (empty
+/// where none are).
+pub(super) type ConstantsKey = (Vec<(&'static str, u64)>, Vec<u8>);
 
-pub(super) fn constants_key(constants: &[(&'static str, f64)]) -> ConstantsKey {
-    constants.iter().map(|&(n, v)| (n, v.to_bits())).collect()
+pub(super) fn constants_key(constants: &[(&'static str, f64)], baked: &[u8]) -> ConstantsKey {
+    (
+        constants.iter().map(|&(n, v)| (n, v.to_bits())).collect(),
+        baked.to_vec(),
+    )
 }
 
 /// The most pipelines a kernel keeps. An explorer session that visits every preset and turns

@@ -19,6 +19,7 @@
 //! of this module; the parts that add the kernel's methods use this module, which uses none of
 //! theirs (no import cycle, tests/import_cycles.rs).
 
+mod bake;
 mod buffers;
 mod cache;
 mod pipeline;
@@ -75,7 +76,35 @@ pub struct KernelSpec {
     pub trusted: bool,
     /// A second uniform beside binding 0's (the sampler's grid, beside the tracer's `Params`).
     pub second_uniform: Option<SecondUniform>,
+    /// Whether a run may bake the scene's values into its pipeline ([`BAKE_VALUES`]): None
+    /// where it may not; else the uniforms' members still read at run time (the per-dispatch
+    /// ones: the band, where it lands, the samples it adds).
+    pub bake_keeps: Option<&'static [&'static str]>,
 }
+
+/// The constant that asks a kernel to bake the scene's values (its uniforms' members, but
+/// those of [`KernelSpec::bake_keeps`]) into the run's pipeline as constants of its module
+/// ([`bake`]): a pipeline per scene's values, held in the kernel's bounded cache. No override
+/// of a shader's: the kernel takes it out of the constants before it specialises, and bakes
+/// the values of the step's first dispatch (every dispatch of the step must agree on them).
+pub const BAKE_VALUES: (&str, f64) = ("qjulia_bake_values", 1.0);
+
+/// The members of the tracer's and the path tracer's uniforms (`Params`, `PathParams`) read at
+/// run time in a pipeline with the scene's values baked: `Params`' per-dispatch members (a
+/// test holds them to the uniform's layout), and the path sampler's seed, which an animation's
+/// frames change (path.animated_seed) while the rest of the scene stays.
+pub const TRACE_BAKE_KEEPS: &[&str] = &[
+    "row_offset",
+    "row_count",
+    "row_stride",
+    "out_row",
+    "sample_start",
+    "sample_end",
+    "seed",
+];
+
+/// As [`TRACE_BAKE_KEEPS`], for the 2D view's `Julia2dParams`.
+pub const JULIA2D_BAKE_KEEPS: &[&str] = &["row_offset", "row_count", "row_stride", "out_row"];
 
 /// A kernel's second uniform: its binding and the `size_of` its `#[repr(C)]` struct. It rides
 /// in the same buffer as the first, from [`Kernel::second_uniform_offset`] on: a dispatch's
@@ -141,6 +170,9 @@ pub struct Kernel {
     /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
     /// at [`Kernel::new`] where the params are bound as storage.
     parsed: OnceLock<Option<specialise::Parsed>>,
+    /// The byte ranges of a dispatch's uniform bytes that a baked pipeline still reads at run
+    /// time ([`KernelSpec::bake_keeps`]): zeroed in the key of a baked pipeline.
+    kept_ranges: OnceLock<Vec<std::ops::Range<usize>>>,
     /// Whether the params (binding 0 and the second uniform) are bound as read-only storage
     /// ([`GpuContext::uniforms_as_storage`]).
     uniforms_as_storage: bool,
@@ -214,6 +246,7 @@ impl Kernel {
             pipelines: Mutex::new(cache::Pipelines::default()),
             building: Mutex::new(()),
             parsed,
+            kept_ranges: OnceLock::new(),
             uniforms_as_storage,
             spare: Mutex::new(Vec::new()),
         })
@@ -268,6 +301,27 @@ fn buffer(
 mod tests {
     use super::*;
     use crate::gpu::shaders::ALL_MODULES;
+
+    /// A baked pipeline reads at run time exactly the members a dispatch sets (the uniforms'
+    /// per-dispatch fields), and the path sampler's seed, which animation frames change.
+    #[test]
+    fn baked_pipelines_keep_the_per_dispatch_members() {
+        use crate::gpu::params::{GpuJulia2dParams, GpuJulia2dParams64, GpuParams, GpuParams64};
+        let per_dispatch = |layout: crate::uniform::Layout| -> Vec<&str> {
+            let fields = layout.fields.iter().filter(|f| f.per_dispatch);
+            fields.map(|f| f.name).collect()
+        };
+        for layout in [GpuParams::LAYOUT, GpuParams64::LAYOUT] {
+            let mut keeps = per_dispatch(layout);
+            keeps.push("seed");
+            assert_eq!(keeps, TRACE_BAKE_KEEPS);
+        }
+        let path = crate::gpu::path::GpuPathParams::LAYOUT;
+        assert!(path.field("seed").is_some() && per_dispatch(path).is_empty());
+        for layout in [GpuJulia2dParams::LAYOUT, GpuJulia2dParams64::LAYOUT] {
+            assert_eq!(per_dispatch(layout), JULIA2D_BAKE_KEEPS);
+        }
+    }
 
     /// Every kernel's `@workgroup_size` is [`WORKGROUP_SIZE`]: the runner dispatches by it, the
     /// cone tracer shares one march per workgroup block, and the divergence statistics count

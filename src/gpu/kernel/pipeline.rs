@@ -4,7 +4,7 @@
 //! of a band.
 
 use super::cache::constants_key;
-use super::{Kernel, WORKGROUP_SIZE, buffer};
+use super::{BAKE_VALUES, Kernel, WORKGROUP_SIZE, buffer};
 
 use crate::error::{Error, Result};
 
@@ -14,19 +14,35 @@ impl Kernel {
     /// One build at a time: a second thread asking for the same pipeline waits for it rather
     /// than building it again, and [`Self::held_pipeline`] never waits behind a build.
     pub fn pipeline(&self, constants: &[(&'static str, f64)]) -> Result<wgpu::ComputePipeline> {
-        if let Some(p) = self.held_pipeline(constants) {
+        self.pipeline_for(constants, None)
+    }
+
+    /// As [`Self::pipeline`]; where `constants` holds [`BAKE_VALUES`], with the scene's values
+    /// of `uniform` (a dispatch's uniform bytes) baked in.
+    pub(super) fn pipeline_for(
+        &self,
+        constants: &[(&'static str, f64)],
+        uniform: Option<&[u8]>,
+    ) -> Result<wgpu::ComputePipeline> {
+        let baked = self.baked_values(constants, uniform)?;
+        let key = constants_key(constants, baked.as_deref().unwrap_or_default());
+        if let Some(p) = self.pipelines.lock().expect("pipeline cache").get(&key) {
             return Ok(p);
         }
         let _building = self.building.lock().expect("pipeline builds");
-        if let Some(p) = self.held_pipeline(constants) {
+        if let Some(p) = self.pipelines.lock().expect("pipeline cache").get(&key) {
             return Ok(p);
         }
-        let key = constants_key(constants);
         let device = &self.ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // A specialisation runs its own module, its branches cut ([`super::specialise`]),
         // with no constants left to set.
-        let specialised = match self.specialised_module(constants) {
+        let overrides: Vec<_> = constants
+            .iter()
+            .copied()
+            .filter(|c| c.0 != BAKE_VALUES.0)
+            .collect();
+        let specialised = match self.specialised_module(&overrides, baked.as_deref()) {
             Ok(module) => module,
             Err(e) => {
                 let _ = pollster::block_on(scope.pop());
@@ -35,7 +51,7 @@ impl Kernel {
         };
         let (module, left) = match &specialised {
             Some(module) => (module, &[][..]),
-            None => (&self.module, constants),
+            None => (&self.module, &overrides[..]),
         };
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.spec.name),
@@ -50,7 +66,7 @@ impl Kernel {
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!(
-                "the {} pipeline {constants:?} was rejected: {e}",
+                "the {} pipeline {overrides:?} was rejected: {e}",
                 self.spec.name
             )));
         }
@@ -63,33 +79,98 @@ impl Kernel {
     }
 
     /// The pipeline for these override constants if it is built, else None: a caller that
-    /// must not wait for a build (the explorer's frame) builds it elsewhere.
+    /// must not wait for a build (the explorer's frame) builds it elsewhere. None for constants
+    /// that bake values (they need a dispatch's uniform).
     pub fn held_pipeline(
         &self,
         constants: &[(&'static str, f64)],
     ) -> Option<wgpu::ComputePipeline> {
-        let key = constants_key(constants);
+        let key = constants_key(constants, &[]);
         self.pipelines.lock().expect("pipeline cache").get(&key)
     }
 
-    /// The module of a specialisation (constants given), its branches cut; None for the
-    /// generic pipeline, or where naga cannot parse the source itself (the plain module then
-    /// reports why).
+    /// The values of `uniform` a pipeline of `constants` bakes in: None where the constants do
+    /// not ask for it ([`BAKE_VALUES`]); else the uniform's bytes with the members still read
+    /// at run time zeroed ([`KernelSpec::bake_keeps`]), the pipeline's key.
+    pub(super) fn baked_values(
+        &self,
+        constants: &[(&'static str, f64)],
+        uniform: Option<&[u8]>,
+    ) -> Result<Option<Vec<u8>>> {
+        if !constants.iter().any(|c| c.0 == BAKE_VALUES.0) {
+            return Ok(None);
+        }
+        let (Some(keeps), Some(uniform)) = (self.spec.bake_keeps, uniform) else {
+            return Err(Error::Gpu(format!(
+                "the {} pipeline cannot bake values here (a kernel that bakes, run by steps)",
+                self.spec.name
+            )));
+        };
+        let Some(parsed) = self.parsed() else {
+            return Err(Error::Gpu(format!(
+                "the {} module did not parse, so its values cannot be baked",
+                self.spec.name
+            )));
+        };
+        let ranges = self.kept_ranges.get_or_init(|| {
+            let mut uniforms = vec![(0, 0)];
+            if let Some(second) = self.spec.second_uniform {
+                uniforms.push((second.binding, self.second_uniform_offset() as usize));
+            }
+            super::bake::kept_ranges(parsed.module(), &uniforms, keeps)
+        });
+        let mut bytes = uniform.to_vec();
+        for r in ranges {
+            if let Some(kept) = bytes.get_mut(r.clone()) {
+                kept.fill(0);
+            }
+        }
+        Ok(Some(bytes))
+    }
+
+    /// The source parsed once (the base of every specialisation); None where naga refuses it.
+    fn parsed(&self) -> Option<&super::specialise::Parsed> {
+        self.parsed
+            .get_or_init(|| {
+                super::specialise::Parsed::new(&self.spec.module.source(), self.uniforms_as_storage)
+            })
+            .as_ref()
+    }
+
+    /// The module of a specialisation (constants given, or values baked), its branches cut;
+    /// None for the generic pipeline, or where naga cannot parse the source itself (the plain
+    /// module then reports why).
     fn specialised_module(
         &self,
         constants: &[(&'static str, f64)],
+        baked: Option<&[u8]>,
     ) -> Result<Option<wgpu::ShaderModule>> {
-        if constants.is_empty() {
+        if constants.is_empty() && baked.is_none() {
             return Ok(None);
         }
-        let parsed = self.parsed.get_or_init(|| {
-            super::specialise::Parsed::new(&self.spec.module.source(), self.uniforms_as_storage)
-        });
-        let Some(parsed) = parsed else {
+        let Some(parsed) = self.parsed() else {
             return Ok(None);
         };
+        let bake = baked.map(|bytes| {
+            let mut values = vec![super::bake::Baked {
+                binding: 0,
+                bytes: &bytes[..(self.spec.uniform_bytes as usize).min(bytes.len())],
+            }];
+            if let Some(second) = self.spec.second_uniform {
+                let start = self.second_uniform_offset() as usize;
+                values.push(super::bake::Baked {
+                    binding: second.binding,
+                    bytes: bytes.get(start..).unwrap_or_default(),
+                });
+            }
+            (values, self.spec.bake_keeps.unwrap_or_default())
+        });
         let module = parsed
-            .specialise(self.spec.entry_point, constants)
+            .specialise(
+                self.spec.entry_point,
+                constants,
+                bake.as_ref().map(|(v, k)| (&v[..], *k)),
+            )
             .map_err(|e| {
                 Error::Gpu(format!(
                     "the {} pipeline {constants:?} could not be specialised: {e}",
@@ -106,8 +187,8 @@ impl Kernel {
     /// Whether the pipeline of these constants has run once; marks it so. One dropped from
     /// the cache since it was asked for (another thread's variants pushed it out) counts as
     /// not warmed.
-    pub(super) fn warmed(&self, constants: &[(&'static str, f64)]) -> bool {
-        let key = constants_key(constants);
+    pub(super) fn warmed(&self, constants: &[(&'static str, f64)], baked: Option<&[u8]>) -> bool {
+        let key = constants_key(constants, baked.unwrap_or_default());
         self.pipelines
             .lock()
             .expect("pipeline cache")

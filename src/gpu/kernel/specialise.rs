@@ -51,6 +51,7 @@ impl Parsed {
         &self,
         entry: &str,
         constants: &[(&'static str, f64)],
+        bake: Option<(&[super::bake::Baked<'_>], &[&str])>,
     ) -> Result<Module, String> {
         let values: naga::back::PipelineConstants =
             constants.iter().map(|&(n, v)| (n.to_string(), v)).collect();
@@ -62,6 +63,9 @@ impl Parsed {
         )
         .map_err(|e| e.to_string())?;
         let mut module = Cow::into_owned(module);
+        if let Some((values, keeps)) = bake {
+            super::bake::bake(&mut module, values, keeps)?;
+        }
         prune_module(&mut module);
         naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
         Ok(module)
@@ -174,6 +178,11 @@ impl Known<'_> {
                 op: UnaryOperator::LogicalNot,
                 expr,
             } => self.value(expr).map(|b| !b),
+            // A comparison of two known scalars (a baked value's against a literal:
+            // `params.samples > 1u`).
+            Expression::Binary { op, left, right } if comparison(op) => {
+                compare(op, self.scalar(left)?, self.scalar(right)?)
+            }
             // Expressions have no side effects in naga's IR (calls are statements), so a
             // decided side decides the whole.
             Expression::Binary {
@@ -189,6 +198,18 @@ impl Known<'_> {
                     _ => None,
                 }
             }
+            _ => None,
+        }
+    }
+
+    /// The value of a scalar expression that is a literal or a constant's.
+    fn scalar(&self, expr: Handle<Expression>) -> Option<Literal> {
+        match self.expressions[expr] {
+            Expression::Literal(l) => Some(l),
+            Expression::Constant(c) => match self.global_expressions[self.constants[c].init] {
+                Expression::Literal(l) => Some(l),
+                _ => None,
+            },
             _ => None,
         }
     }
@@ -287,6 +308,38 @@ impl Known<'_> {
             .filter_map(|(local, value)| Some((local, value?)))
             .collect()
     }
+}
+
+/// Whether `op` compares (==, !=, <, <=, >, >=).
+fn comparison(op: naga::BinaryOperator) -> bool {
+    use naga::BinaryOperator::*;
+    matches!(
+        op,
+        Equal | NotEqual | Less | LessEqual | Greater | GreaterEqual
+    )
+}
+
+/// `a op b` for two scalars of one type (u32, i32, f32, f64, bool); None for any other pair.
+fn compare(op: naga::BinaryOperator, a: Literal, b: Literal) -> Option<bool> {
+    use naga::BinaryOperator::*;
+    use std::cmp::Ordering;
+    let order = match (a, b) {
+        (Literal::U32(a), Literal::U32(b)) => a.partial_cmp(&b),
+        (Literal::I32(a), Literal::I32(b)) => a.partial_cmp(&b),
+        (Literal::F32(a), Literal::F32(b)) => a.partial_cmp(&b),
+        (Literal::F64(a), Literal::F64(b)) => a.partial_cmp(&b),
+        (Literal::Bool(a), Literal::Bool(b)) => a.partial_cmp(&b),
+        _ => None,
+    }?;
+    Some(match op {
+        Equal => order == Ordering::Equal,
+        NotEqual => order != Ordering::Equal,
+        Less => order == Ordering::Less,
+        LessEqual => order != Ordering::Greater,
+        Greater => order == Ordering::Greater,
+        GreaterEqual => order != Ordering::Less,
+        _ => return None,
+    })
 }
 
 /// Whether control never passes a statement to the next: it returns, breaks or continues, or
@@ -396,9 +449,9 @@ mod tests {
                 out[id.x] = x;
             }";
         let parsed = Parsed::new(source, false).expect("parses");
-        let generic = parsed.specialise("main", &[("A", 1.0)]).unwrap();
+        let generic = parsed.specialise("main", &[("A", 1.0)], None).unwrap();
         let cut = parsed
-            .specialise("main", &[("A", 0.0), ("B", 0.0)])
+            .specialise("main", &[("A", 0.0), ("B", 0.0)], None)
             .unwrap();
         assert_eq!(calls(&generic), ["only_a", "always"]);
         assert_eq!(calls(&cut), ["always"]);
@@ -430,11 +483,11 @@ mod tests {
     fn the_default_scene_hands_the_driver_a_fraction_of_the_tracer() {
         let parsed = Parsed::new(&TRACE_MODULE.source(), false).expect("the tracer parses");
         let fixed = [interleave_constant(2), compact_constant(true)];
-        let whole = parsed.specialise("main", &fixed).unwrap();
+        let whole = parsed.specialise("main", &fixed, None).unwrap();
         let scene = crate::scene::Scene::default();
         let mut constants = Variant::of(&TraceParams::<f32>::new(&scene), true).constants();
         constants.extend_from_slice(&fixed);
-        let cut = parsed.specialise("main", &constants).unwrap();
+        let cut = parsed.specialise("main", &constants, None).unwrap();
         let (w, c) = (inlined_statements(&whole), inlined_statements(&cut));
         println!(
             "default scene: {c} statements inlined in {} functions, of the generic {w} in {}",

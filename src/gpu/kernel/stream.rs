@@ -232,8 +232,21 @@ impl Kernel {
     /// Submits a step's dispatches and the copies of its outputs, and asks for them to be
     /// mapped; does not wait. A pipeline's first use is warmed up first, untimed.
     fn submit(&self, step: Step, buffers: RunBuffers) -> Result<InFlight> {
-        let pipeline = self.pipeline(&step.constants)?;
-        if !self.warmed(&step.constants) {
+        let first = step.uniforms.first().map(|u| &u[..]);
+        let pipeline = self.pipeline_for(&step.constants, first)?;
+        let baked = self.baked_values(&step.constants, first)?;
+        if let Some(baked) = &baked {
+            // Every dispatch of the step runs the values of its first.
+            for uniform in &step.uniforms[1..] {
+                if self.baked_values(&step.constants, Some(uniform))?.as_ref() != Some(baked) {
+                    return Err(Error::Gpu(format!(
+                        "the {} step's dispatches differ in a value baked into its pipeline",
+                        self.spec.name
+                    )));
+                }
+            }
+        }
+        if !self.warmed(&step.constants, baked.as_deref()) {
             let rows = step.rows.min(WORKGROUP_SIZE.1);
             let size = (step.width.min(WORKGROUP_SIZE.0), rows);
             for uniform in &step.uniforms {
