@@ -9,13 +9,6 @@ mod common;
 
 use qjulia::gpu::kernel::MAX_PIPELINES;
 
-/// The process's resident memory in bytes (Linux: /proc/self/statm; None elsewhere).
-fn resident_bytes() -> Option<u64> {
-    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
-    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
-    Some(pages * 4096)
-}
-
 /// Warmed up past the cap, 32 more renders, each of a new c and so of a new baked pipeline,
 /// grow the resident memory by under 24 MB, and the tracer holds at most `MAX_PIPELINES`.
 /// Unbounded (the cap raised to 16,000), 96 new pipelines grew it by 469 MB on lavapipe
@@ -36,7 +29,7 @@ fn renders_of_changing_values_are_held_by_the_pipeline_cap() {
     for k in 0..MAX_PIPELINES as u32 + 8 {
         render(k);
     }
-    let Some(before) = resident_bytes() else {
+    let Some(before) = common::resident_bytes() else {
         eprintln!("baked pipelines: no /proc/self/statm here, so no memory to check");
         return;
     };
@@ -44,7 +37,7 @@ fn renders_of_changing_values_are_held_by_the_pipeline_cap() {
     for k in 0..more {
         render(1000 + k);
     }
-    let after = resident_bytes().expect("statm read once");
+    let after = common::resident_bytes().expect("statm read once");
     let growth_mb = (after as f64 - before as f64) / 1e6;
     eprintln!(
         "baked pipelines: resident {:.1} MB -> {:.1} MB over {more} new pipelines, {} held",

@@ -10,13 +10,6 @@ mod common;
 
 use qjulia::Picture;
 
-/// The process's resident memory in bytes (Linux: /proc/self/statm; None elsewhere).
-fn resident_bytes() -> Option<u64> {
-    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
-    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
-    Some(pages * 4096)
-}
-
 /// Warmed up, 300 more renders of each of two scenes (the default, shaded; the path-traced
 /// preset, with its sample kernel) grow the resident memory by under 24 MB: the leak grew it
 /// by 732 MB here (220 to 952 MB), and with the params bound as storage it grows by 0.0 MB.
@@ -41,12 +34,12 @@ fn three_hundred_renders_grow_resident_memory_by_under_24_mb() {
         }
     };
     render_all(30);
-    let Some(before) = resident_bytes() else {
+    let Some(before) = common::resident_bytes() else {
         eprintln!("repeated renders: no /proc/self/statm here, so no memory to check");
         return;
     };
     render_all(300);
-    let after = resident_bytes().expect("statm read once");
+    let after = common::resident_bytes().expect("statm read once");
     let growth_mb = (after as f64 - before as f64) / 1e6;
     eprintln!(
         "repeated renders: resident {:.1} MB -> {:.1} MB over 600 renders",

@@ -112,9 +112,7 @@ impl<F: GpuReal> GpuJulia2d<F> {
         let uniform = |band: Band| F::julia2d_uniform(params, band);
         let size = (params.width, params.height);
         let mut constants = self.device_constants.clone();
-        if self.bake.bakes(size.0 as u64 * size.1 as u64) {
-            constants.push(super::kernel::BAKE_VALUES);
-        }
+        constants.extend(self.bake.constant(size.0 as u64 * size.1 as u64));
         let read = image_readback(&self.kernel, readback);
         render_image_bands(
             &self.kernel,

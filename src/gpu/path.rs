@@ -462,9 +462,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
         };
         let mut constants = self.constants(params);
         constants.extend_from_slice(readback.constants());
-        if self.bake.bakes(super::variant::camera_rays(params)) {
-            constants.push(super::kernel::BAKE_VALUES);
-        }
+        constants.extend(self.bake.constant(super::variant::camera_rays(params)));
         render_image_bands(
             &self.kernel,
             &constants,

@@ -100,9 +100,7 @@ impl GpuSampler {
     ) -> Result<RunTimes> {
         let mut constants = Variant::of(params, false).constants();
         let points = grid.width as u64 * total_rows as u64;
-        if super::variant::bake_from_env().bakes(points) {
-            constants.push(super::kernel::BAKE_VALUES);
-        }
+        constants.extend(super::variant::bake_from_env().constant(points));
         let trace = GpuParams::new(params, 0, grid.rows);
         let uniform = |band: Band| {
             let grid = Self::grid_uniform(grid, band.row, band.rows);

@@ -7,7 +7,7 @@ use super::image::{
     Accumulated, Readback, TRACE_OUTPUTS, TRACE64_OUTPUTS, image_readback, render_image_bands,
     stream_frames,
 };
-use super::kernel::{BAKE_VALUES, Band, Kernel, KernelSpec, Run, RunTimes};
+use super::kernel::{Band, Kernel, KernelSpec, Run, RunTimes};
 use super::params::{GpuParams, GpuParams64};
 use super::real::GpuReal;
 use super::shaders::{TRACE_MODULE, TRACE64_MODULE};
@@ -248,9 +248,7 @@ impl<F: GpuReal> GpuTracer<F> {
         sink: &mut dyn FnMut(Frame) -> Result<()>,
     ) -> Result<RunTimes> {
         let mut constants = self.constants(params, shade, readback);
-        if self.bake.bakes(super::variant::camera_rays(params)) {
-            constants.push(BAKE_VALUES);
-        }
+        constants.extend(self.bake.constant(super::variant::camera_rays(params)));
         let size = (params.width, params.height);
         let uniform = self.uniforms(params);
         let shape = (size, self.dispatches(params));
@@ -283,9 +281,7 @@ impl<F: GpuReal> GpuTracer<F> {
     ) -> Result<()> {
         let mut steps = frames.flat_map(|(params, shade)| {
             let mut constants = self.constants(&params, shade, readback);
-            if self.bake.bakes(super::variant::camera_rays(&params)) {
-                constants.push(BAKE_VALUES);
-            }
+            constants.extend(self.bake.constant(super::variant::camera_rays(&params)));
             let uniform = self.uniforms(&params);
             let read = image_readback(&self.kernel, readback);
             let run = Run {

@@ -102,6 +102,12 @@ impl Bake {
             Bake::Auto => rays >= BAKE_MIN_RAYS,
         }
     }
+
+    /// [`super::kernel::BAKE_VALUES`] where a run of `rays` camera rays bakes ([`Self::bakes`]),
+    /// for its pipeline's constants.
+    pub fn constant(self, rays: u64) -> Option<(&'static str, f64)> {
+        self.bakes(rays).then_some(super::kernel::BAKE_VALUES)
+    }
 }
 
 /// The camera rays of a render of `params`: pixels x samples, the whole image's (a tile of

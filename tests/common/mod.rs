@@ -440,3 +440,10 @@ pub fn sampled_albedo(
         ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
     )
 }
+
+/// The process's resident memory in bytes (Linux: /proc/self/statm; None elsewhere).
+pub fn resident_bytes() -> Option<u64> {
+    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
+    Some(pages * 4096)
+}

@@ -140,7 +140,7 @@ fn bake_function(
             misused = Some(e);
         }
     };
-    visit_statements(&function.body, &mut |s| match *s {
+    super::walk::visit(&function.body, &mut |s| match *s {
         Statement::Store { pointer, .. } => check(pointer),
         Statement::Call { ref arguments, .. } => arguments.iter().for_each(|&a| check(a)),
         _ => {}
@@ -217,30 +217,6 @@ fn unemit(block: Block, gone: &HashSet<Handle<Expression>>) -> Block {
         }
     }
     out
-}
-
-/// Calls `f` on every statement of the block, nested ones included.
-fn visit_statements(block: &Block, f: &mut dyn FnMut(&Statement)) {
-    for statement in block.iter() {
-        f(statement);
-        match statement {
-            Statement::If { accept, reject, .. } => {
-                visit_statements(accept, f);
-                visit_statements(reject, f);
-            }
-            Statement::Block(b) => visit_statements(b, f),
-            Statement::Loop {
-                body, continuing, ..
-            } => {
-                visit_statements(body, f);
-                visit_statements(continuing, f);
-            }
-            Statement::Switch { cases, .. } => {
-                cases.iter().for_each(|c| visit_statements(&c.body, f))
-            }
-            _ => {}
-        }
-    }
 }
 
 /// The value of type `ty` at `offset` in `bytes`, as a global expression; None where a literal
@@ -396,6 +372,12 @@ mod tests {
         b
     }
 
+    /// Bakes `bytes` into binding 0 of `module`, all but `row`.
+    fn bake_all_but_row(module: &mut Module, bytes: &[u8]) {
+        let values = [Baked { binding: 0, bytes }];
+        bake(module, &values, &["row"]).expect("bakes");
+    }
+
     /// The loads left in a module's functions whose pointer starts at a uniform's member, by
     /// the member's index.
     fn loaded_members(module: &Module) -> Vec<u32> {
@@ -439,15 +421,7 @@ mod tests {
         let mut module = naga::front::wgsl::parse_str(SOURCE).expect("parses");
         assert_eq!(loaded_members(&module), [0, 0, 1, 1, 2, 3, 3, 4]);
         let bytes = bytes();
-        bake(
-            &mut module,
-            &[Baked {
-                binding: 0,
-                bytes: &bytes,
-            }],
-            &["row"],
-        )
-        .expect("bakes");
+        bake_all_but_row(&mut module, &bytes);
         assert_eq!(loaded_members(&module), [4], "only `row` is read");
         valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all())
             .validate(&module)
@@ -472,15 +446,7 @@ mod tests {
         let mut module = naga::front::wgsl::parse_str(SOURCE).expect("parses");
         let mut bytes = bytes();
         bytes[44..48].copy_from_slice(&f32::INFINITY.to_le_bytes());
-        bake(
-            &mut module,
-            &[Baked {
-                binding: 0,
-                bytes: &bytes,
-            }],
-            &["row"],
-        )
-        .expect("bakes");
+        bake_all_but_row(&mut module, &bytes);
         assert_eq!(loaded_members(&module), [2, 4], "scale and row are read");
         valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all())
             .validate(&module)

@@ -15,9 +15,10 @@
 //! `cache.rs`, the pipelines held, bounded; `buffers.rs`, a band's device buffers;
 //! `readback.rs`, making them and reading a band back through them; `stream.rs`, running bands
 //! as a stream of steps, two in flight; `specialise.rs`, a specialisation's branches cut before
-//! the driver sees them. The types of the kernel's state (`cache.rs`, `buffers.rs`) use nothing
-//! of this module; the parts that add the kernel's methods use this module, which uses none of
-//! theirs (no import cycle, tests/import_cycles.rs).
+//! the driver sees them; `bake.rs`, a scene's values made constants of the module; `walk.rs`,
+//! the statement walk both read the module with. The types of the kernel's state (`cache.rs`,
+//! `buffers.rs`) use nothing of this module; the parts that add the kernel's methods use this
+//! module, which uses none of theirs (no import cycle, tests/import_cycles.rs).
 
 mod bake;
 mod buffers;
@@ -26,6 +27,7 @@ mod pipeline;
 mod readback;
 mod specialise;
 mod stream;
+mod walk;
 
 pub use cache::MAX_PIPELINES;
 pub use stream::{Step, StepDone};

@@ -17,15 +17,20 @@ impl Kernel {
         self.pipeline_for(constants, None)
     }
 
-    /// As [`Self::pipeline`]; where `constants` holds [`BAKE_VALUES`], with the scene's values
-    /// of `uniform` (a dispatch's uniform bytes) baked in.
+    /// As [`Self::pipeline`], with `baked` (a dispatch's uniform bytes as
+    /// [`Self::baked_values`] gives them) baked in where `constants` holds [`BAKE_VALUES`].
     pub(super) fn pipeline_for(
         &self,
         constants: &[(&'static str, f64)],
-        uniform: Option<&[u8]>,
+        baked: Option<&[u8]>,
     ) -> Result<wgpu::ComputePipeline> {
-        let baked = self.baked_values(constants, uniform)?;
-        let key = constants_key(constants, baked.as_deref().unwrap_or_default());
+        if asks_to_bake(constants) && baked.is_none() {
+            return Err(Error::Gpu(format!(
+                "the {} pipeline cannot bake values here (a kernel that bakes, run by steps)",
+                self.spec.name
+            )));
+        }
+        let key = constants_key(constants, baked.unwrap_or_default());
         if let Some(p) = self.pipelines.lock().expect("pipeline cache").get(&key) {
             return Ok(p);
         }
@@ -42,7 +47,7 @@ impl Kernel {
             .copied()
             .filter(|c| c.0 != BAKE_VALUES.0)
             .collect();
-        let specialised = match self.specialised_module(&overrides, baked.as_deref()) {
+        let specialised = match self.specialised_module(&overrides, baked) {
             Ok(module) => module,
             Err(e) => {
                 let _ = pollster::block_on(scope.pop());
@@ -97,7 +102,7 @@ impl Kernel {
         constants: &[(&'static str, f64)],
         uniform: Option<&[u8]>,
     ) -> Result<Option<Vec<u8>>> {
-        if !constants.iter().any(|c| c.0 == BAKE_VALUES.0) {
+        if !asks_to_bake(constants) {
             return Ok(None);
         }
         let (Some(keeps), Some(uniform)) = (self.spec.bake_keeps, uniform) else {
@@ -113,11 +118,7 @@ impl Kernel {
             )));
         };
         let ranges = self.kept_ranges.get_or_init(|| {
-            let mut uniforms = vec![(0, 0)];
-            if let Some(second) = self.spec.second_uniform {
-                uniforms.push((second.binding, self.second_uniform_offset() as usize));
-            }
-            super::bake::kept_ranges(parsed.module(), &uniforms, keeps)
+            super::bake::kept_ranges(parsed.module(), &self.uniform_starts(), keeps)
         });
         let mut bytes = uniform.to_vec();
         for r in ranges {
@@ -152,17 +153,14 @@ impl Kernel {
             return Ok(None);
         };
         let bake = baked.map(|bytes| {
-            let mut values = vec![super::bake::Baked {
-                binding: 0,
-                bytes: &bytes[..(self.spec.uniform_bytes as usize).min(bytes.len())],
-            }];
-            if let Some(second) = self.spec.second_uniform {
-                let start = self.second_uniform_offset() as usize;
-                values.push(super::bake::Baked {
-                    binding: second.binding,
+            let values: Vec<_> = self
+                .uniform_starts()
+                .into_iter()
+                .map(|(binding, start)| super::bake::Baked {
+                    binding,
                     bytes: bytes.get(start..).unwrap_or_default(),
-                });
-            }
+                })
+                .collect();
             (values, self.spec.bake_keeps.unwrap_or_default())
         });
         let module = parsed
@@ -237,6 +235,15 @@ impl Kernel {
                     usage,
                 )
             })
+            .collect()
+    }
+
+    /// Each uniform's binding and where its bytes start in a dispatch's uniform bytes: binding
+    /// 0 at 0, the second uniform at [`Self::second_uniform_offset`].
+    fn uniform_starts(&self) -> Vec<(u32, usize)> {
+        let second = self.spec.second_uniform;
+        std::iter::once((0, 0))
+            .chain(second.map(|s| (s.binding, self.second_uniform_offset() as usize)))
             .collect()
     }
 
@@ -359,4 +366,9 @@ impl Kernel {
         rows.min(height)
             .min(max_groups.saturating_mul(WORKGROUP_SIZE.1))
     }
+}
+
+/// Whether `constants` ask for the scene's values baked in ([`BAKE_VALUES`]).
+fn asks_to_bake(constants: &[(&'static str, f64)]) -> bool {
+    constants.iter().any(|c| c.0 == BAKE_VALUES.0)
 }

@@ -14,6 +14,8 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use super::walk::visit;
+
 use naga::{
     Block, Constant, Expression, Handle, Literal, LocalVariable, Module, Statement, UnaryOperator,
     valid,
@@ -165,9 +167,8 @@ impl Known<'_> {
     fn value(&self, expr: Handle<Expression>) -> Option<bool> {
         use naga::BinaryOperator::{LogicalAnd, LogicalOr};
         match self.expressions[expr] {
-            Expression::Literal(Literal::Bool(b)) => Some(b),
-            Expression::Constant(c) => match self.global_expressions[self.constants[c].init] {
-                Expression::Literal(Literal::Bool(b)) => Some(b),
+            Expression::Literal(_) | Expression::Constant(_) => match self.scalar(expr)? {
+                Literal::Bool(b) => Some(b),
                 _ => None,
             },
             Expression::Load { pointer } => match self.expressions[pointer] {
@@ -349,28 +350,6 @@ fn diverges(statement: &Statement) -> bool {
         Statement::Return { .. } | Statement::Break | Statement::Continue | Statement::Kill => true,
         Statement::Block(b) => b.last().is_some_and(diverges),
         _ => false,
-    }
-}
-
-/// Calls `f` on every statement of the block, nested ones included.
-fn visit(block: &Block, f: &mut dyn FnMut(&Statement)) {
-    for statement in block.iter() {
-        f(statement);
-        match statement {
-            Statement::If { accept, reject, .. } => {
-                visit(accept, f);
-                visit(reject, f);
-            }
-            Statement::Block(b) => visit(b, f),
-            Statement::Loop {
-                body, continuing, ..
-            } => {
-                visit(body, f);
-                visit(continuing, f);
-            }
-            Statement::Switch { cases, .. } => cases.iter().for_each(|c| visit(&c.body, f)),
-            _ => {}
-        }
     }
 }
 

@@ -233,8 +233,8 @@ impl Kernel {
     /// mapped; does not wait. A pipeline's first use is warmed up first, untimed.
     fn submit(&self, step: Step, buffers: RunBuffers) -> Result<InFlight> {
         let first = step.uniforms.first().map(|u| &u[..]);
-        let pipeline = self.pipeline_for(&step.constants, first)?;
         let baked = self.baked_values(&step.constants, first)?;
+        let pipeline = self.pipeline_for(&step.constants, baked.as_deref())?;
         if let Some(baked) = &baked {
             // Every dispatch of the step runs the values of its first.
             for uniform in &step.uniforms[1..] {
