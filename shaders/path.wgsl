@@ -415,8 +415,9 @@ fn path_main(
     let j = params.row_offset + row;
     let index = (params.out_row + row) * params.row_stride + i;
     estimates = 0u;
+    iterations = 0u;
     var mean = vec3<f32>(0.0);
-    var made = 0u;
+    var made = vec4<u32>(0u);
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
     // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`), and
     // the pixel's streams (add_to_streams).
@@ -438,7 +439,7 @@ fn path_main(
         }
         mean = held.xyz;
         state = held.w;
-        made = out_estimates[index];
+        made = out_work[index];
         let counters = out_colour[index];
         dropped = counters & COUNTER_DROPPED_MASK;
         exhausted_before = counters >> COUNTER_DROPPED_BITS;
@@ -505,6 +506,6 @@ fn path_main(
     if AOVS {
         store_aovs(index, aovs);
     }
-    out_estimates[index] = made + estimates;
+    out_work[index] = add_work(made);
     out_colour[index] = dropped | ((exhausted_before + exhausted_rays) << COUNTER_DROPPED_BITS);
 }

@@ -162,15 +162,20 @@ var<workgroup> cone_t: Real;
 @group(0) @binding(2) var<storage, read_write> out_depth: array<Real>;
 // Distance estimates along the primary ray.
 @group(0) @binding(3) var<storage, read_write> out_steps: array<u32>;
-// Distance estimates made for the pixel, every sample and every ray (summed across dispatches).
-@group(0) @binding(4) var<storage, read_write> out_estimates: array<u32>;
+// The work made for the pixel, every sample and every ray, summed across dispatches (add_work):
+// its distance estimates and its quaternion iterations, each a 64-bit count as its low and
+// high words (x and y the estimates, z and w the iterations).
+@group(0) @binding(4) var<storage, read_write> out_work: array<vec4<u32>>;
 // With several samples: the mean of the samples' clamped colours so far (rgb).
 @group(0) @binding(5) var<storage, read_write> accumulated: array<vec4<f32>>;
 // With AOVS: three vec4s a pixel, from index 3 * index on, the Aovs so far (store_aovs).
 @group(0) @binding(6) var<storage, read_write> out_aovs: array<vec4<f32>>;
 
-// Distance estimates this invocation has made for its pixel (the cone's are not counted).
+// Distance estimates this invocation has made for its pixel in this dispatch (the cone's are
+// not counted), and the quaternion iterations (z <- z^2 + c) it has made for them, for the
+// normals and for the orbit trap.
 var<private> estimates: u32;
+var<private> iterations: u32;
 
 // DERIVATIVE_LIMIT, RELATIVE_EPSILON and MIN_NORMAL depend on the precision: the prelude
 // (shaders/real32.wgsl or shaders/real64.wgsl) defines them.
@@ -246,7 +251,9 @@ fn iterate_orbit(z: ptr<function, Hyper>) -> Real {
     var z_norm2 = hyper_dot(*z, *z, parts);
     var dz_norm2: Real = 1.0;
     var dz = Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
-    for (var i = 0u; i < params.max_iterations; i++) {
+    // The loop's counter is the iterations made (counted once, after it).
+    var i = 0u;
+    for (; i < params.max_iterations; i++) {
         if parts == 4u {
             dz = hyper_scale(2.0, hyper_mul(*z, dz, parts));
             dz_norm2 = hyper_dot(dz, dz, parts);
@@ -256,9 +263,11 @@ fn iterate_orbit(z: ptr<function, Hyper>) -> Real {
         *z = hyper_add(hyper_sq(*z, parts), params.c);
         z_norm2 = hyper_dot(*z, *z, parts);
         if z_norm2 > params.escape_radius_squared || dz_norm2 > DERIVATIVE_LIMIT {
+            i++;
             break;
         }
     }
+    iterations += i;
     return dz_norm2;
 }
 
@@ -400,6 +409,7 @@ fn iterate_orbit_pair(z1: ptr<function, Hyper>, z2: ptr<function, Hyper>, live: 
             break;
         }
         if on1 {
+            iterations += 1u;
             if parts == 4u {
                 dz1 = hyper_scale(2.0, hyper_mul(*z1, dz1, parts));
                 dz1_norm2 = hyper_dot(dz1, dz1, parts);
@@ -411,6 +421,7 @@ fn iterate_orbit_pair(z1: ptr<function, Hyper>, z2: ptr<function, Hyper>, live: 
             on1 = !(z1_norm2 > params.escape_radius_squared || dz1_norm2 > DERIVATIVE_LIMIT);
         }
         if on2 {
+            iterations += 1u;
             if parts == 4u {
                 dz2 = hyper_scale(2.0, hyper_mul(*z2, dz2, parts));
                 dz2_norm2 = hyper_dot(dz2, dz2, parts);
@@ -576,6 +587,7 @@ fn normal_central(q: Hyper) -> vec3<Real> {
         if largest > NORMAL_LIMIT {
             break;
         }
+        iterations += 6u;
         x_minus = hyper_add(hyper_sq(x_minus, parts), params.c);
         x_plus = hyper_add(hyper_sq(x_plus, parts), params.c);
         y_minus = hyper_add(hyper_sq(y_minus, parts), params.c);
@@ -610,6 +622,7 @@ fn normal_tetrahedral(q: Hyper) -> vec3<Real> {
         if largest > NORMAL_LIMIT {
             break;
         }
+        iterations += 4u;
         a = hyper_add(hyper_sq(a, parts), params.c);
         b = hyper_add(hyper_sq(b, parts), params.c);
         c = hyper_add(hyper_sq(c, parts), params.c);
@@ -636,6 +649,7 @@ fn normal_analytic(q: Hyper) -> vec3<Real> {
         if hyper_dot(z, z, parts) > NORMAL_LIMIT || largest > DERIVATIVE_LIMIT {
             break;
         }
+        iterations += 1u;
         jx = square_derivative(z, jx, parts);
         jy = square_derivative(z, jy, parts);
         jz = square_derivative(z, jz, parts);
@@ -774,6 +788,7 @@ fn orbit_trap(q: Hyper) -> Real {
     var z = q;
     var trap = abs(real_sqrt(hyper_dot(z, z, parts)) - params.trap_radius);
     for (var i = 0u; i < params.max_iterations; i++) {
+        iterations += 1u;
         z = hyper_add(hyper_sq(z, parts), params.c);
         let z_norm2 = hyper_dot(z, z, parts);
         trap = min(trap, abs(real_sqrt(z_norm2) - params.trap_radius));
@@ -1281,6 +1296,14 @@ fn streams_index(index: u32) -> u32 {
     return arrayLength(&accumulated) / 2u + index;
 }
 
+// A pixel's work counts `held` (out_work) with this dispatch's estimates and iterations added,
+// each carried into its high word where its low word wraps.
+fn add_work(held: vec4<u32>) -> vec4<u32> {
+    let e = held.x + estimates;
+    let n = held.z + iterations;
+    return vec4<u32>(e, held.y + select(0u, 1u, e < estimates), n, held.w + select(0u, 1u, n < iterations));
+}
+
 // The workgroup's live pixels (compacted_pixel): how many, and each one's local index.
 var<workgroup> live_count: atomic<u32>;
 var<workgroup> live_lanes: array<u32, 64>;
@@ -1341,6 +1364,7 @@ fn main(
     let j = params.row_offset + row;
     let index = (params.out_row + row) * params.row_stride + i;
     estimates = 0u;
+    iterations = 0u;
     var samples = params.samples;
     if SPECIALISED && !SAMPLES {
         samples = 1u;
@@ -1359,7 +1383,7 @@ fn main(
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }
-        out_estimates[index] = estimates;
+        out_work[index] = add_work(vec4<u32>(0u));
         if AOVS {
             store_aovs(index, add_pixel_aovs(no_aovs, 0u, pixel));
         }
@@ -1370,7 +1394,7 @@ fn main(
     // has the same colour (adaptively, of stream 1's alone: sample_stream); sample 0 gives the
     // depth and the steps (where the lens is open, the pinhole ray's, traced above).
     var mean = vec3<Real>(0.0);
-    var made = 0u;
+    var made = vec4<u32>(0u);
     var aovs = no_aovs;
     // The accumulator's fourth float: adaptive sampling's state (0 without it), and the
     // pixel's streams (add_to_streams).
@@ -1383,7 +1407,7 @@ fn main(
         }
         mean = vec3<Real>(held.xyz);
         state = held.w;
-        made = out_estimates[index];
+        made = out_work[index];
         if adaptive() {
             streams = accumulated[streams_index(index)];
         }
@@ -1442,6 +1466,6 @@ fn main(
     if AOVS {
         store_aovs(index, aovs);
     }
-    out_estimates[index] = made + estimates;
+    out_work[index] = add_work(made);
     out_colour[index] = pack_colour(mean);
 }

@@ -64,6 +64,9 @@ pub struct Frame {
     /// Distance estimates made for these pixels, every sample and every ray (the 2D view:
     /// iterations).
     pub estimates: u64,
+    /// Quaternion iterations (z <- z^2 + c) made for these pixels, every sample and every ray:
+    /// in the distance estimates, the normals and the orbit trap (the 2D view: its iterations).
+    pub iterations: u64,
     /// Path mode: samples whose radiance was not finite, or negative, and which were dropped
     /// (left out of their pixel's n, mean, variance and adaptive state). Unlike
     /// [`Self::non_finite`], which counts values of the finished frame, these never reach it.
@@ -94,6 +97,7 @@ impl Frame {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            iterations: 0,
             nonfinite_samples: 0,
             exhausted_rays: 0,
         }
@@ -122,6 +126,7 @@ impl Frame {
         self.samples.extend_from_slice(&band.samples);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;
+        self.iterations += band.iterations;
         self.nonfinite_samples += band.nonfinite_samples;
         self.exhausted_rays += band.exhausted_rays;
     }

@@ -443,6 +443,7 @@ mod tests {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            iterations: 0,
             nonfinite_samples: 0,
             exhausted_rays: 0,
         };

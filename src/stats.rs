@@ -26,6 +26,9 @@ pub struct Summary {
     /// Every distance estimate made: all samples, all rays (primary, shadow, occlusion). In the
     /// 2D view, every iteration.
     pub estimates_total: u64,
+    /// Every quaternion iteration (z <- z^2 + c) made, counted as `estimates_total` is: in the
+    /// distance estimates, the normals and the orbit trap. In the 2D view, every iteration.
+    pub iterations_total: u64,
     /// Samples taken, over every pixel: width x height x `image.samples`, or fewer where
     /// adaptive sampling (`path.noise_target`) stopped pixels early ([`Frame::samples`]; one a
     /// pixel where a frame has no counts, as the 2D view).
@@ -99,6 +102,7 @@ pub struct SummaryBuilder {
     steps: u64,
     steps_max: u32,
     estimates: u64,
+    iterations: u64,
     samples: u64,
     /// Path mode's counts, where a band was path-traced.
     path_counts: Option<(u64, u64)>,
@@ -113,6 +117,7 @@ impl SummaryBuilder {
             steps: 0,
             steps_max: 0,
             estimates: 0,
+            iterations: 0,
             samples: 0,
             path_counts: None,
             blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
@@ -123,6 +128,7 @@ impl SummaryBuilder {
     pub fn add(&mut self, band: &Frame) {
         self.add_arrays(&band.depth, &band.steps);
         self.estimates += band.estimates;
+        self.iterations += band.iterations;
         if !band.radiance.is_empty() {
             let (dropped, exhausted) = self.path_counts.unwrap_or_default();
             let counts = (
@@ -158,6 +164,7 @@ impl SummaryBuilder {
             tile_efficiency,
             wasted_steps_mean,
             estimates_total: self.estimates,
+            iterations_total: self.iterations,
             samples_total: self.samples,
             nonfinite_samples: self.path_counts.map(|c| c.0),
             exhausted_rays: self.path_counts.map(|c| c.1),
@@ -308,6 +315,7 @@ mod tests {
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
+            iterations: 0,
             nonfinite_samples: 0,
             exhausted_rays: 0,
         }

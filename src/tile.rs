@@ -33,8 +33,8 @@
 //! version), `qjulia-tile` (string, `K/N`), `qjulia-backend`, `qjulia-adapter`,
 //! `qjulia-precision`, `qjulia-precision-reason` (strings, as `--stats` names them),
 //! `qjulia-render-seconds` (double), `qjulia-gpu-seconds` (double, absent where the device has
-//! no timestamps), `qjulia-estimates` (string, a decimal u64: distance estimates made for the
-//! tile's pixels), and in path mode `qjulia-nonfinite-samples` and `qjulia-exhausted-rays`
+//! no timestamps), `qjulia-estimates` and `qjulia-iterations` (strings, decimal u64s: distance
+//! estimates and quaternion iterations made for the tile's pixels), and in path mode `qjulia-nonfinite-samples` and `qjulia-exhausted-rays`
 //! (strings, decimal u64s: `--stats`' counts of the tile; absent, from an older binary, they
 //! count 0).
 //!

@@ -24,12 +24,44 @@ fn gpu_and_cpu_agree_with_several_samples() {
     let expected = render(&scene, Precision::F32);
     let actual = common::gpu_frame(gpu, &scene);
     common::assert_agree("samples-5", &expected, &actual, &CONTRACT_TOLERANCE);
-    // Estimates are counted the same way on both: every ray of every sample.
-    let (cpu_total, gpu_total) = (expected.estimates as f64, actual.estimates as f64);
-    assert!(
-        (cpu_total - gpu_total).abs() <= 1e-3 * cpu_total,
-        "estimates: cpu {cpu_total}, gpu {gpu_total}"
-    );
+    // Estimates and iterations are counted the same way on both: every ray of every sample.
+    assert_counts_agree("samples-5", &expected, &actual);
+}
+
+/// The work counts of a CPU and a GPU frame of one scene agree up to rounding (a ray that ends
+/// a step earlier or later on one backend): within 1e-3 of the CPU's.
+fn assert_counts_agree(what: &str, cpu: &qjulia::Frame, gpu: &qjulia::Frame) {
+    for (name, c, g) in [
+        ("estimates", cpu.estimates, gpu.estimates),
+        ("iterations", cpu.iterations, gpu.iterations),
+    ] {
+        let (c, g) = (c as f64, g as f64);
+        assert!(
+            c > 0.0 && (c - g).abs() <= 1e-3 * c,
+            "{what}: {name}: cpu {c}, gpu {g}"
+        );
+    }
+}
+
+/// Path mode counts the iterations of every ray (camera, shadow, bounce), of the normals and of
+/// the orbit trap, the same on both backends; the normals and the trap add iterations that no
+/// estimate makes, so there are more than the estimates' own.
+#[test]
+fn path_mode_counts_the_same_iterations_on_both_backends() {
+    let scene = common::scene(&[
+        "image.width=40",
+        "image.height=40",
+        "image.samples=6",
+        "shading.model=\"path\"",
+        "shading.colouring=\"orbit_trap\"",
+        "sun.intensity=3",
+    ]);
+    let Some(actual) = common::gpu_render_frame("path iterations gpu vs cpu", &scene) else {
+        return;
+    };
+    let expected = render(&scene, Precision::F32);
+    assert_counts_agree("path", &expected, &actual);
+    assert!(expected.iterations > expected.estimates);
 }
 
 #[test]
@@ -46,6 +78,7 @@ fn depth_steps_and_hits_are_sample_zeros_and_estimates_count_every_sample() {
     // One sample: the estimates are exactly the work counter's (primary and shadow rays).
     let work = cpu::count_work(&TraceParams::<f32>::new(&one));
     assert_eq!(a.estimates, work.estimates);
+    assert_eq!(a.iterations, work.iterations);
     assert!(
         b.estimates > 3 * a.estimates,
         "{} vs {}",

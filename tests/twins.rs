@@ -53,6 +53,12 @@ const TRACE: Twin = Twin {
         },
         OnlyIn {
             side: Side::Wgsl,
+            name: "add_work",
+            reason: "adds a dispatch's counts to the pixel's 64-bit counts held as two u32 \
+                     words each; the CPU counts into u64s (cpu::counters)",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
             name: "slice_axis_x",
             reason: "the constant standard axis when specialised (STANDARD_SLICE); the CPU \
                      reads `slice_x` from its parameters",

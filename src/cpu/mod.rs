@@ -107,7 +107,7 @@ pub fn render_rows<F: Real>(
                 .get((i / trace::CONE_BLOCK) as usize)
                 .copied()
                 .unwrap_or(F::zero());
-            let before = ESTIMATES.get();
+            let before = (ESTIMATES.get(), ITERATIONS.get());
             // Where the lens is open, the depth and the steps are the pinhole ray's, traced for
             // them alone (the kernel's `main`).
             let pinhole = params
@@ -182,7 +182,8 @@ pub fn render_rows<F: Real>(
                 depth: if hit { depth.to_f64() } else { f64::NAN },
                 steps,
                 non_finite,
-                estimates: ESTIMATES.get() - before,
+                estimates: ESTIMATES.get() - before.0,
+                iterations: ITERATIONS.get() - before.1,
                 radiance: [0.0; 3],
                 aovs: made,
                 samples: taken,
@@ -210,6 +211,8 @@ pub struct PixelOut {
     pub non_finite: u64,
     /// Distance estimates made for the pixel.
     pub estimates: u64,
+    /// Quaternion iterations made for the pixel (cpu::counters' ITERATIONS).
+    pub iterations: u64,
     /// Path mode: the mean linear radiance (kept where [`fill_rows`] is asked to).
     pub radiance: [f32; 3],
     /// The AOVs (kept where [`fill_rows`] is asked to).
@@ -255,6 +258,7 @@ where
     let mut samples = vec![0u32; if keep.samples { w * h } else { 0 }];
     let non_finite = AtomicU64::new(0);
     let estimates = AtomicU64::new(0);
+    let iterations = AtomicU64::new(0);
     // A row of radiance (of AOVs) where it is kept; none (an empty slice) where not.
     fn rows_of<T>(values: &mut [T], kept: bool, (w, h): (usize, usize)) -> Vec<&mut [T]> {
         match kept {
@@ -275,7 +279,7 @@ where
         .for_each(
             |(r, ((((colour_row, depth_row), steps_row), (radiance_row, aov_row)), sample_row))| {
                 let pixel = row(rows.start + r as u32);
-                let (mut bad, mut made) = (0, 0);
+                let (mut bad, mut made, mut iterated) = (0, 0, 0);
                 for i in 0..w {
                     let out = pixel(i as u32);
                     colour_row[i] = out.colour;
@@ -292,9 +296,11 @@ where
                     }
                     bad += out.non_finite;
                     made += out.estimates;
+                    iterated += out.iterations;
                 }
                 non_finite.fetch_add(bad, Ordering::Relaxed);
                 estimates.fetch_add(made, Ordering::Relaxed);
+                iterations.fetch_add(iterated, Ordering::Relaxed);
             },
         );
     let aov = |take: fn(&trace::Aovs) -> Vec3<f32>| -> Vec<[f32; 3]> {
@@ -328,6 +334,7 @@ where
         samples,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),
+        iterations: iterations.into_inner(),
         nonfinite_samples: 0,
         exhausted_rays: 0,
     }

@@ -566,7 +566,7 @@ pub fn render_path_rows<F: Real>(
     };
     super::fill_rows(params.width, rows, keep, |j| {
         move |i| {
-            let before = super::ESTIMATES.get();
+            let before = (super::ESTIMATES.get(), super::ITERATIONS.get());
             EXHAUSTED_RAYS.set(0);
             // Where the lens is open, the depth and the steps are the pinhole ray's, traced for
             // them alone.
@@ -636,7 +636,8 @@ pub fn render_path_rows<F: Real>(
                 depth: if hit { depth.to_f64() } else { f64::NAN },
                 steps,
                 non_finite: radiance.iter().filter(|c| !c.is_finite()).count() as u64,
-                estimates: super::ESTIMATES.get() - before,
+                estimates: super::ESTIMATES.get() - before.0,
+                iterations: super::ITERATIONS.get() - before.1,
                 radiance,
                 aovs: made,
                 samples: taken,

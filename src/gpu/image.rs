@@ -71,12 +71,12 @@ const COLOUR_OUTPUT: usize = 0;
 pub const DEPTH_OUTPUT: usize = 1;
 const STEPS_OUTPUT: usize = 2;
 
-/// Where the tracer's estimates are among its outputs (after the image's three); the
+/// Where the tracer's work counts are among its outputs (after the image's three); the
 /// accumulator after it stays on the device in phong mode, the AOVs after that come back only
 /// for [`Readback::Hdr`].
-const ESTIMATES_OUTPUT: usize = IMAGE_OUTPUTS.len();
+const WORK_OUTPUT: usize = IMAGE_OUTPUTS.len();
 /// Where the running mean of the samples (`accumulated`) is among the tracer's outputs.
-pub const ACCUMULATED_OUTPUT: usize = ESTIMATES_OUTPUT + 1;
+pub const ACCUMULATED_OUTPUT: usize = WORK_OUTPUT + 1;
 /// Where the AOVs (three `vec4<f32>` a pixel, trace.wgsl's `store_aovs`) are among the
 /// tracer's outputs.
 pub const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
@@ -103,7 +103,8 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
     TRACE_OUTPUTS[5],
 ];
 
-/// The tracer's outputs: the image's three, the estimates made per pixel (u32), the running
+/// The tracer's outputs: the image's three, the work made per pixel (trace.wgsl's `out_work`:
+/// the distance estimates and the quaternion iterations, each a u64 as two u32s), the running
 /// mean of the samples' colours (`vec4<f32>`, then a second plane for adaptive sampling's
 /// streams, trace.wgsl's `add_to_streams`, which stays on the device), and on demand the AOVs
 /// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
@@ -113,8 +114,8 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[1],
     IMAGE_OUTPUTS[2],
     OutputSpec {
-        name: "estimates",
-        bytes_per_item: 4,
+        name: "work",
+        bytes_per_item: 16,
         on_demand: false,
         planes: 1,
     },
@@ -213,11 +214,11 @@ fn crop_band<'a>(
 }
 
 /// Which outputs of an image kernel come back for `readback`. All: colour, depth, steps and
-/// (where the kernel has it) the estimates, not the accumulator. Colour: the colour alone.
+/// (where the kernel has it) the work counts, not the accumulator. Colour: the colour alone.
 /// Hdr: All's and (where the kernel has them) the AOVs.
 pub(crate) fn image_readback(kernel: &Kernel, readback: Readback) -> Vec<bool> {
     let last = match readback {
-        Readback::All | Readback::Hdr => ESTIMATES_OUTPUT,
+        Readback::All | Readback::Hdr => WORK_OUTPUT,
         Readback::Colour => COLOUR_OUTPUT,
     };
     (0..kernel.spec().outputs.len())
@@ -257,8 +258,9 @@ pub(crate) fn stream_frames(
 }
 
 /// A band of an image kernel's outputs as a [`Frame`]: a negative depth (no hit) becomes NaN,
-/// and depths that came out NaN or infinite are counted. The estimates are the kernel's fourth
-/// output where it has one (the tracer), else the steps (the 2D view's iterations). Outputs not
+/// and depths that came out NaN or infinite are counted. The estimates and the iterations are
+/// the kernel's fourth output where it has one (the tracer's work), else both the steps (the 2D
+/// view's iterations). Outputs not
 /// read back stay empty, and of the accumulator what `kept` says. The arrays are converted in
 /// parallel: at 3840x2160 each is 33 MB.
 pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated) -> Frame {
@@ -293,9 +295,17 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
         &depths_f32
     };
     let steps: &[u32] = output(band, STEPS_OUTPUT);
-    let estimates: &[u32] = match output(band, ESTIMATES_OUTPUT) {
-        [] => steps,
-        counts => counts,
+    // A count's two words, low then high.
+    let wide = |low: u32, high: u32| low as u64 | (high as u64) << 32;
+    let (estimates, iterations) = match output::<[u32; 4]>(band, WORK_OUTPUT) {
+        [] => {
+            let n = steps.par_iter().map(|&n| n as u64).sum::<u64>();
+            (n, n)
+        }
+        work => (
+            work.par_iter().map(|w| wide(w[0], w[1])).sum(),
+            work.par_iter().map(|w| wide(w[2], w[3])).sum(),
+        ),
     };
     // The accumulator where it was read back: path mode's mean linear radiance, adaptive
     // sampling's samples (a done pixel's fourth float is minus its samples).
@@ -348,7 +358,8 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
                 .par_iter()
                 .map(|a| a[..3].iter().filter(|c| !c.is_finite()).count() as u64)
                 .sum::<u64>(),
-        estimates: estimates.par_iter().map(|&e| e as u64).sum(),
+        estimates,
+        iterations,
         // Path mode's counters are in the colour words until the renderer takes them
         // (Frame::take_path_counters).
         nonfinite_samples: 0,

@@ -18,7 +18,7 @@ use crate::scene::{SCENE_EXR_ATTRIBUTE, Scene, SceneLoader, SceneSource};
 use crate::stats::RenderStats;
 
 /// The partial format's version (`qjulia-partial`); `merge` reads this one only.
-pub const FORMAT_VERSION: i32 = 2;
+pub const FORMAT_VERSION: i32 = 3;
 
 /// The float32 channels, in the order [`Frame`] gives them (the `--hdr` channels).
 const FLOAT_CHANNELS: [&str; 13] = [
@@ -48,6 +48,7 @@ const PRECISION_REASON: &str = "qjulia-precision-reason";
 const RENDER_SECONDS: &str = "qjulia-render-seconds";
 const GPU_SECONDS: &str = "qjulia-gpu-seconds";
 const ESTIMATES: &str = "qjulia-estimates";
+const ITERATIONS: &str = "qjulia-iterations";
 const NONFINITE_SAMPLES: &str = "qjulia-nonfinite-samples";
 const EXHAUSTED_RAYS: &str = "qjulia-exhausted-rays";
 
@@ -154,6 +155,7 @@ fn write_exr(
         set(GPU_SECONDS, AttributeValue::F64(s));
     }
     set(ESTIMATES, text(&band.estimates.to_string()));
+    set(ITERATIONS, text(&band.iterations.to_string()));
     if !band.radiance.is_empty() {
         set(NONFINITE_SAMPLES, text(&band.nonfinite_samples.to_string()));
         set(EXHAUSTED_RAYS, text(&band.exhausted_rays.to_string()));
@@ -370,6 +372,7 @@ fn read_part_from(
             .map_err(|_| bad(path, format!("its {name} attribute is not a count")))
     };
     frame.estimates = count(ESTIMATES)?;
+    frame.iterations = count(ITERATIONS)?;
     // Path mode's counts: absent (0) in a part from before they were written.
     for (name, value) in [
         (NONFINITE_SAMPLES, &mut frame.nonfinite_samples),

@@ -117,6 +117,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         samples: Vec::new(),
         non_finite: 0,
         estimates: 0,
+        iterations: 0,
         nonfinite_samples: 0,
         exhausted_rays: 0,
     }

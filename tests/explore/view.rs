@@ -274,6 +274,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 samples: Vec::new(),
                 non_finite: 0,
                 estimates: 0,
+                iterations: 0,
                 nonfinite_samples: 0,
                 exhausted_rays: 0,
             }
