@@ -493,3 +493,35 @@ fn the_png_fixture_is_the_binarys() {
         path.display()
     );
 }
+
+/// The numbers of a `const NAME = [a, b, ...];` line of a TypeScript file.
+fn ts_numbers(text: &str, name: &str) -> Vec<u64> {
+    let start = text
+        .find(&format!("const {name} = ["))
+        .unwrap_or_else(|| panic!("no {name} in the file"));
+    let list = &text[start..];
+    let list = &list[list.find('[').unwrap() + 1..list.find(']').unwrap()];
+    list.split(',').map(|n| n.trim().parse().unwrap()).collect()
+}
+
+/// The page binds its kernels' outputs as the Rust runner does: web/src/gpu.ts's bytes a pixel
+/// of each output are the kernel specs' (bytes an item times planes), so that a kernel that
+/// widens an output cannot write past a buffer the page made for the old width.
+#[test]
+fn the_pages_output_sizes_are_the_runners() {
+    let gpu_ts = std::fs::read_to_string(web().join("src/gpu.ts")).unwrap();
+    let bytes = |outputs: &[qjulia::gpu::OutputSpec]| -> Vec<u64> {
+        outputs
+            .iter()
+            .map(|o| o.bytes_per_item * o.planes)
+            .collect()
+    };
+    assert_eq!(
+        ts_numbers(&gpu_ts, "OUTPUT_BYTES"),
+        bytes(&qjulia::gpu::TRACE_OUTPUTS)
+    );
+    assert_eq!(
+        ts_numbers(&gpu_ts, "JULIA2D_OUTPUT_BYTES"),
+        bytes(qjulia::gpu::JULIA2D_KERNEL.outputs)
+    );
+}

@@ -1,6 +1,6 @@
 // The page's GPU host: the kernels of shaders/ on WebGPU, as the Rust host runs them
 // (src/gpu/tracer.rs, src/gpu/path.rs, src/gpu/julia2d.rs and src/gpu/kernel/): the bind layout
-// of the Rust runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, estimates,
+// of the Rust runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, work,
 // accumulated, aovs; the path tracer's own uniform at 7), one pipeline per kernel and variant's
 // override constants (cached, as the Rust side caches them), the samples added dispatch by
 // dispatch with the uniforms of src/uniform.ts, the running mean kept in `accumulated` between
@@ -27,7 +27,7 @@ import {
 /// the accumulator keeps adaptive sampling's streams in a second plane, and only its first
 /// comes back); the AOVs (the last) are a placeholder of one pixel, as the Rust runner binds
 /// them when not read.
-const OUTPUT_BYTES = [4, 4, 4, 4, 32, 48];
+const OUTPUT_BYTES = [4, 4, 4, 16, 32, 48];
 const ON_DEMAND = [false, false, false, false, false, true];
 /// The 2D view's outputs: colour, the in-set marker, iterations (JULIA2D_KERNEL).
 const JULIA2D_OUTPUT_BYTES = [4, 4, 4];
