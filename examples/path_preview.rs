@@ -42,6 +42,7 @@ fn main() {
         multiscatter: true,
         regularize: 0.0,
         seed: 0,
+        step_scale: 1.6,
     };
     let t = GpuPathTracer::new(GpuContext::new().unwrap()).unwrap();
     let start = std::time::Instant::now();

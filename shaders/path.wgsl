@@ -34,7 +34,8 @@ struct PathParams {
     regularize: f32,
     // The sampler's seed (path.seed, plus the frame with path.animated_seed): 0 the default.
     seed: u32,
-    pad0: u32,
+    // path.step_scale: the over-relaxation of shadow and bounce rays (sphere_trace_by's omega).
+    step_scale: f32,
     pad1: u32,
 }
 
@@ -127,15 +128,15 @@ fn exhausted(trace: Trace, t_end: Real) -> bool {
 }
 
 // Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray, the
-// tracer's own sphere trace (no pixel epsilon) within the bounding ball. A shadow ray that runs
-// out of steps (exhausted) is occluded.
+// tracer's own sphere trace (no pixel epsilon, over-relaxed by path.step_scale) within the
+// bounding ball. A shadow ray that runs out of steps (exhausted) is occluded.
 fn unoccluded(origin: vec3<Real>, dir: vec3<Real>, t_max: Real) -> bool {
     let bounds = intersect_bounds(origin, dir);
     let t_end = min(bounds.t_exit, t_max);
     if !bounds.hit || bounds.t_enter >= t_end {
         return true;
     }
-    let trace = sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0);
+    let trace = sphere_trace_by(origin, dir, bounds.t_enter, t_end, 0.0, Real(path.step_scale));
     if exhausted(trace, t_end) {
         exhausted_rays += 1u;
         return false;
@@ -285,7 +286,8 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
     var diffuse_before = false;
     let light_on = params.light_radius > 0.0 && any(path.light_intensity > vec3<f32>(0.0));
     for (var bounce = 0u; bounce <= path.bounces; bounce++) {
-        // The camera ray's trace is given; a scattered ray's is made here (no pixel epsilon).
+        // The camera ray's trace is given; a scattered ray's is made here (no pixel epsilon,
+        // over-relaxed by path.step_scale).
         var trace = first;
         // A scattered ray that ran out of steps: it sees the sphere light only short of where
         // it stopped, and ends its path there, dark.
@@ -294,7 +296,7 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
             trace = Trace(0.0, 0u, false);
             let bounds = intersect_bounds(origin, dir);
             if bounds.hit {
-                trace = sphere_trace(origin, dir, bounds.t_enter, bounds.t_exit, 0.0);
+                trace = sphere_trace_by(origin, dir, bounds.t_enter, bounds.t_exit, 0.0, Real(path.step_scale));
                 // Only scattered rays end so: a camera ray that runs out stays a miss, as
                 // in phong mode.
                 if exhausted(trace, bounds.t_exit) {

@@ -354,11 +354,18 @@ struct Trace {
 // successive points stop overlapping the ray may have jumped the surface, so it goes back to the
 // plain step from the last point and carries on without over-relaxation.
 fn sphere_trace(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real) -> Trace {
-    var t = t_start;
     var omega = params.step_scale;
     if SPECIALISED && !OVER_RELAXED {
         omega = 1.0;
     }
+    return sphere_trace_by(origin, dir, t_start, t_end, eps_slope, omega);
+}
+
+// sphere_trace with the over-relaxation omega given (path mode's secondary rays take theirs
+// from path.step_scale).
+fn sphere_trace_by(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real, omega_start: Real) -> Trace {
+    var t = t_start;
+    var omega = omega_start;
     var t_prev = t_start;
     var prev_radius: Real = 0.0;
     for (var steps = 1u; steps <= params.max_steps; steps++) {

@@ -221,25 +221,33 @@ fn random_sampler(scene: &mut Scene) {
     scene.path.sampler = PathSampler::Random;
 }
 
-/// Independent renders (`path.seed` 0..SEEDS) whose squared errors a comparison averages: one
-/// render's error turns on whether a rare glint lands in it.
+/// Independent renders (`path.seed` 0..SEEDS) that the allocation test looks at.
 const SEEDS: u32 = 4;
 
-/// On the path-traced preset at 64x64 (flat sky and fractal detail), adaptive sampling spends
-/// fewer samples than uniform sampling of as many samples per pixel as its mean (rounded up),
-/// and lands closer to a converged reference (1,024 samples of the `random` sampler): the root
-/// of the mean squared error over [`SEEDS`] seeds, each seed's adaptive render against the
-/// uniform render of its own mean.
+/// On the path-traced preset at 64x64 (flat sky and fractal detail), adaptive sampling (target
+/// 0.08, 16 to 256 samples) spends no more samples than uniform sampling of its mean (rounded
+/// up), and spends them where the noise is: for every seed, the quarter of the pixels that a
+/// converged reference (1,024 samples of the `random` sampler) shows to be noisiest (its
+/// per-pixel variance of the luminance) takes at least twice the samples a pixel of the
+/// quietest quarter takes. It also prints each seed's root mean squared error against the
+/// reference, adaptive and uniform, which docs/book/adaptive.md reports: which of the two is
+/// lower turns on whether a rare glint lands in a render (over 12 seeds, uniform sampling's
+/// was the lower), so no test asserts it.
 #[test]
-fn at_equal_samples_total_adaptive_beats_uniform() {
-    let Some(kernels) = kernels("adaptive RMSE") else {
+fn adaptive_sampling_spends_its_samples_where_the_noise_is() {
+    let Some(kernels) = kernels("adaptive allocation") else {
         return;
     };
     let size = 64;
     let pixels = (size * size) as u64;
     let reference_scene = path_traced(size, 1024, random_sampler);
     let renderer = gpu_renderer(&kernels, &reference_scene);
-    let reference = render_hdr(&renderer, &reference_scene).radiance;
+    let reference = render_hdr(&renderer, &reference_scene);
+    // The pixels by the reference's variance of the luminance, quietest first.
+    let mut order: Vec<usize> = (0..reference.luminance_m2.len()).collect();
+    order.sort_by(|&a, &b| reference.luminance_m2[a].total_cmp(&reference.luminance_m2[b]));
+    let quarter = order.len() / 4;
+    let (quietest, noisiest) = (&order[..quarter], &order[order.len() - quarter..]);
     let (mut a2, mut u2, mut total, mut uniform_total) = (0.0, 0.0, 0u64, 0u64);
     for seed in 0..SEEDS {
         let adaptive_scene = path_traced(size, 256, |s| {
@@ -253,12 +261,21 @@ fn at_equal_samples_total_adaptive_beats_uniform() {
         let uniform_scene = path_traced(size, per_pixel, |s| s.path.seed = seed);
         let uniform = render_hdr(&renderer, &uniform_scene);
         let (a, u) = (
-            rmse(&adaptive.radiance, &reference),
-            rmse(&uniform.radiance, &reference),
+            rmse(&adaptive.radiance, &reference.radiance),
+            rmse(&uniform.radiance, &reference.radiance),
         );
+        let mean = |set: &[usize]| {
+            set.iter().map(|&k| adaptive.samples[k] as f64).sum::<f64>() / set.len() as f64
+        };
+        let (quiet, noisy) = (mean(quietest), mean(noisiest));
         eprintln!(
-            "seed {seed}: adaptive {taken} samples, RMSE {a:.5}; uniform {per_pixel} a pixel, \
-             RMSE {u:.5}"
+            "seed {seed}: adaptive {taken} samples ({quiet:.1} a pixel in the quietest quarter, \
+             {noisy:.1} in the noisiest), RMSE {a:.5}; uniform {per_pixel} a pixel, RMSE {u:.5}"
+        );
+        assert!(
+            noisy >= 2.0 * quiet,
+            "seed {seed}: {noisy:.1} samples a pixel in the noisiest quarter, {quiet:.1} in the \
+             quietest"
         );
         (a2, u2) = (a2 + a * a, u2 + u * u);
         total += taken;
@@ -270,10 +287,6 @@ fn at_equal_samples_total_adaptive_beats_uniform() {
          0.08, 16..256) {total} samples, RMSE {a:.5}; uniform {uniform_total} samples, RMSE {u:.5}"
     );
     assert!(total <= uniform_total);
-    assert!(
-        a < u,
-        "adaptive RMSE {a:.5} at {total} samples, uniform {u:.5} at {uniform_total}"
-    );
 }
 
 /// Runs qjulia in `dir` with `args` and these environment variables.

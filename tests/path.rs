@@ -52,6 +52,7 @@ fn furnace<F: Real>(bounces: u32, roughness: f64, metallic: f64, specular: f64) 
         multiscatter: true,
         regularize: F::zero(),
         seed: 0,
+        step_scale: F::lit(1.6),
     }
 }
 

@@ -126,9 +126,14 @@ fn a_shadow_ray_that_runs_out_of_steps_is_occluded() {
     for (steps, expected) in [(1000, true), (1, false)] {
         let scene = common::scene(&["fractal.c=[0,0,0,0]", &format!("fractal.max_steps={steps}")]);
         let p = TraceParams::<f64>::new(&scene);
+        let path = qjulia::cpu::path::PathParams::<f64>::new(&scene);
         let origin = Vec3::new(0.0, 0.0, 1.0 + 4.0 * p.epsilon);
         let dir = Vec3::new(1.0, 0.0, 0.0);
-        assert_eq!(p.unoccluded(origin, dir, 1e30), expected, "{steps} steps");
+        assert_eq!(
+            p.unoccluded(&path, origin, dir, 1e30),
+            expected,
+            "{steps} steps"
+        );
     }
 }
 

@@ -137,7 +137,7 @@ fn path_uniform_layout_matches_the_shader() {
         host_offsets!(GpuPathParams: sky_zenith, sky_intensity, sky_horizon, bounces, sky_ground,
             roulette_start, sky_up, clamp_contribution, sun_direction, sun_one_minus_cos,
             sun_irradiance, sampler, light_intensity, strategy, roughness, metallic, specular,
-            multiscatter, regularize, seed, pad0, pad1)
+            multiscatter, regularize, seed, step_scale, pad1)
     );
 }
 

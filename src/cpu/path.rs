@@ -78,6 +78,8 @@ pub struct PathParams<F> {
     pub regularize: F,
     /// The sampler's seed: `path.seed` (animate adds the frame with `path.animated_seed`).
     pub seed: u32,
+    /// `path.step_scale`: the over-relaxation of shadow and bounce rays.
+    pub step_scale: F,
 }
 
 /// Russian roulette starts at this scattering event (1-based: the paths of up to two events
@@ -115,6 +117,7 @@ impl<F: Real> PathParams<F> {
             multiscatter: scene.material.multiscatter,
             regularize: F::lit(scene.path.regularize),
             seed: scene.path.seed,
+            step_scale: F::lit(scene.path.step_scale),
         }
     }
 }
@@ -209,13 +212,26 @@ impl<F: Real> TraceParams<F> {
     /// Whether nothing of the set lies between origin and origin + t_max dir: the shadow ray,
     /// the tracer's own sphere trace (no pixel epsilon) within the bounding ball. A shadow ray
     /// that runs out of steps ([`Self::exhausted`]) is occluded.
-    pub fn unoccluded(&self, origin: Vec3<F>, dir: Vec3<F>, t_max: F) -> bool {
+    pub fn unoccluded(
+        &self,
+        path: &PathParams<F>,
+        origin: Vec3<F>,
+        dir: Vec3<F>,
+        t_max: F,
+    ) -> bool {
         let bounds = self.intersect_bounds(origin, dir);
         let t_end = bounds.t_exit.min(t_max);
         if !bounds.hit || bounds.t_enter >= t_end {
             return true;
         }
-        let trace = self.sphere_trace(origin, dir, bounds.t_enter, t_end, F::zero());
+        let trace = self.sphere_trace_by(
+            origin,
+            dir,
+            bounds.t_enter,
+            t_end,
+            F::zero(),
+            path.step_scale,
+        );
         if self.exhausted(trace, t_end) {
             EXHAUSTED_RAYS.set(EXHAUSTED_RAYS.get() + 1);
             return false;
@@ -264,7 +280,7 @@ impl<F: Real> TraceParams<F> {
         if any_positive(path.sun.irradiance) {
             let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
             let wi = to_local(f, ls.wi);
-            if wi.z > F::zero() && self.unoccluded(origin, ls.wi, F::lit(3.0e38)) {
+            if wi.z > F::zero() && self.unoccluded(path, origin, ls.wi, F::lit(3.0e38)) {
                 let mut w = F::one();
                 if path.strategy == Strategy::Both {
                     w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
@@ -276,7 +292,9 @@ impl<F: Real> TraceParams<F> {
             let light = self.path_sphere_light(path);
             let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
             let wi = to_local(f, ls.wi);
-            if ls.pdf > F::zero() && wi.z > F::zero() && self.unoccluded(origin, ls.wi, ls.distance)
+            if ls.pdf > F::zero()
+                && wi.z > F::zero()
+                && self.unoccluded(path, origin, ls.wi, ls.distance)
             {
                 if ls.delta {
                     sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * wi.z;
@@ -436,7 +454,14 @@ impl<F: Real> TraceParams<F> {
                 let bounds = self.intersect_bounds(origin, dir);
                 if bounds.hit {
                     let (t_enter, t_exit) = (bounds.t_enter, bounds.t_exit);
-                    trace = self.sphere_trace(origin, dir, t_enter, t_exit, F::zero());
+                    trace = self.sphere_trace_by(
+                        origin,
+                        dir,
+                        t_enter,
+                        t_exit,
+                        F::zero(),
+                        path.step_scale,
+                    );
                     // Only scattered rays end so: a camera ray that runs out stays a miss, as
                     // in phong mode.
                     if self.exhausted(trace, t_exit) {

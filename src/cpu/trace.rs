@@ -261,8 +261,22 @@ impl<F: Real> TraceParams<F> {
         t_end: F,
         eps_slope: F,
     ) -> Trace<F> {
+        self.sphere_trace_by(origin, dir, t_start, t_end, eps_slope, self.step_scale)
+    }
+
+    /// `sphere_trace` with the over-relaxation omega given (path mode's secondary rays take
+    /// theirs from `path.step_scale`).
+    pub fn sphere_trace_by(
+        &self,
+        origin: Vec3<F>,
+        dir: Vec3<F>,
+        t_start: F,
+        t_end: F,
+        eps_slope: F,
+        omega_start: F,
+    ) -> Trace<F> {
         let mut t = t_start;
-        let mut omega = self.step_scale;
+        let mut omega = omega_start;
         let mut t_prev = t_start;
         let mut prev_radius = F::zero();
         for steps in 1..=self.max_steps {

@@ -50,7 +50,8 @@ pub struct GpuPathParams {
     pub multiscatter: u32,
     pub regularize: f32,
     pub seed: u32,
-    pub pad0: u32,
+    /// `path.step_scale`: the over-relaxation of shadow and bounce rays.
+    pub step_scale: f32,
     pub pad1: u32,
 }
 
@@ -204,10 +205,10 @@ impl GpuPathParams {
                 per_dispatch: false,
             },
             FieldLayout {
-                name: "pad0",
+                name: "step_scale",
                 offset: 136,
                 size: 4,
-                ty: "u32",
+                ty: "f32",
                 per_dispatch: false,
             },
             FieldLayout {
@@ -245,7 +246,7 @@ impl GpuPathParams {
             multiscatter: p.multiscatter as u32,
             regularize: x(p.regularize),
             seed: p.seed,
-            pad0: 0,
+            step_scale: x(p.step_scale),
             pad1: 0,
         }
     }

@@ -273,7 +273,7 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['multiscatter', s.get('material.multiscatter') ? 1 : 0],
     ['regularize', f('path.regularize')],
     ['seed', f('path.seed')],
-    ['pad0', 0],
+    ['step_scale', f('path.step_scale')],
     ['pad1', 0],
   ]);
 }
