@@ -103,8 +103,13 @@ pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 }
 
 /// Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
-/// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits.
+/// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits. Dimension
+/// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed: one
+/// instruction instead of a loop over the index's bits (the same bits).
 pub fn sobol(index: u32, dim: u32) -> u32 {
+    if dim == 0 {
+        return index.reverse_bits();
+    }
     let mut x = 0u32;
     let mut i = index;
     let mut k = 0u32;
