@@ -107,11 +107,15 @@ fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 
 // Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
 // 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits. Dimension
-// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed: one
-// instruction instead of a loop over the index's bits (the same bits).
+// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed; dimension 1's
+// are Pascal's triangle mod 2 (pascal_xor). Both without a loop over the index's bits, the same
+// bits.
 fn sobol(index: u32, dim: u32) -> u32 {
     if dim == 0u {
         return reverseBits(index);
+    }
+    if dim == 1u {
+        return reverseBits(pascal_xor(index));
     }
     var x = 0u;
     var i = index;
@@ -124,6 +128,19 @@ fn sobol(index: u32, dim: u32) -> u32 {
         k += 1u;
     }
     return x;
+}
+
+// Sobol' dimension 1 before its bits are reversed: bit j of the result is the XOR of the
+// index's bits k with C(k, j) odd, which by Lucas' theorem are the k whose set bits include
+// j's; five shifted XORs sum each bit's supersets, one bit of j at a time.
+fn pascal_xor(index: u32) -> u32 {
+    var y = index;
+    y ^= (y >> 1u) & 0x55555555u;
+    y ^= (y >> 2u) & 0x33333333u;
+    y ^= (y >> 4u) & 0x0f0f0f0fu;
+    y ^= (y >> 8u) & 0x00ff00ffu;
+    y ^= (y >> 16u) & 0x0000ffffu;
+    return y;
 }
 
 // The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a

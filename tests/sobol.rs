@@ -97,6 +97,23 @@ fn unscrambled_points_match_joe_kuo_numbers() {
     assert_eq!(SOBOL_DIRECTIONS.len() as u32, SOBOL_DIMS * 32);
 }
 
+/// `sobol` takes dimension 0 as the index's bits reversed and dimension 1 by Pascal's triangle
+/// (`pascal_xor`), without the table: on full 32-bit indices (the shuffled indices it is given)
+/// every dimension is the XOR of the table's direction numbers of the index's set bits.
+#[test]
+fn every_dimension_is_the_tables_xor_on_full_indices() {
+    let mut index = 0x9e37_79b9u32;
+    for n in 0..100_000u32 {
+        index = index.wrapping_mul(747_796_405).wrapping_add(2_891_336_453) ^ n;
+        for dim in 0..SOBOL_DIMS {
+            let table = (0..32)
+                .filter(|k| (index >> k) & 1 == 1)
+                .fold(0u32, |x, k| x ^ SOBOL_DIRECTIONS[(dim * 32 + k) as usize]);
+            assert_eq!(sobol(index, dim), table, "dimension {dim}, index {index:#010x}");
+        }
+    }
+}
+
 /// Whether the points (0.32 fixed point) are a (0, k, 2)-net: each box 2^-a x 2^-b with
 /// a + b = k holds exactly one.
 fn assert_net(points: &[(u32, u32)], k: u32, what: &str) {

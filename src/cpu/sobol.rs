@@ -104,11 +104,15 @@ pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 
 /// Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
 /// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits. Dimension
-/// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed: one
-/// instruction instead of a loop over the index's bits (the same bits).
+/// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed; dimension 1's
+/// are Pascal's triangle mod 2 ([`pascal_xor`]). Both without a loop over the index's bits, the
+/// same bits.
 pub fn sobol(index: u32, dim: u32) -> u32 {
     if dim == 0 {
         return index.reverse_bits();
+    }
+    if dim == 1 {
+        return pascal_xor(index).reverse_bits();
     }
     let mut x = 0u32;
     let mut i = index;
@@ -121,6 +125,19 @@ pub fn sobol(index: u32, dim: u32) -> u32 {
         k += 1;
     }
     x
+}
+
+/// Sobol' dimension 1 before its bits are reversed: bit j of the result is the XOR of the
+/// index's bits k with C(k, j) odd, which by Lucas' theorem are the k whose set bits include
+/// j's; five shifted XORs sum each bit's supersets, one bit of j at a time.
+pub fn pascal_xor(index: u32) -> u32 {
+    let mut y = index;
+    y ^= (y >> 1) & 0x5555_5555;
+    y ^= (y >> 2) & 0x3333_3333;
+    y ^= (y >> 4) & 0x0f0f_0f0f;
+    y ^= (y >> 8) & 0x00ff_00ff;
+    y ^= (y >> 16) & 0x0000_ffff;
+    y
 }
 
 /// The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a
