@@ -109,7 +109,11 @@ fn every_dimension_is_the_tables_xor_on_full_indices() {
             let table = (0..32)
                 .filter(|k| (index >> k) & 1 == 1)
                 .fold(0u32, |x, k| x ^ SOBOL_DIRECTIONS[(dim * 32 + k) as usize]);
-            assert_eq!(sobol(index, dim), table, "dimension {dim}, index {index:#010x}");
+            assert_eq!(
+                sobol(index, dim),
+                table,
+                "dimension {dim}, index {index:#010x}"
+            );
         }
     }
 }
