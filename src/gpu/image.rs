@@ -302,10 +302,10 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
             let n = steps.par_iter().map(|&n| n as u64).sum::<u64>();
             (n, n)
         }
-        work => (
-            work.par_iter().map(|w| wide(w[0], w[1])).sum(),
-            work.par_iter().map(|w| wide(w[2], w[3])).sum(),
-        ),
+        work => work
+            .par_iter()
+            .map(|w| (wide(w[0], w[1]), wide(w[2], w[3])))
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1)),
     };
     // The accumulator where it was read back: path mode's mean linear radiance, adaptive
     // sampling's samples (a done pixel's fourth float is minus its samples).
