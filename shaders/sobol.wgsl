@@ -41,37 +41,13 @@ const DIM_BSDF_CHOICE: u32 = 10u;
 // Within a bounce: Russian roulette (1D).
 const DIM_ROULETTE: u32 = 11u;
 
-// Dimensions of the Sobol' sequence tabulated; dimension d is Sobol' dimension d % SOBOL_DIMS
+// Dimensions of the Sobol' sequence drawn; dimension d is Sobol' dimension d % SOBOL_DIMS
 // of the padding group d / SOBOL_DIMS (Burley's padding).
 const SOBOL_DIMS: u32 = 4u;
 // What the index shuffle's seed is salted with.
 const SEED_SHUFFLE: u32 = 0x53485546u;
 // What the scramble's seed is salted with.
 const SEED_SCRAMBLE: u32 = 0x5343524du;
-
-// The direction numbers, 32 per dimension, bit k of the index XORing in entry 32 * d + k.
-// Dimension 0 is the van der Corput sequence (1 << (31 - k): the index's bits reversed);
-// dimensions 1 to 3 follow from Joe and Kuo's primitive polynomials and initial numbers
-// (new-joe-kuo-6.21201, their dimensions 2 to 4) by Bratley and Fox's recurrence. A private
-// variable, not a const: it is indexed by a runtime value.
-var<private> SOBOL_DIRECTIONS: array<u32, 128> = array<u32, 128>(
-    0x80000000u, 0x40000000u, 0x20000000u, 0x10000000u, 0x08000000u, 0x04000000u, 0x02000000u, 0x01000000u,
-    0x00800000u, 0x00400000u, 0x00200000u, 0x00100000u, 0x00080000u, 0x00040000u, 0x00020000u, 0x00010000u,
-    0x00008000u, 0x00004000u, 0x00002000u, 0x00001000u, 0x00000800u, 0x00000400u, 0x00000200u, 0x00000100u,
-    0x00000080u, 0x00000040u, 0x00000020u, 0x00000010u, 0x00000008u, 0x00000004u, 0x00000002u, 0x00000001u,
-    0x80000000u, 0xc0000000u, 0xa0000000u, 0xf0000000u, 0x88000000u, 0xcc000000u, 0xaa000000u, 0xff000000u,
-    0x80800000u, 0xc0c00000u, 0xa0a00000u, 0xf0f00000u, 0x88880000u, 0xcccc0000u, 0xaaaa0000u, 0xffff0000u,
-    0x80008000u, 0xc000c000u, 0xa000a000u, 0xf000f000u, 0x88008800u, 0xcc00cc00u, 0xaa00aa00u, 0xff00ff00u,
-    0x80808080u, 0xc0c0c0c0u, 0xa0a0a0a0u, 0xf0f0f0f0u, 0x88888888u, 0xccccccccu, 0xaaaaaaaau, 0xffffffffu,
-    0x80000000u, 0xc0000000u, 0x60000000u, 0x90000000u, 0xe8000000u, 0x5c000000u, 0x8e000000u, 0xc5000000u,
-    0x68800000u, 0x9cc00000u, 0xee600000u, 0x55900000u, 0x80680000u, 0xc09c0000u, 0x60ee0000u, 0x90550000u,
-    0xe8808000u, 0x5cc0c000u, 0x8e606000u, 0xc5909000u, 0x6868e800u, 0x9c9c5c00u, 0xeeee8e00u, 0x5555c500u,
-    0x8000e880u, 0xc0005cc0u, 0x60008e60u, 0x9000c590u, 0xe8006868u, 0x5c009c9cu, 0x8e00eeeeu, 0xc5005555u,
-    0x80000000u, 0xc0000000u, 0x20000000u, 0x50000000u, 0xf8000000u, 0x74000000u, 0xa2000000u, 0x93000000u,
-    0xd8800000u, 0x25400000u, 0x59e00000u, 0xe6d00000u, 0x78080000u, 0xb40c0000u, 0x82020000u, 0xc3050000u,
-    0x208f8000u, 0x51474000u, 0xfbea2000u, 0x75d93000u, 0xa0858800u, 0x914e5400u, 0xdbe79e00u, 0x25db6d00u,
-    0x58800080u, 0xe54000c0u, 0x79e00020u, 0xb6d00050u, 0x800800f8u, 0xc00c0074u, 0x200200a2u, 0x50050093u,
-);
 
 // A 32-bit integer hash: the PCG hash (Jarzynski and Olano, "Hash Functions for GPU
 // Rendering", JCGT 2020), one LCG step then PCG's output permutation.
@@ -108,8 +84,8 @@ fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 // Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
 // 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits. Dimension
 // 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed; dimension 1's
-// are Pascal's triangle mod 2 (pascal_xor). Both without a loop over the index's bits, the same
-// bits.
+// are Pascal's triangle mod 2 (pascal_xor); dimensions 2 and 3 are their numbers written out
+// (sobol_dim2, sobol_dim3). None loops over the index's bits or reads a table: the same bits.
 fn sobol(index: u32, dim: u32) -> u32 {
     if dim == 0u {
         return reverseBits(index);
@@ -117,17 +93,10 @@ fn sobol(index: u32, dim: u32) -> u32 {
     if dim == 1u {
         return reverseBits(pascal_xor(index));
     }
-    var x = 0u;
-    var i = index;
-    var k = 0u;
-    while i != 0u {
-        if (i & 1u) != 0u {
-            x ^= SOBOL_DIRECTIONS[dim * 32u + k];
-        }
-        i >>= 1u;
-        k += 1u;
+    if dim == 2u {
+        return sobol_dim2(index);
     }
-    return x;
+    return sobol_dim3(index);
 }
 
 // Sobol' dimension 1 before its bits are reversed: bit j of the result is the XOR of the
@@ -141,6 +110,53 @@ fn pascal_xor(index: u32) -> u32 {
     y ^= (y >> 8u) & 0x00ff00ffu;
     y ^= (y >> 16u) & 0x0000ffffu;
     return y;
+}
+
+// Direction number `direction` where bit k of the index is set, else 0: a mask, no branch.
+fn direction_if(index: u32, k: u32, direction: u32) -> u32 {
+    return direction & (0u - ((index >> k) & 1u));
+}
+
+// Sobol' dimension 2 (Joe and Kuo's 3): the XOR of its direction numbers (src/cpu/sobol.rs's
+// SOBOL_DIRECTIONS[64..96]) over the index's set bits, as 32 masks written out, so that a
+// draw is straight-line code: no loop over the bits, no lookup in a table.
+fn sobol_dim2(index: u32) -> u32 {
+    return direction_if(index, 0u, 0x80000000u) ^ direction_if(index, 1u, 0xc0000000u)
+        ^ direction_if(index, 2u, 0x60000000u) ^ direction_if(index, 3u, 0x90000000u)
+        ^ direction_if(index, 4u, 0xe8000000u) ^ direction_if(index, 5u, 0x5c000000u)
+        ^ direction_if(index, 6u, 0x8e000000u) ^ direction_if(index, 7u, 0xc5000000u)
+        ^ direction_if(index, 8u, 0x68800000u) ^ direction_if(index, 9u, 0x9cc00000u)
+        ^ direction_if(index, 10u, 0xee600000u) ^ direction_if(index, 11u, 0x55900000u)
+        ^ direction_if(index, 12u, 0x80680000u) ^ direction_if(index, 13u, 0xc09c0000u)
+        ^ direction_if(index, 14u, 0x60ee0000u) ^ direction_if(index, 15u, 0x90550000u)
+        ^ direction_if(index, 16u, 0xe8808000u) ^ direction_if(index, 17u, 0x5cc0c000u)
+        ^ direction_if(index, 18u, 0x8e606000u) ^ direction_if(index, 19u, 0xc5909000u)
+        ^ direction_if(index, 20u, 0x6868e800u) ^ direction_if(index, 21u, 0x9c9c5c00u)
+        ^ direction_if(index, 22u, 0xeeee8e00u) ^ direction_if(index, 23u, 0x5555c500u)
+        ^ direction_if(index, 24u, 0x8000e880u) ^ direction_if(index, 25u, 0xc0005cc0u)
+        ^ direction_if(index, 26u, 0x60008e60u) ^ direction_if(index, 27u, 0x9000c590u)
+        ^ direction_if(index, 28u, 0xe8006868u) ^ direction_if(index, 29u, 0x5c009c9cu)
+        ^ direction_if(index, 30u, 0x8e00eeeeu) ^ direction_if(index, 31u, 0xc5005555u);
+}
+
+// Sobol' dimension 3 (Joe and Kuo's 4) as sobol_dim2: SOBOL_DIRECTIONS[96..128] written out.
+fn sobol_dim3(index: u32) -> u32 {
+    return direction_if(index, 0u, 0x80000000u) ^ direction_if(index, 1u, 0xc0000000u)
+        ^ direction_if(index, 2u, 0x20000000u) ^ direction_if(index, 3u, 0x50000000u)
+        ^ direction_if(index, 4u, 0xf8000000u) ^ direction_if(index, 5u, 0x74000000u)
+        ^ direction_if(index, 6u, 0xa2000000u) ^ direction_if(index, 7u, 0x93000000u)
+        ^ direction_if(index, 8u, 0xd8800000u) ^ direction_if(index, 9u, 0x25400000u)
+        ^ direction_if(index, 10u, 0x59e00000u) ^ direction_if(index, 11u, 0xe6d00000u)
+        ^ direction_if(index, 12u, 0x78080000u) ^ direction_if(index, 13u, 0xb40c0000u)
+        ^ direction_if(index, 14u, 0x82020000u) ^ direction_if(index, 15u, 0xc3050000u)
+        ^ direction_if(index, 16u, 0x208f8000u) ^ direction_if(index, 17u, 0x51474000u)
+        ^ direction_if(index, 18u, 0xfbea2000u) ^ direction_if(index, 19u, 0x75d93000u)
+        ^ direction_if(index, 20u, 0xa0858800u) ^ direction_if(index, 21u, 0x914e5400u)
+        ^ direction_if(index, 22u, 0xdbe79e00u) ^ direction_if(index, 23u, 0x25db6d00u)
+        ^ direction_if(index, 24u, 0x58800080u) ^ direction_if(index, 25u, 0xe54000c0u)
+        ^ direction_if(index, 26u, 0x79e00020u) ^ direction_if(index, 27u, 0xb6d00050u)
+        ^ direction_if(index, 28u, 0x800800f8u) ^ direction_if(index, 29u, 0xc00c0074u)
+        ^ direction_if(index, 30u, 0x200200a2u) ^ direction_if(index, 31u, 0x50050093u);
 }
 
 // The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a

@@ -105,26 +105,15 @@ pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 /// Point `index` of the unscrambled Sobol' sequence in dimension `dim` (< SOBOL_DIMS), as a
 /// 0.32 fixed-point number: the XOR of the direction numbers of the index's set bits. Dimension
 /// 0's numbers are the bits 1 << (31 - k), whose XOR is the index's bits reversed; dimension 1's
-/// are Pascal's triangle mod 2 ([`pascal_xor`]). Both without a loop over the index's bits, the
-/// same bits.
+/// are Pascal's triangle mod 2 ([`pascal_xor`]); dimensions 2 and 3 are [`sobol_dim2`] and
+/// [`sobol_dim3`], which the kernel writes out number by number.
 pub fn sobol(index: u32, dim: u32) -> u32 {
-    if dim == 0 {
-        return index.reverse_bits();
+    match dim {
+        0 => index.reverse_bits(),
+        1 => pascal_xor(index).reverse_bits(),
+        2 => sobol_dim2(index),
+        _ => sobol_dim3(index),
     }
-    if dim == 1 {
-        return pascal_xor(index).reverse_bits();
-    }
-    let mut x = 0u32;
-    let mut i = index;
-    let mut k = 0u32;
-    while i != 0 {
-        if (i & 1) != 0 {
-            x ^= SOBOL_DIRECTIONS[(dim * 32 + k) as usize];
-        }
-        i >>= 1;
-        k += 1;
-    }
-    x
 }
 
 /// Sobol' dimension 1 before its bits are reversed: bit j of the result is the XOR of the
@@ -138,6 +127,27 @@ pub fn pascal_xor(index: u32) -> u32 {
     y ^= (y >> 8) & 0x00ff_00ff;
     y ^= (y >> 16) & 0x0000_ffff;
     y
+}
+
+/// Direction number `direction` where bit k of the index is set, else 0: a mask, no branch.
+pub fn direction_if(index: u32, k: u32, direction: u32) -> u32 {
+    direction & 0u32.wrapping_sub((index >> k) & 1)
+}
+
+/// Sobol' dimension 2 (Joe and Kuo's 3): the XOR of its direction numbers
+/// (`SOBOL_DIRECTIONS[64..96]`) over the index's set bits. The kernel writes the 32 masks out as
+/// straight-line code; here they are folded over the table, the same bits.
+pub fn sobol_dim2(index: u32) -> u32 {
+    (0..32).fold(0, |x, k| {
+        x ^ direction_if(index, k, SOBOL_DIRECTIONS[64 + k as usize])
+    })
+}
+
+/// Sobol' dimension 3 (Joe and Kuo's 4) as [`sobol_dim2`]: `SOBOL_DIRECTIONS[96..128]`.
+pub fn sobol_dim3(index: u32) -> u32 {
+    (0..32).fold(0, |x, k| {
+        x ^ direction_if(index, k, SOBOL_DIRECTIONS[96 + k as usize])
+    })
 }
 
 /// The `sobol` sampler's bits for (pixel, sample, dimension): the sample's index shuffled by a
