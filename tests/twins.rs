@@ -202,11 +202,24 @@ const GGX_ALBEDO: Twin = Twin {
     rust: "src/cpu/ggx_albedo.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[OnlyIn {
-        side: Side::Rust,
-        name: "parse_tables",
-        reason: "reads the shader's tables, so that the twin uses its very numbers",
-    }],
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "unorm16",
+            reason: "decodes a half of a table word as WGSL's `unpack2x16unorm` does, for \
+                     `parse_tables`",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "to_unorm16",
+            reason: "encodes an entry of E for the file (`ggx_quadrature::wgsl_tables`)",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "parse_tables",
+            reason: "reads the shader's tables, so that the twin uses its very numbers",
+        },
+    ],
 };
 
 const PATH: Twin = Twin {

@@ -33,13 +33,19 @@ fn table_cell<F: Real>(x: F, n: usize) -> (usize, F) {
     (i, s - F::lit(i as f64))
 }
 
+/// Entry `k` of the E table (row by row, a row a roughness): the file holds two entries a
+/// word, each a 16-bit unorm ([`unorm16`]), which the tables hold decoded.
+pub fn albedo_entry(k: usize) -> f32 {
+    TABLES.0[k]
+}
+
 /// The directional albedo E(mu, roughness) of a white single-scattering GGX lobe: the table,
-/// bilinearly between its entries in sqrt(mu) and roughness (both clamped to [0, 1]).
+/// bilinearly between its entries ([`albedo_entry`]) in sqrt(mu) and roughness (both clamped
+/// to [0, 1]).
 pub fn ggx_albedo<F: Real>(mu: F, roughness: F) -> F {
-    let e = &TABLES.0;
     let (i, a) = table_cell(mu.max(F::zero()).sqrt(), ALBEDO_MU);
     let (j, b) = table_cell(roughness, ALBEDO_ROUGHNESS);
-    let at = |i: usize, j: usize| F::lit(e[j * ALBEDO_MU + i] as f64);
+    let at = |i: usize, j: usize| F::lit(albedo_entry(j * ALBEDO_MU + i) as f64);
     let low = at(i, j) + (at(i + 1, j) - at(i, j)) * a;
     let high = at(i, j + 1) + (at(i + 1, j + 1) - at(i, j + 1)) * a;
     low + (high - low) * b
@@ -54,10 +60,21 @@ pub fn ggx_average_albedo<F: Real>(roughness: F) -> F {
     low + (high - low) * b
 }
 
+/// WGSL's `unpack2x16unorm` of one half: v / 65535.
+pub fn unorm16(v: u32) -> f32 {
+    (v & 0xffff) as f32 / 65535.0
+}
+
+/// The 16-bit unorm nearest x in [0, 1] (clamped): what the file holds of an entry of E.
+pub fn to_unorm16(x: f32) -> u32 {
+    (x.clamp(0.0, 1.0) * 65535.0).round() as u32
+}
+
 /// The numbers of the two arrays `ggx_quadrature::wgsl_tables` writes, from a WGSL file that
-/// holds them.
+/// holds them: E's entries decoded from its words ([`unorm16`], entry 2i in the low half of
+/// word i), and E_avg.
 pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
-    let array = |name: &str| -> Vec<f32> {
+    let array = |name: &str| -> Vec<String> {
         let start = wgsl
             .find(&format!("var<private> {name}:"))
             .unwrap_or_else(|| panic!("shaders/ggx_albedo.wgsl has no {name}"));
@@ -68,10 +85,21 @@ pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
             .split(',')
             .map(str::trim)
             .filter(|s| !s.is_empty())
-            .map(|s| s.parse().expect("an f32 literal"))
+            .map(str::to_string)
             .collect()
     };
-    let (e, avg) = (array("GGX_ALBEDO"), array("GGX_AVERAGE_ALBEDO"));
+    let e: Vec<f32> = array("GGX_ALBEDO")
+        .iter()
+        .map(|w| {
+            let hex = w.strip_prefix("0x").and_then(|w| w.strip_suffix('u'));
+            u32::from_str_radix(hex.expect("a hex u32 literal"), 16).expect("a word")
+        })
+        .flat_map(|w| [unorm16(w), unorm16(w >> 16)])
+        .collect();
+    let avg: Vec<f32> = array("GGX_AVERAGE_ALBEDO")
+        .iter()
+        .map(|s| s.parse().expect("an f32 literal"))
+        .collect();
     assert_eq!(e.len(), ALBEDO_MU * ALBEDO_ROUGHNESS);
     assert_eq!(avg.len(), ALBEDO_ROUGHNESS);
     (e, avg)

@@ -64,25 +64,29 @@ pub fn make_tables() -> (Vec<f32>, Vec<f32>) {
     (e, avg)
 }
 
-/// The tables' part of shaders/ggx_albedo.wgsl: two private arrays of
-/// f32 literals, each number written so that it reads back to the same bits.
+/// The tables' part of shaders/ggx_albedo.wgsl: two private arrays, E's entries as 16-bit
+/// unorms two a word in hex (entry 2i in the low half of word i: `ggx_albedo::to_unorm16`), and E_avg
+/// as f32 literals, each written so that it reads back to the same bits.
 pub fn wgsl_tables(e: &[f32], avg: &[f32]) -> String {
-    let rows = |v: &[f32], per_row: usize| {
+    use super::ggx_albedo::to_unorm16;
+    let rows = |v: &[String], per_row: usize| {
         v.chunks(per_row)
-            .map(|row| {
-                let numbers: Vec<String> = row.iter().map(|x| format!("{x:?}")).collect();
-                format!("    {},\n", numbers.join(", "))
-            })
+            .map(|row| format!("    {},\n", row.join(", ")))
             .collect::<String>()
     };
+    let words: Vec<String> = e
+        .chunks(2)
+        .map(|pair| format!("{:#010x}u", to_unorm16(pair[0]) | to_unorm16(pair[1]) << 16))
+        .collect();
+    let floats: Vec<String> = avg.iter().map(|x| format!("{x:?}")).collect();
     format!(
-        "var<private> GGX_ALBEDO: array<f32, {}> = array<f32, {}>(\n{});\n\n\
+        "var<private> GGX_ALBEDO: array<u32, {}> = array<u32, {}>(\n{});\n\n\
          var<private> GGX_AVERAGE_ALBEDO: array<f32, {}> = array<f32, {}>(\n{});\n",
-        e.len(),
-        e.len(),
-        rows(e, 8),
-        avg.len(),
-        avg.len(),
-        rows(avg, 8),
+        words.len(),
+        words.len(),
+        rows(&words, 8),
+        floats.len(),
+        floats.len(),
+        rows(&floats, 8),
     )
 }
