@@ -211,11 +211,6 @@ const GGX_ALBEDO: Twin = Twin {
         },
         OnlyIn {
             side: Side::Rust,
-            name: "to_unorm16",
-            reason: "encodes an entry of E for the file (`ggx_quadrature::wgsl_tables`)",
-        },
-        OnlyIn {
-            side: Side::Rust,
             name: "parse_tables",
             reason: "reads the shader's tables, so that the twin uses its very numbers",
         },

@@ -65,16 +65,11 @@ pub fn unorm16(v: u32) -> f32 {
     (v & 0xffff) as f32 / 65535.0
 }
 
-/// The 16-bit unorm nearest x in [0, 1] (clamped): what the file holds of an entry of E.
-pub fn to_unorm16(x: f32) -> u32 {
-    (x.clamp(0.0, 1.0) * 65535.0).round() as u32
-}
-
 /// The numbers of the two arrays `ggx_quadrature::wgsl_tables` writes, from a WGSL file that
 /// holds them: E's entries decoded from its words ([`unorm16`], entry 2i in the low half of
 /// word i), and E_avg.
 pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
-    let array = |name: &str| -> Vec<String> {
+    let array = |name: &str| -> Vec<&str> {
         let start = wgsl
             .find(&format!("var<private> {name}:"))
             .unwrap_or_else(|| panic!("shaders/ggx_albedo.wgsl has no {name}"));
@@ -85,11 +80,10 @@ pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
             .split(',')
             .map(str::trim)
             .filter(|s| !s.is_empty())
-            .map(str::to_string)
             .collect()
     };
     let e: Vec<f32> = array("GGX_ALBEDO")
-        .iter()
+        .into_iter()
         .map(|w| {
             let hex = w.strip_prefix("0x").and_then(|w| w.strip_suffix('u'));
             u32::from_str_radix(hex.expect("a hex u32 literal"), 16).expect("a word")
@@ -97,7 +91,7 @@ pub fn parse_tables(wgsl: &str) -> (Vec<f32>, Vec<f32>) {
         .flat_map(|w| [unorm16(w), unorm16(w >> 16)])
         .collect();
     let avg: Vec<f32> = array("GGX_AVERAGE_ALBEDO")
-        .iter()
+        .into_iter()
         .map(|s| s.parse().expect("an f32 literal"))
         .collect();
     assert_eq!(e.len(), ALBEDO_MU * ALBEDO_ROUGHNESS);

@@ -64,11 +64,16 @@ pub fn make_tables() -> (Vec<f32>, Vec<f32>) {
     (e, avg)
 }
 
+/// The 16-bit unorm nearest x in [0, 1] (clamped): what the file holds of an entry of E
+/// (`ggx_albedo::unorm16` decodes it).
+pub fn to_unorm16(x: f32) -> u32 {
+    (x.clamp(0.0, 1.0) * 65535.0).round() as u32
+}
+
 /// The tables' part of shaders/ggx_albedo.wgsl: two private arrays, E's entries as 16-bit
-/// unorms two a word in hex (entry 2i in the low half of word i: `ggx_albedo::to_unorm16`), and E_avg
+/// unorms two a word in hex (entry 2i in the low half of word i: [`to_unorm16`]), and E_avg
 /// as f32 literals, each written so that it reads back to the same bits.
 pub fn wgsl_tables(e: &[f32], avg: &[f32]) -> String {
-    use super::ggx_albedo::to_unorm16;
     let rows = |v: &[String], per_row: usize| {
         v.chunks(per_row)
             .map(|row| format!("    {},\n", row.join(", ")))
