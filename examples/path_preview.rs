@@ -43,6 +43,7 @@ fn main() {
         regularize: 0.0,
         seed: 0,
         step_scale: 1.6,
+        emission: Vec3::zero(),
     };
     let t = GpuPathTracer::new(GpuContext::new().unwrap()).unwrap();
     let start = std::time::Instant::now();

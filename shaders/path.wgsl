@@ -1,12 +1,18 @@
 // The path tracer (shading.model = "path"): one invocation per pixel, paths of up to `bounces`
-// scattering events through the set, with next-event estimation toward the sun and the sphere
-// light, combined with BSDF sampling by the power heuristic, Russian roulette and a clamp.
-// The book's chapter "Path tracing" gives the estimator exactly.
+// scattering events through the set and the fog, with next-event estimation toward the sun and
+// the sphere light, combined with BSDF or phase sampling by the power heuristic, Russian
+// roulette and a clamp. The book's chapters "Path tracing" and "Atmosphere" give the estimator
+// exactly.
 //
 // Twin: src/cpu/path.rs, same names, same order (tests/twins.rs). Needs a prelude, algebra.wgsl,
 // trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl,
-// light.wgsl and sobol.wgsl in front of it (src/gpu/shaders.rs). Geometry is in `Real` (f32 or f64); the
-// material, the light and the radiance are f32 (shaders/bsdf.wgsl says why).
+// light.wgsl, medium.wgsl and sobol.wgsl in front of it (src/gpu/shaders.rs). Geometry is in
+// `Real` (f32 or f64); the material, the light and the radiance are f32 (shaders/bsdf.wgsl says
+// why).
+//
+// Why it passes 600 lines: it is one estimator, surface and fog vertices alike; the fog's vertex
+// (medium_direct_light, path_fog) reads the sampler (path_random) and the path uniform, which
+// live here, so it cannot join medium.wgsl, which comes before them; and its twin is split alike.
 
 // The path tracer's own parameters, a second uniform beside the tracer's Params (keep in sync
 // with `GpuPathParams` in src/gpu/path.rs; its CPU twin is `PathParams` in src/cpu/path.rs).
@@ -37,6 +43,9 @@ struct PathParams {
     // path.step_scale: the over-relaxation of shadow and bounce rays (sphere_trace_by's omega).
     step_scale: f32,
     pad1: u32,
+    // material.emission: the radiance the surface emits, times its albedo (0: none).
+    emission: vec3<f32>,
+    pad2: u32,
 }
 
 @group(0) @binding(7) var<uniform> path: PathParams;
@@ -144,6 +153,16 @@ fn unoccluded(origin: vec3<Real>, dir: vec3<Real>, t_max: Real) -> bool {
     return !trace.hit;
 }
 
+// What of the light at origin + t_max dir reaches origin: 0 where the set occludes it
+// (unoccluded), else the fog's transmittance over the stretch (1 without fog). The fog's
+// shadow: light shafts where the set casts its shadow into the fog.
+fn visibility(origin: vec3<Real>, dir: vec3<Real>, t_max: Real) -> f32 {
+    if !unoccluded(origin, dir, t_max) {
+        return 0.0;
+    }
+    return fog_transmittance(origin, dir, t_max);
+}
+
 // A path's contribution, clamped where its light reached the camera through more than one
 // scattering event: `vertex` is the index of the last scattering event (0 the first hit) of the
 // path the light took, the same for the light that next-event estimation finds at vertex v and
@@ -170,12 +189,15 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basi
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
         let ls = sample_sun(path_sun(), u);
         let wi = to_local(f, ls.wi);
-        if wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), 3.0e38) {
-            var w = 1.0;
-            if path.strategy == STRATEGY_BOTH {
-                w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+        if wi.z > 0.0 {
+            let v = visibility(origin, vec3<Real>(ls.wi), 3.0e38);
+            if v > 0.0 {
+                var w = 1.0;
+                if path.strategy == STRATEGY_BOTH {
+                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                }
+                sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
             }
-            sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf);
         }
     }
     if any(path.light_intensity > vec3<f32>(0.0)) {
@@ -183,19 +205,100 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basi
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
         let ls = sample_sphere_light(light, vec3<f32>(p), u);
         let wi = to_local(f, ls.wi);
-        if ls.pdf > 0.0 && wi.z > 0.0 && unoccluded(origin, vec3<Real>(ls.wi), Real(ls.distance)) {
-            if ls.delta {
-                sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z;
-            } else {
-                var w = 1.0;
-                if path.strategy == STRATEGY_BOTH {
-                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+        if ls.pdf > 0.0 && wi.z > 0.0 {
+            let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
+            if v > 0.0 {
+                if ls.delta {
+                    sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z * v;
+                } else {
+                    var w = 1.0;
+                    if path.strategy == STRATEGY_BOTH {
+                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                    }
+                    sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
                 }
-                sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf);
             }
         }
     }
     return sum;
+}
+
+// Next-event estimation at a scattering event in the fog, at x, of light that travelled along d:
+// direct_light with the phase function (phase_hg, of fog.anisotropy) for the BSDF and no cosine,
+// each light's shadow ray carrying the fog's transmittance (visibility), weighted against phase
+// sampling by the power heuristic. The fog's albedo is in the path's throughput (fog_event).
+fn medium_direct_light(i: u32, j: u32, sample: u32, bounce: u32, x: vec3<Real>, d: vec3<f32>) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
+    let g = f32(params.fog_anisotropy);
+    if any(path.sun_irradiance > vec3<f32>(0.0)) {
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
+        let ls = sample_sun(path_sun(), u);
+        let v = visibility(x, vec3<Real>(ls.wi), 3.0e38);
+        if v > 0.0 {
+            let phase = phase_hg(g, dot(d, ls.wi));
+            var w = 1.0;
+            if path.strategy == STRATEGY_BOTH {
+                w = power_heuristic(ls.pdf, phase);
+            }
+            sum += ls.radiance * (phase * w / ls.pdf * v);
+        }
+    }
+    if any(path.light_intensity > vec3<f32>(0.0)) {
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
+        let ls = sample_sphere_light(path_sphere_light(), vec3<f32>(x), u);
+        if ls.pdf > 0.0 {
+            let v = visibility(x, vec3<Real>(ls.wi), Real(ls.distance));
+            if v > 0.0 {
+                let phase = phase_hg(g, dot(d, ls.wi));
+                if ls.delta {
+                    sum += ls.radiance * (phase * v);
+                } else {
+                    var w = 1.0;
+                    if path.strategy == STRATEGY_BOTH {
+                        w = power_heuristic(ls.pdf, phase);
+                    }
+                    sum += ls.radiance * (phase * w / ls.pdf * v);
+                }
+            }
+        }
+    }
+    return sum;
+}
+
+// Where a ray's stretch through the fog ends and with what weight: free flight (fog_event) over
+// the part of origin + t dir, t up to t_stop, within the bounding ball, from the sampler's
+// DIM_FOG of the bounce. `point` is the scattering event's, where there is one.
+struct PathFog {
+    point: vec3<Real>,
+    scattered: bool,
+    weight: vec3<f32>,
+}
+
+fn path_fog(i: u32, j: u32, sample: u32, bounce: u32, origin: vec3<Real>, dir: vec3<Real>, t_stop: Real) -> PathFog {
+    let bounds = intersect_bounds(origin, dir);
+    let t_end = min(bounds.t_exit, t_stop);
+    if !bounds.hit || t_end <= bounds.t_enter {
+        return PathFog(origin, false, vec3<f32>(1.0));
+    }
+    let u = path_random(i, j, sample, DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE + DIM_FOG);
+    let e = fog_event(f32(params.fog_density), vec3<f32>(params.fog_colour), f32(t_end - bounds.t_enter), u);
+    return PathFog(origin + (bounds.t_enter + Real(e.distance)) * dir, e.scattered, e.weight);
+}
+
+// Russian roulette after the scattering event `bounce`, from bounce roulette_start on: the path
+// goes on with probability q, the throughput's largest channel (at most 0.95), and is then
+// divided by it, so the mean is kept. Returns the divisor: q, 1 before roulette_start, 0 where
+// the path ends.
+fn roulette(i: u32, j: u32, sample: u32, bounce: u32, throughput: vec3<f32>) -> f32 {
+    if bounce + 1u < path.roulette_start {
+        return 1.0;
+    }
+    let q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+    if path_random(i, j, sample, DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE + DIM_ROULETTE) >= q {
+        return 0.0;
+    }
+    return q;
 }
 
 // The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
@@ -293,7 +396,7 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         // it stopped, and ends its path there, dark.
         var ran_out = false;
         if bounce > 0u {
-            trace = Trace(0.0, 0u, false);
+            trace = Trace(0.0, 0u, false, NO_APPROACH);
             let bounds = intersect_bounds(origin, dir);
             if bounds.hit {
                 trace = sphere_trace_by(origin, dir, bounds.t_enter, bounds.t_exit, 0.0, Real(path.step_scale));
@@ -316,15 +419,52 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
             result.hit = trace.hit;
         }
         let dir32 = vec3<f32>(dir);
+        // Whether the ray meets the sphere light before the set (or before leaving), at t_light.
+        var t_light: f32 = -1.0;
         if light_on {
             let light = path_sphere_light();
-            let t_light = intersect_sphere(vec3<f32>(origin), dir32, light.center, light.radius);
-            let left = !trace.hit && !ran_out;
-            if t_light > 0.0 && (left || Real(t_light) < trace.t) {
-                let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
-                radiance += clamp_indirect(throughput * e, vertex);
-                break;
+            t_light = intersect_sphere(vec3<f32>(origin), dir32, light.center, light.radius);
+        }
+        let left = !trace.hit && !ran_out;
+        let meets_light = t_light > 0.0 && (left || Real(t_light) < trace.t);
+        // In fog, the ray may scatter before its stretch ends (at the light, the set, where it
+        // ran out, or where it leaves): a scattering event is the path's next vertex, lit by
+        // next-event estimation and left by phase sampling, and counts as a bounce.
+        if fog_on() {
+            var t_stop = trace.t;
+            if meets_light {
+                t_stop = Real(t_light);
+            } else if left {
+                t_stop = 3.0e38;
             }
+            let fog = path_fog(i, j, sample, bounce, origin, dir, t_stop);
+            throughput *= fog.weight;
+            if fog.scattered {
+                if bounce == path.bounces {
+                    break;
+                }
+                if path.strategy != STRATEGY_BSDF {
+                    radiance += clamp_indirect(throughput * medium_direct_light(i, j, sample, bounce, fog.point, dir32), bounce);
+                }
+                let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
+                let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
+                let ps = sample_hg(f32(params.fog_anisotropy), dir32, u);
+                // The phase sample's weight, phase / pdf, is 1.
+                pdf_prev = ps.pdf;
+                origin = fog.point;
+                dir = real_normalize(vec3<Real>(ps.wi));
+                let q = roulette(i, j, sample, bounce, throughput);
+                if q <= 0.0 {
+                    break;
+                }
+                throughput /= q;
+                continue;
+            }
+        }
+        if meets_light {
+            let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
+            radiance += clamp_indirect(throughput * e, vertex);
+            break;
         }
         if ran_out {
             break;
@@ -332,6 +472,12 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         if !trace.hit {
             radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), vertex);
             break;
+        }
+        // material.emission: the set's own light, the hit's albedo times the emission (found by
+        // the rays alone: no light sampling aims at it).
+        if any(path.emission > vec3<f32>(0.0)) {
+            let albedo = vec3<f32>(hit_albedo(origin + trace.t * dir));
+            radiance += clamp_indirect(throughput * path.emission * albedo, vertex);
         }
         if bounce == path.bounces {
             break;
@@ -368,15 +514,11 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         pdf_prev = bs.pdf;
         origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(n);
         dir = real_normalize(vec3<Real>(to_world(f, bs.wi)));
-        // Russian roulette from bounce roulette_start on: go on with probability q, the
-        // throughput's largest channel (at most 0.95), and divide by it, so the mean is kept.
-        if bounce + 1u >= path.roulette_start {
-            let q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
-            if path_random(i, j, sample, dim + DIM_ROULETTE) >= q {
-                break;
-            }
-            throughput /= q;
+        let q = roulette(i, j, sample, bounce, throughput);
+        if q <= 0.0 {
+            break;
         }
+        throughput /= q;
     }
     result.radiance = radiance;
     return result;
@@ -456,7 +598,7 @@ fn path_main(
     // (trace_primary_pair), and k + 1's trace kept for it; an odd sample left over is traced
     // alone. One call of trace_path for all three (two calls, each inlined, made the path
     // kernel 17% slower on lavapipe).
-    var second = Trace(0.0, 0u, false);
+    var second = Trace(0.0, 0u, false, NO_APPROACH);
     var paired = false;
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let camera = path_camera_ray(i, j, k);

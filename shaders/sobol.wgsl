@@ -34,6 +34,9 @@ const DIMS_PER_BOUNCE: u32 = 12u;
 const DIM_SUN: u32 = 0u;
 // Within a bounce: the point on the sphere light (2D), its second group's first two.
 const DIM_SPHERE_LIGHT: u32 = 4u;
+// Within a bounce: the fog's free-flight distance (1D), the sphere light's group's third (the
+// ray leaving the bounce's vertex takes it; a scattering event in the fog is the next vertex).
+const DIM_FOG: u32 = 6u;
 // Within a bounce: the BSDF's direction (2D), its third group's first two.
 const DIM_BSDF: u32 = 8u;
 // Within a bounce: which BSDF lobe (1D), in the direction's group.

@@ -46,6 +46,12 @@ struct Params {
     // The cut: the set within cut_normal . p <= cut_offset (cut_normal of unit length).
     cut_normal: vec3<Real>,
     cut_offset: Real,
+    // The fog (a homogeneous medium in the bounding ball): its colour and extinction (0: none).
+    fog_colour: vec3<Real>,
+    fog_density: Real,
+    // Phong mode's halo: its colour and strength (0: off).
+    glow_colour: vec3<Real>,
+    glow_strength: Real,
     shadow_factor: Real,
     normal_delta: Real,
     step_scale: Real,
@@ -64,6 +70,9 @@ struct Params {
     // Adaptive sampling: a pixel stops once its noise (pixel_noise) is at most noise_target (0:
     // off), and not before min(min_samples, samples) samples nor before 2.
     noise_target: Real,
+    // The fog's Henyey-Greenstein g, and the halo's 1/e distance.
+    fog_anisotropy: Real,
+    glow_radius: Real,
     max_iterations: u32,
     max_steps: u32,
     width: u32,
@@ -119,6 +128,9 @@ override ORBIT_TRAP: bool = true;
 override CUT: bool = true;
 // The thin lens: aperture > 0 with samples > 1 (sample 0 is always the pinhole's).
 override LENS: bool = true;
+// The atmosphere: fog.density > 0 (either model; fog_on), glow.strength > 0 (phong; glow_on).
+override FOG: bool = true;
+override GLOW: bool = true;
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.
@@ -338,12 +350,18 @@ fn intersect_bounds(origin: vec3<Real>, dir: vec3<Real>) -> Interval {
     return Interval(cc / t_exit, t_exit, true);
 }
 
-// A sphere-traced ray: the t reached, the estimates made, and whether it hit.
+// A sphere-traced ray: the t reached, the estimates made, whether it hit, and the least
+// distance estimate along it (phong mode's glow: how close a miss came to the set; NO_APPROACH
+// for a ray not traced).
 struct Trace {
     t: Real,
     steps: u32,
     hit: bool,
+    closest: Real,
 }
+
+// A Trace's `closest` before any estimate.
+const NO_APPROACH: Real = 3.0e38;
 
 // Sphere tracing (the seed's intersectQJulia) from t_start: estimate d, advance by max(d, 0),
 // stop with a hit when d is below the threshold: epsilon, or eps_slope t (epsilon proportional to
@@ -368,8 +386,10 @@ fn sphere_trace_by(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Re
     var omega = omega_start;
     var t_prev = t_start;
     var prev_radius: Real = 0.0;
+    var closest = NO_APPROACH;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
         let d = estimate_distance(origin + t * dir);
+        closest = min(closest, d);
         let radius = max(d, 0.0);
         if omega > 1.0 && t - t_prev > prev_radius + radius {
             t = t_prev + prev_radius;
@@ -382,20 +402,20 @@ fn sphere_trace_by(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Re
             threshold = max(threshold, eps_slope * t_plain);
         }
         if d < threshold {
-            return Trace(t_plain, steps, true);
+            return Trace(t_plain, steps, true, closest);
         }
         t_prev = t;
         prev_radius = radius;
         t += omega * radius;
         if t > t_end {
             if t_plain > t_end {
-                return Trace(t, steps, false);
+                return Trace(t, steps, false, closest);
             }
             t = t_plain;
             omega = 1.0;
         }
     }
-    return Trace(t, params.max_steps, false);
+    return Trace(t, params.max_steps, false, closest);
 }
 
 // iterate_orbit of two numbers at once (interleaving): both orbits in one loop, each stopping
@@ -474,6 +494,7 @@ struct March {
     omega: Real,
     t_prev: Real,
     prev_radius: Real,
+    closest: Real,
     live: bool,
     trace: Trace,
 }
@@ -485,12 +506,13 @@ fn march_start(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, 
     if SPECIALISED && !OVER_RELAXED {
         omega = 1.0;
     }
-    return March(origin, dir, t_end, eps_slope, t_start, omega, t_start, 0.0, live, Trace(0.0, 0u, false));
+    return March(origin, dir, t_end, eps_slope, t_start, omega, t_start, 0.0, NO_APPROACH, live, Trace(0.0, 0u, false, NO_APPROACH));
 }
 
 // One step of sphere_trace, its `steps`-th, for the live ray m with the estimate d at its point:
 // sphere_trace's loop body, where a return ends the ray (live false, its outcome in trace).
 fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
+    (*m).closest = min((*m).closest, d);
     let radius = max(d, 0.0);
     if (*m).omega > 1.0 && (*m).t - (*m).t_prev > (*m).prev_radius + radius {
         (*m).t = (*m).t_prev + (*m).prev_radius;
@@ -503,7 +525,7 @@ fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
         threshold = max(threshold, (*m).eps_slope * t_plain);
     }
     if d < threshold {
-        (*m).trace = Trace(t_plain, steps, true);
+        (*m).trace = Trace(t_plain, steps, true, (*m).closest);
         (*m).live = false;
         return;
     }
@@ -512,7 +534,7 @@ fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
     (*m).t += (*m).omega * radius;
     if (*m).t > (*m).t_end {
         if t_plain > (*m).t_end {
-            (*m).trace = Trace((*m).t, steps, false);
+            (*m).trace = Trace((*m).t, steps, false, (*m).closest);
             (*m).live = false;
             return;
         }
@@ -525,7 +547,7 @@ fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
 // (sphere_trace's last return).
 fn march_end(m: March) -> Trace {
     if m.live {
-        return Trace(m.t, params.max_steps, false);
+        return Trace(m.t, params.max_steps, false, m.closest);
     }
     return m.trace;
 }
@@ -1037,7 +1059,7 @@ fn primary_ray(i: u32, j: u32, sample: u32, t_min: Real) -> Primary {
 // ball.
 fn trace_primary(ray: Primary) -> Trace {
     if !ray.hit {
-        return Trace(0.0, 0u, false);
+        return Trace(0.0, 0u, false, NO_APPROACH);
     }
     return sphere_trace(ray.origin, ray.dir, ray.t_start, ray.t_end, params.pixel_epsilon * params.pixel_angle);
 }
@@ -1050,11 +1072,62 @@ fn trace_primary_pair(a: Primary, b: Primary) -> TracePair {
     return sphere_trace_pair(m1, m2);
 }
 
-// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow.
+// Whether the scene has fog (fog.density > 0, either model).
+fn fog_on() -> bool {
+    return (!SPECIALISED || FOG) && params.fog_density > 0.0;
+}
+
+// Whether phong mode's halo is on (glow.strength > 0).
+fn glow_on() -> bool {
+    return (!SPECIALISED || GLOW) && params.glow_strength > 0.0;
+}
+
+// The fog's transmittance along origin + t dir over t in [0, t_stop]: exp(-fog_density L), L the
+// length of that stretch within the bounding ball (the fog fills the ball); 1 without fog. In
+// f32, as path mode's radiance is.
+fn fog_transmittance(origin: vec3<Real>, dir: vec3<Real>, t_stop: Real) -> f32 {
+    if !fog_on() {
+        return 1.0;
+    }
+    let bounds = intersect_bounds(origin, dir);
+    if !bounds.hit {
+        return 1.0;
+    }
+    let length = max(min(bounds.t_exit, t_stop) - bounds.t_enter, 0.0);
+    return exp(-f32(params.fog_density * length));
+}
+
+// Phong mode's halo for a ray that missed: glow_strength glow_colour exp(-closest / glow_radius),
+// closest the least distance estimate along the ray (Trace's closest; a ray that missed the
+// ball gets exp(-3e38 / r) = 0).
+fn glow(closest: Real) -> vec3<Real> {
+    let fall = exp(-f32(max(closest, 0.0) / params.glow_radius));
+    return params.glow_strength * params.glow_colour * Real(fall);
+}
+
+// Phong mode's atmosphere over a camera ray's colour (docs/book/atmosphere.md): a miss gains the
+// halo (glow); then the colour is blended toward fog_colour by the fog's transmittance T from
+// the eye to the hit (through the whole ball on a miss), mix(fog_colour, colour, T) (Mandelbulber's
+// basic fog). Without fog and glow the colour unchanged.
+fn atmosphere(colour: vec3<Real>, ray: Primary, trace: Trace) -> vec3<Real> {
+    var c = colour;
+    if !trace.hit && glow_on() {
+        c += glow(trace.closest);
+    }
+    if fog_on() {
+        let t_stop = select(Real(3.0e38), trace.t, trace.hit);
+        let transmittance = Real(fog_transmittance(ray.origin, ray.dir, t_stop));
+        c = mix(params.fog_colour, c, vec3<Real>(transmittance));
+    }
+    return c;
+}
+
+// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow, and the
+// atmosphere over them.
 fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
     let none = vec3<Real>(0.0);
     if !trace.hit {
-        return Pixel(params.background, -1.0, trace.steps, false, none, none);
+        return Pixel(atmosphere(params.background, ray, trace), -1.0, trace.steps, false, none, none);
     }
     if SPECIALISED && !SHADE {
         return Pixel(params.background, trace.t, trace.steps, true, none, none);
@@ -1064,7 +1137,7 @@ fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
     let p = origin + trace.t * dir;
     let n = estimate_normal(p, dir);
     if shading_features() {
-        return Pixel(shade_features(p, n, origin), trace.t, trace.steps, true, p, n);
+        return Pixel(atmosphere(shade_features(p, n, origin), ray, trace), trace.t, trace.steps, true, p, n);
     }
     var colour = phong(params.light, origin, p, n);
     var shadows = params.shadows != 0u;
@@ -1076,7 +1149,7 @@ fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
     if shadows && lit && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
-    return Pixel(colour, trace.t, trace.steps, true, p, n);
+    return Pixel(atmosphere(colour, ray, trace), trace.t, trace.steps, true, p, n);
 }
 
 // Everything for one sample of pixel (i, j): its camera ray (primary_ray), sphere tracing,
@@ -1424,7 +1497,7 @@ fn main(
     }
     // With INTERLEAVE 2 samples k and k + 1 are traced as a pair at k (trace_primary_pair), and
     // k + 1's trace kept for it; an odd sample left over is traced alone.
-    var second = Trace(0.0, 0u, false);
+    var second = Trace(0.0, 0u, false, NO_APPROACH);
     var paired = false;
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let ray = primary_ray(i, j, k, t_min);

@@ -53,6 +53,14 @@ uniform! {
         /// Unit length.
         cut_normal: Vec3 = Vec3::from_f64(unit(scene.cut.normal)),
         cut_offset: Real = F::lit(scene.cut.offset),
+        /// The fog's colour (`fog.colour`): path mode's single-scattering albedo, phong mode's
+        /// colour blended toward.
+        fog_colour: Vec3 = Vec3::from_f64(scene.fog.colour),
+        /// The fog's extinction per unit length (`fog.density`): 0 is no fog.
+        fog_density: Real = F::lit(scene.fog.density),
+        /// Phong mode's halo (`[glow]`): its colour, and its strength (0: off).
+        glow_colour: Vec3 = Vec3::from_f64(scene.glow.colour),
+        glow_strength: Real = F::lit(scene.glow.strength),
         shadow_factor: Real = F::lit(sh.shadow_factor),
         normal_delta: Real = F::lit(sh.normal_delta),
         step_scale: Real = F::lit(f.step_scale),
@@ -74,6 +82,10 @@ uniform! {
         /// Adaptive sampling's target (`path.noise_target`): a pixel stops once its noise
         /// (`pixel_noise`) is at most this; 0 is off.
         noise_target: Real = F::lit(scene.path.noise_target),
+        /// The fog's Henyey-Greenstein g (`fog.anisotropy`), in (-1, 1).
+        fog_anisotropy: Real = F::lit(scene.fog.anisotropy),
+        /// The distance over which the halo falls to 1/e (`glow.radius`).
+        glow_radius: Real = F::lit(scene.glow.radius),
         max_iterations: u32 = f.max_iterations,
         max_steps: u32 = f.max_steps,
         width: u32 = scene.image.width,

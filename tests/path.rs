@@ -53,6 +53,7 @@ fn furnace<F: Real>(bounces: u32, roughness: f64, metallic: f64, specular: f64) 
         regularize: F::zero(),
         seed: 0,
         step_scale: F::lit(1.6),
+        emission: Vec3::zero(),
     }
 }
 

@@ -137,7 +137,7 @@ fn path_uniform_layout_matches_the_shader() {
         host_offsets!(GpuPathParams: sky_zenith, sky_intensity, sky_horizon, bounces, sky_ground,
             roulette_start, sky_up, clamp_contribution, sun_direction, sun_one_minus_cos,
             sun_irradiance, sampler, light_intensity, strategy, roughness, metallic, specular,
-            multiscatter, regularize, seed, step_scale, pad1)
+            multiscatter, regularize, seed, step_scale, pad1, emission, pad2)
     );
 }
 
@@ -308,8 +308,8 @@ fn every_specialised_variant_validates() {
     use qjulia::gpu::Variant;
     use qjulia::gpu::shaders::TRACE64_MODULE;
     let variants = Variant::all();
-    // 576 base variants, each with none, each one and all seven of the picture's features.
-    assert_eq!(variants.len(), 576 * 9);
+    // 576 base variants, each with none, each one and all nine of the picture's features.
+    assert_eq!(variants.len(), 576 * 11);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
         validate_variants(&source, "main", &variants, &mut |_, _| {});
     }

@@ -40,6 +40,12 @@ const TRACE: Twin = Twin {
     rust_from_reason: "",
     only_in: &[
         OnlyIn {
+            side: Side::Rust,
+            name: "untraced",
+            reason: "a Trace of a ray not traced; WGSL writes the literal \
+                     `Trace(0.0, 0u, false, NO_APPROACH)`",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "algebra_parts",
             reason: "returns the ALGEBRA_PARTS override when specialised; the CPU reads \
@@ -285,6 +291,14 @@ const DENOISE: Twin = Twin {
     ],
 };
 
+const MEDIUM: Twin = Twin {
+    wgsl: "shaders/medium.wgsl",
+    rust: "src/cpu/medium.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
 const LIGHT: Twin = Twin {
     wgsl: "shaders/light.wgsl",
     rust: "src/cpu/light.rs",
@@ -524,6 +538,11 @@ fn light_twins_match() {
 }
 
 #[test]
+fn medium_twins_match() {
+    check(&MEDIUM);
+}
+
+#[test]
 fn path_twins_match() {
     check(&PATH);
 }
@@ -536,7 +555,7 @@ fn denoise_twins_match() {
 #[test]
 fn every_exception_has_a_reason() {
     for twin in [
-        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &PATH, &DENOISE,
+        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &MEDIUM, &PATH, &DENOISE,
     ] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);

@@ -11,7 +11,7 @@ use super::bsdf::{basis_from_normal, pi, to_world};
 use crate::algebra::{Real, Vec2, Vec3};
 
 /// WGSL's `mix(a, b, t)`.
-fn mix3<F: Real>(a: Vec3<F>, b: Vec3<F>, t: F) -> Vec3<F> {
+pub(crate) fn mix3<F: Real>(a: Vec3<F>, b: Vec3<F>, t: F) -> Vec3<F> {
     a * (F::one() - t) + b * t
 }
 

@@ -8,6 +8,7 @@ pub mod ggx_albedo;
 pub mod ggx_quadrature;
 pub mod julia2d;
 pub mod light;
+pub mod medium;
 pub mod path;
 pub mod sample;
 pub mod sobol;

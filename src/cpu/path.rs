@@ -16,8 +16,9 @@ use super::light::{
     sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_one_minus_cos, sun_pdf,
     sun_radiance,
 };
+use super::medium::{fog_event, phase_hg, sample_hg};
 use super::sobol::{
-    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_LENS, DIM_PIXEL, DIM_ROULETTE,
+    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_FOG, DIM_LENS, DIM_PIXEL, DIM_ROULETTE,
     DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
 use super::trace::{Aovs, Primary, Trace, add_aovs, add_to_streams, sample_luminance};
@@ -80,6 +81,8 @@ pub struct PathParams<F> {
     pub seed: u32,
     /// `path.step_scale`: the over-relaxation of shadow and bounce rays.
     pub step_scale: F,
+    /// `material.emission`: the radiance the surface emits, times its albedo (0: none).
+    pub emission: Vec3<F>,
 }
 
 /// Russian roulette starts at this scattering event (1-based: the paths of up to two events
@@ -118,8 +121,18 @@ impl<F: Real> PathParams<F> {
             regularize: F::lit(scene.path.regularize),
             seed: scene.path.seed,
             step_scale: F::lit(scene.path.step_scale),
+            emission: v(scene.material.emission),
         }
     }
+}
+
+/// Where a ray's stretch through the fog ends and with what weight (`path_fog`): the
+/// scattering event's point where there is one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathFog<F> {
+    pub point: Vec3<F>,
+    pub scattered: bool,
+    pub weight: Vec3<F>,
 }
 
 /// One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
@@ -239,6 +252,16 @@ impl<F: Real> TraceParams<F> {
         !trace.hit
     }
 
+    /// What of the light at origin + t_max dir reaches origin: 0 where the set occludes it
+    /// ([`Self::unoccluded`]), else the fog's transmittance over the stretch (1 without fog).
+    /// The fog's shadow: light shafts where the set casts its shadow into the fog.
+    pub fn visibility(&self, path: &PathParams<F>, origin: Vec3<F>, dir: Vec3<F>, t_max: F) -> F {
+        if !self.unoccluded(path, origin, dir, t_max) {
+            return F::zero();
+        }
+        F::lit(self.fog_transmittance(origin, dir, t_max) as f64)
+    }
+
     /// A path's contribution, clamped where its light reached the camera through more than
     /// one scattering event: `vertex` is the index of the last scattering event (0 the first
     /// hit) of the path the light took, the same for the light that next-event estimation
@@ -280,34 +303,146 @@ impl<F: Real> TraceParams<F> {
         if any_positive(path.sun.irradiance) {
             let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
             let wi = to_local(f, ls.wi);
-            if wi.z > F::zero() && self.unoccluded(path, origin, ls.wi, F::lit(3.0e38)) {
-                let mut w = F::one();
-                if path.strategy == Strategy::Both {
-                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+            if wi.z > F::zero() {
+                let v = self.visibility(path, origin, ls.wi, F::lit(3.0e38));
+                if v > F::zero() {
+                    let mut w = F::one();
+                    if path.strategy == Strategy::Both {
+                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                    }
+                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf) * v;
                 }
-                sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf);
             }
         }
         if any_positive(path.light_intensity) {
             let light = self.path_sphere_light(path);
             let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
             let wi = to_local(f, ls.wi);
-            if ls.pdf > F::zero()
-                && wi.z > F::zero()
-                && self.unoccluded(path, origin, ls.wi, ls.distance)
-            {
-                if ls.delta {
-                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * wi.z;
-                } else {
-                    let mut w = F::one();
-                    if path.strategy == Strategy::Both {
-                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+            if ls.pdf > F::zero() && wi.z > F::zero() {
+                let v = self.visibility(path, origin, ls.wi, ls.distance);
+                if v > F::zero() {
+                    let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
+                    if ls.delta {
+                        sum += f_wi * wi.z * v;
+                    } else {
+                        let mut w = F::one();
+                        if path.strategy == Strategy::Both {
+                            w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                        }
+                        sum += f_wi * (wi.z * w / ls.pdf) * v;
                     }
-                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf);
                 }
             }
         }
         sum
+    }
+
+    /// Next-event estimation at a scattering event in the fog, at x, of light that travelled
+    /// along d: [`Self::direct_light`] with the phase function ([`phase_hg`] of
+    /// `fog.anisotropy`) for the BSDF and no cosine, each light's shadow ray carrying the fog's
+    /// transmittance ([`Self::visibility`]), weighted against phase sampling by the power
+    /// heuristic. The fog's albedo is in the path's throughput ([`fog_event`]).
+    pub fn medium_direct_light(
+        &self,
+        path: &PathParams<F>,
+        (i, j, sample): (u32, u32, u32),
+        bounce: u32,
+        x: Vec3<F>,
+        d: Vec3<F>,
+    ) -> Vec3<F> {
+        let mut sum = Vec3::zero();
+        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
+        let point = |first: u32| {
+            crate::algebra::Vec2::new(
+                self.path_random(path, i, j, sample, dim + first),
+                self.path_random(path, i, j, sample, dim + first + 1),
+            )
+        };
+        let g = self.fog_anisotropy;
+        if any_positive(path.sun.irradiance) {
+            let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
+            let v = self.visibility(path, x, ls.wi, F::lit(3.0e38));
+            if v > F::zero() {
+                let phase = phase_hg(g, d.dot(ls.wi));
+                let mut w = F::one();
+                if path.strategy == Strategy::Both {
+                    w = power_heuristic(ls.pdf, phase);
+                }
+                sum += ls.radiance * (phase * w / ls.pdf * v);
+            }
+        }
+        if any_positive(path.light_intensity) {
+            let ls = sample_sphere_light(self.path_sphere_light(path), x, point(DIM_SPHERE_LIGHT));
+            if ls.pdf > F::zero() {
+                let v = self.visibility(path, x, ls.wi, ls.distance);
+                if v > F::zero() {
+                    let phase = phase_hg(g, d.dot(ls.wi));
+                    if ls.delta {
+                        sum += ls.radiance * (phase * v);
+                    } else {
+                        let mut w = F::one();
+                        if path.strategy == Strategy::Both {
+                            w = power_heuristic(ls.pdf, phase);
+                        }
+                        sum += ls.radiance * (phase * w / ls.pdf * v);
+                    }
+                }
+            }
+        }
+        sum
+    }
+
+    /// Where a ray's stretch through the fog ends and with what weight: free flight
+    /// ([`fog_event`]) over the part of origin + t dir, t up to `t_stop`, within the bounding
+    /// ball, from the sampler's `DIM_FOG` of the bounce. `point` is the scattering event's,
+    /// where there is one.
+    pub fn path_fog(
+        &self,
+        path: &PathParams<F>,
+        (i, j, sample): (u32, u32, u32),
+        bounce: u32,
+        (origin, dir): (Vec3<F>, Vec3<F>),
+        t_stop: F,
+    ) -> PathFog<F> {
+        let bounds = self.intersect_bounds(origin, dir);
+        let t_end = bounds.t_exit.min(t_stop);
+        if !bounds.hit || t_end <= bounds.t_enter {
+            return PathFog {
+                point: origin,
+                scattered: false,
+                weight: Vec3::splat(F::one()),
+            };
+        }
+        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE + DIM_FOG;
+        let u = self.path_random(path, i, j, sample, dim);
+        let e = fog_event(self.fog_density, self.fog_colour, t_end - bounds.t_enter, u);
+        PathFog {
+            point: origin + dir * (bounds.t_enter + e.distance),
+            scattered: e.scattered,
+            weight: e.weight,
+        }
+    }
+
+    /// Russian roulette after the scattering event `bounce`, from bounce `roulette_start` on:
+    /// the path goes on with probability q, the throughput's largest channel (at most 0.95),
+    /// and is then divided by it, so the mean is kept. Returns the divisor: q, 1 before
+    /// `roulette_start`, 0 where the path ends.
+    pub fn roulette(
+        &self,
+        path: &PathParams<F>,
+        (i, j, sample): (u32, u32, u32),
+        bounce: u32,
+        throughput: Vec3<F>,
+    ) -> F {
+        if bounce + 1 < path.roulette_start {
+            return F::one();
+        }
+        let q = max3(throughput).min(F::lit(0.95));
+        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE + DIM_ROULETTE;
+        if self.path_random(path, i, j, sample, dim) >= q {
+            return F::zero();
+        }
+        q
     }
 
     /// The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
@@ -446,11 +581,7 @@ impl<F: Real> TraceParams<F> {
             // where it stopped, and ends its path there, dark.
             let mut ran_out = false;
             if bounce > 0 {
-                trace = Trace {
-                    t: F::zero(),
-                    steps: 0,
-                    hit: false,
-                };
+                trace = Trace::untraced();
                 let bounds = self.intersect_bounds(origin, dir);
                 if bounds.hit {
                     let (t_enter, t_exit) = (bounds.t_enter, bounds.t_exit);
@@ -480,15 +611,58 @@ impl<F: Real> TraceParams<F> {
                 result.steps = trace.steps;
                 result.hit = trace.hit;
             }
+            // Whether the ray meets the sphere light before the set (or before leaving), at
+            // t_light.
+            let mut t_light = -F::one();
             if light_on {
                 let light = self.path_sphere_light(path);
-                let t_light = intersect_sphere(origin, dir, light.center, light.radius);
-                let left = !trace.hit && !ran_out;
-                if t_light > F::zero() && (left || t_light < trace.t) {
-                    let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
-                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
-                    break;
+                t_light = intersect_sphere(origin, dir, light.center, light.radius);
+            }
+            let left = !trace.hit && !ran_out;
+            let meets_light = t_light > F::zero() && (left || t_light < trace.t);
+            // In fog, the ray may scatter before its stretch ends (at the light, the set, where
+            // it ran out, or where it leaves): a scattering event is the path's next vertex, lit
+            // by next-event estimation and left by phase sampling, and counts as a bounce.
+            if self.fog_on() {
+                let mut t_stop = trace.t;
+                if meets_light {
+                    t_stop = t_light;
+                } else if left {
+                    t_stop = F::lit(3.0e38);
                 }
+                let fog = self.path_fog(path, (i, j, sample), bounce, (origin, dir), t_stop);
+                throughput = throughput.mul_elem(fog.weight);
+                if fog.scattered {
+                    if bounce == path.bounces {
+                        break;
+                    }
+                    if path.strategy != Strategy::Bsdf {
+                        let x = fog.point;
+                        let d = self.medium_direct_light(path, (i, j, sample), bounce, x, dir);
+                        radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
+                    }
+                    let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
+                    let u = crate::algebra::Vec2::new(
+                        self.path_random(path, i, j, sample, dim + DIM_BSDF),
+                        self.path_random(path, i, j, sample, dim + DIM_BSDF + 1),
+                    );
+                    let ps = sample_hg(self.fog_anisotropy, dir, u);
+                    // The phase sample's weight, phase / pdf, is 1.
+                    pdf_prev = ps.pdf;
+                    origin = fog.point;
+                    dir = ps.wi.normalize();
+                    let q = self.roulette(path, (i, j, sample), bounce, throughput);
+                    if q <= F::zero() {
+                        break;
+                    }
+                    throughput = throughput / q;
+                    continue;
+                }
+            }
+            if meets_light {
+                let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
+                break;
             }
             if ran_out {
                 break;
@@ -497,6 +671,13 @@ impl<F: Real> TraceParams<F> {
                 let e = self.escaped(path, dir, bounce, pdf_prev);
                 radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
                 break;
+            }
+            // material.emission: the set's own light, the hit's albedo times the emission
+            // (found by the rays alone: no light sampling aims at it).
+            if any_positive(path.emission) {
+                let albedo = self.hit_albedo(origin + dir * trace.t);
+                let e = path.emission.mul_elem(albedo);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
             }
             if bounce == path.bounces {
                 break;
@@ -537,16 +718,11 @@ impl<F: Real> TraceParams<F> {
             pdf_prev = bs.pdf;
             origin = p + n * (F::lit(SURFACE_OFFSET) * self.epsilon);
             dir = to_world(f, bs.wi).normalize();
-            // Russian roulette from bounce roulette_start on: go on with probability q, the
-            // throughput's largest channel (at most 0.95), and divide by it, so the mean is
-            // kept.
-            if bounce + 1 >= path.roulette_start {
-                let q = max3(throughput).min(F::lit(0.95));
-                if self.path_random(path, i, j, sample, dim + DIM_ROULETTE) >= q {
-                    break;
-                }
-                throughput = throughput / q;
+            let q = self.roulette(path, (i, j, sample), bounce, throughput);
+            if q <= F::zero() {
+                break;
             }
+            throughput = throughput / q;
         }
         result.radiance = radiance;
         result

@@ -31,6 +31,9 @@ pub const DIMS_PER_BOUNCE: u32 = 12;
 pub const DIM_SUN: u32 = 0;
 /// Within a bounce: the point on the sphere light (2D), its second group's first two.
 pub const DIM_SPHERE_LIGHT: u32 = 4;
+/// Within a bounce: the fog's free-flight distance (1D), the sphere light's group's third (the
+/// ray leaving the bounce's vertex takes it; a scattering event in the fog is the next vertex).
+pub const DIM_FOG: u32 = 6;
 /// Within a bounce: the BSDF's direction (2D), its third group's first two.
 pub const DIM_BSDF: u32 = 8;
 /// Within a bounce: which BSDF lobe (1D), in the direction's group.

@@ -8,6 +8,7 @@
 //! order (tests/twins.rs holds that order; issue 18 excepts the twins' bodies), so it is as long
 //! as the kernel and stays one file as the shader is; a split must split both alike.
 
+use super::light::mix3;
 use crate::algebra::{
     Hyper, Real, Vec3, Vec4, hyper_add, hyper_dot, hyper_mul, hyper_scale, hyper_sq, hyper_sub,
     square_derivative,
@@ -37,12 +38,30 @@ pub struct Interval<F> {
     pub hit: bool,
 }
 
-/// A sphere-traced ray: the t reached, the estimates made, and whether it hit.
+/// A sphere-traced ray: the t reached, the estimates made, whether it hit, and the least
+/// distance estimate along it (phong mode's glow: how close a miss came to the set;
+/// [`NO_APPROACH`] for a ray not traced).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Trace<F> {
     pub t: F,
     pub steps: u32,
     pub hit: bool,
+    pub closest: F,
+}
+
+/// A [`Trace`]'s `closest` before any estimate.
+pub const NO_APPROACH: f64 = 3.0e38;
+
+impl<F: Real> Trace<F> {
+    /// The outcome of a ray not traced: a miss of no steps at t = 0.
+    pub fn untraced() -> Self {
+        Trace {
+            t: F::zero(),
+            steps: 0,
+            hit: false,
+            closest: F::lit(NO_APPROACH),
+        }
+    }
 }
 
 /// One ray of an interleaved sphere trace (`sphere_trace_pair`): its ray and stretch,
@@ -57,6 +76,7 @@ pub struct March<F> {
     pub omega: F,
     pub t_prev: F,
     pub prev_radius: F,
+    pub closest: F,
     pub live: bool,
     pub trace: Trace<F>,
 }
@@ -279,8 +299,10 @@ impl<F: Real> TraceParams<F> {
         let mut omega = omega_start;
         let mut t_prev = t_start;
         let mut prev_radius = F::zero();
+        let mut closest = F::lit(NO_APPROACH);
         for steps in 1..=self.max_steps {
             let d = self.estimate_distance(origin + dir * t);
+            closest = closest.min(d);
             let radius = d.max(F::zero());
             if omega > F::one() && t - t_prev > prev_radius + radius {
                 t = t_prev + prev_radius;
@@ -297,6 +319,7 @@ impl<F: Real> TraceParams<F> {
                     t: t_plain,
                     steps,
                     hit: true,
+                    closest,
                 };
             }
             t_prev = t;
@@ -308,6 +331,7 @@ impl<F: Real> TraceParams<F> {
                         t,
                         steps,
                         hit: false,
+                        closest,
                     };
                 }
                 t = t_plain;
@@ -318,6 +342,7 @@ impl<F: Real> TraceParams<F> {
             t,
             steps: self.max_steps,
             hit: false,
+            closest,
         }
     }
 
@@ -428,12 +453,9 @@ impl<F: Real> TraceParams<F> {
             omega: self.step_scale,
             t_prev: t_start,
             prev_radius: F::zero(),
+            closest: F::lit(NO_APPROACH),
             live,
-            trace: Trace {
-                t: F::zero(),
-                steps: 0,
-                hit: false,
-            },
+            trace: Trace::untraced(),
         }
     }
 
@@ -441,6 +463,7 @@ impl<F: Real> TraceParams<F> {
     /// point: `sphere_trace`'s loop body, where a return ends the ray (live false, its outcome
     /// in trace).
     pub fn march_step(&self, m: &mut March<F>, d: F, steps: u32) {
+        m.closest = m.closest.min(d);
         let radius = d.max(F::zero());
         if m.omega > F::one() && m.t - m.t_prev > m.prev_radius + radius {
             m.t = m.t_prev + m.prev_radius;
@@ -457,6 +480,7 @@ impl<F: Real> TraceParams<F> {
                 t: t_plain,
                 steps,
                 hit: true,
+                closest: m.closest,
             };
             m.live = false;
             return;
@@ -470,6 +494,7 @@ impl<F: Real> TraceParams<F> {
                     t: m.t,
                     steps,
                     hit: false,
+                    closest: m.closest,
                 };
                 m.live = false;
                 return;
@@ -487,6 +512,7 @@ impl<F: Real> TraceParams<F> {
                 t: m.t,
                 steps: self.max_steps,
                 hit: false,
+                closest: m.closest,
             };
         }
         m.trace
@@ -991,11 +1017,7 @@ impl<F: Real> TraceParams<F> {
     /// the ball.
     pub fn trace_primary(&self, ray: &Primary<F>) -> Trace<F> {
         if !ray.hit {
-            return Trace {
-                t: F::zero(),
-                steps: 0,
-                hit: false,
-            };
+            return Trace::untraced();
         }
         let eps_slope = self.pixel_epsilon * self.pixel_angle;
         self.sphere_trace(ray.origin, ray.dir, ray.t_start, ray.t_end, eps_slope)
@@ -1010,14 +1032,64 @@ impl<F: Real> TraceParams<F> {
         self.sphere_trace_pair(m1, m2)
     }
 
-    /// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow.
-    /// `shade` is the kernel's SHADE override (false: depth and steps only, as a specialised
+    /// Whether the scene has fog (`fog.density` > 0, either model).
+    pub fn fog_on(&self) -> bool {
+        self.fog_density > F::zero()
+    }
+
+    /// Whether phong mode's halo is on (`glow.strength` > 0).
+    pub fn glow_on(&self) -> bool {
+        self.glow_strength > F::zero()
+    }
+
+    /// The fog's transmittance along origin + t dir over t in [0, t_stop]: exp(-fog_density L),
+    /// L the length of that stretch within the bounding ball (the fog fills the ball); 1
+    /// without fog. In f32, as path mode's radiance is.
+    pub fn fog_transmittance(&self, origin: Vec3<F>, dir: Vec3<F>, t_stop: F) -> f32 {
+        if !self.fog_on() {
+            return 1.0;
+        }
+        let bounds = self.intersect_bounds(origin, dir);
+        if !bounds.hit {
+            return 1.0;
+        }
+        let length = (bounds.t_exit.min(t_stop) - bounds.t_enter).max(F::zero());
+        (-((self.fog_density * length).to_f64() as f32)).exp()
+    }
+
+    /// Phong mode's halo for a ray that missed: glow_strength glow_colour exp(-closest /
+    /// glow_radius), closest the least distance estimate along the ray ([`Trace`]'s `closest`;
+    /// a ray that missed the ball gets exp(-3e38 / r) = 0).
+    pub fn glow(&self, closest: F) -> Vec3<F> {
+        let fall = (-((closest.max(F::zero()) / self.glow_radius).to_f64() as f32)).exp();
+        self.glow_colour * (self.glow_strength * F::lit(fall as f64))
+    }
+
+    /// Phong mode's atmosphere over a camera ray's colour (docs/book/atmosphere.md): a miss
+    /// gains the halo ([`Self::glow`]); then the colour is blended toward fog_colour by the
+    /// fog's transmittance T from the eye to the hit (through the whole ball on a miss),
+    /// mix(fog_colour, colour, T). Without fog and glow the colour unchanged.
+    pub fn atmosphere(&self, colour: Vec3<F>, ray: &Primary<F>, trace: Trace<F>) -> Vec3<F> {
+        let mut c = colour;
+        if !trace.hit && self.glow_on() {
+            c += self.glow(trace.closest);
+        }
+        if self.fog_on() {
+            let t_stop = if trace.hit { trace.t } else { F::lit(3.0e38) };
+            let transmittance = F::lit(self.fog_transmittance(ray.origin, ray.dir, t_stop) as f64);
+            c = mix3(self.fog_colour, c, transmittance);
+        }
+        c
+    }
+
+    /// A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow, and
+    /// the atmosphere over them. `shade` is the kernel's SHADE override (false: depth and steps only, as a specialised
     /// pipeline without the shading code): the colour is the background.
     pub fn shade_pixel(&self, ray: &Primary<F>, trace: Trace<F>, shade: bool) -> Pixel<F> {
         let none = Vec3::zero();
         if !trace.hit {
             return Pixel {
-                colour: self.background,
+                colour: self.atmosphere(self.background, ray, trace),
                 depth: -F::one(),
                 steps: trace.steps,
                 hit: false,
@@ -1040,7 +1112,7 @@ impl<F: Real> TraceParams<F> {
         let n = self.estimate_normal(p, dir);
         if self.shading_features() {
             return Pixel {
-                colour: self.shade_features(p, n, origin),
+                colour: self.atmosphere(self.shade_features(p, n, origin), ray, trace),
                 depth: trace.t,
                 steps: trace.steps,
                 hit: true,
@@ -1055,7 +1127,7 @@ impl<F: Real> TraceParams<F> {
             colour = colour * self.shadow_factor;
         }
         Pixel {
-            colour,
+            colour: self.atmosphere(colour, ray, trace),
             depth: trace.t,
             steps: trace.steps,
             hit: true,

@@ -20,7 +20,7 @@ use super::state::{ExplorerState, Mode, SliceRotation};
 use crate::denoise::Denoiser;
 use crate::scene::rotation::{axis_name, plane_name, planes};
 use crate::scene::{Camera, Cut, Fractal, Image, ShadingModel, Slice, View, View2d};
-use lighting::{adaptive_sampling, denoiser_switch, denoising, path_tracing, shading};
+use lighting::{adaptive_sampling, atmosphere, denoiser_switch, denoising, path_tracing, shading};
 use widgets::{key_slider, key_slider_u32};
 
 /// The side panel: what the view shows, then the groups of controls.
@@ -81,6 +81,7 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
                 .default_open(true)
                 .show(ui, |ui| path_tracing(ui, &mut s.scene));
         }
+        egui::CollapsingHeader::new("Atmosphere").show(ui, |ui| atmosphere(ui, &mut s.scene));
         if s.mode == Mode::Slice3d && s.scene.image.denoise != Denoiser::None {
             egui::CollapsingHeader::new("Denoising")
                 .default_open(true)

@@ -53,6 +53,9 @@ pub struct GpuPathParams {
     /// `path.step_scale`: the over-relaxation of shadow and bounce rays.
     pub step_scale: f32,
     pub pad1: u32,
+    /// `material.emission`: the radiance emitted, times the albedo (0: none).
+    pub emission: [f32; 3],
+    pub pad2: u32,
 }
 
 impl GpuPathParams {
@@ -61,7 +64,7 @@ impl GpuPathParams {
     /// prints it for the browser's host).
     pub const LAYOUT: Layout = Layout {
         name: "PathParams",
-        size: 144,
+        size: 160,
         align: 16,
         fields: &[
             FieldLayout {
@@ -218,6 +221,20 @@ impl GpuPathParams {
                 ty: "u32",
                 per_dispatch: false,
             },
+            FieldLayout {
+                name: "emission",
+                offset: 144,
+                size: 12,
+                ty: "vec3<f32>",
+                per_dispatch: false,
+            },
+            FieldLayout {
+                name: "pad2",
+                offset: 156,
+                size: 4,
+                ty: "u32",
+                per_dispatch: false,
+            },
         ],
     };
 
@@ -248,6 +265,8 @@ impl GpuPathParams {
             seed: p.seed,
             step_scale: x(p.step_scale),
             pad1: 0,
+            emission: v(p.emission),
+            pad2: 0,
         }
     }
 }

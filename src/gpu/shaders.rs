@@ -32,8 +32,11 @@ pub const GGX_ALBEDO_WGSL: &str = include_str!("../../shaders/ggx_albedo.wgsl");
 /// The path tracer's light (twin: src/cpu/light.rs); f32, needs [`BSDF_WGSL`] in front (its
 /// shading frame).
 pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
+/// The fog's medium (twin: src/cpu/medium.rs): the phase function and free flight; f32, needs
+/// [`BSDF_WGSL`] in front (its PI and shading frame).
+pub const MEDIUM_WGSL: &str = include_str!("../../shaders/medium.wgsl");
 /// The path tracer (twin: src/cpu/path.rs); needs a prelude, [`ALGEBRA_WGSL`], [`TRACE_WGSL`],
-/// [`BSDF_WGSL`], [`LIGHT_WGSL`] and [`SOBOL_WGSL`] in front.
+/// [`BSDF_WGSL`], [`LIGHT_WGSL`], [`MEDIUM_WGSL`] and [`SOBOL_WGSL`] in front.
 pub const PATH_WGSL: &str = include_str!("../../shaders/path.wgsl");
 /// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
 pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
@@ -115,6 +118,7 @@ pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
         BSDF_WGSL,
         GGX_ALBEDO_WGSL,
         LIGHT_WGSL,
+        MEDIUM_WGSL,
         SOBOL_WGSL,
         PATH_WGSL,
     ],
@@ -130,6 +134,7 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
         BSDF_WGSL,
         GGX_ALBEDO_WGSL,
         LIGHT_WGSL,
+        MEDIUM_WGSL,
         SOBOL_WGSL,
         PATH_WGSL,
     ],

@@ -148,6 +148,10 @@ pub struct Variant {
     pub lens: bool,
     /// Adaptive sampling: path.noise_target > 0 with image.samples > 1.
     pub adaptive: bool,
+    /// fog.density > 0 (with colour wanted).
+    pub fog: bool,
+    /// Phong mode's halo: glow.strength > 0 (with colour wanted).
+    pub glow: bool,
 }
 
 impl Variant {
@@ -177,6 +181,8 @@ impl Variant {
             cut: p.cut,
             lens: p.aperture > F::zero(),
             adaptive: p.samples > 1 && p.noise_target > F::zero(),
+            fog: shade && p.fog_density > F::zero(),
+            glow: shade && p.glow_strength > F::zero(),
         }
     }
 
@@ -192,6 +198,7 @@ impl Variant {
             soft_shadows: false,
             occlusion: false,
             orbit_trap: p.colouring == crate::scene::Colouring::OrbitTrap,
+            glow: false,
             ..v
         }
     }
@@ -216,6 +223,8 @@ impl Variant {
             ("CUT", b(self.cut)),
             ("LENS", b(self.lens)),
             ("ADAPTIVE", b(self.adaptive)),
+            ("FOG", b(self.fog)),
+            ("GLOW", b(self.glow)),
         ]
     }
 
@@ -244,6 +253,8 @@ impl Variant {
                     cut: false,
                     lens: false,
                     adaptive: false,
+                    fog: false,
+                    glow: false,
                 });
             }
         }
@@ -253,7 +264,7 @@ impl Variant {
     /// The variants the tests validate: every base variant with none of the picture's
     /// features, with each one alone, and with all of them.
     pub fn all() -> Vec<Variant> {
-        let features: [fn(&mut Variant); 7] = [
+        let features: [fn(&mut Variant); 9] = [
             |v| v.samples = true,
             |v| v.soft_shadows = true,
             |v| v.occlusion = true,
@@ -261,6 +272,8 @@ impl Variant {
             |v| v.cut = true,
             |v| v.lens = true,
             |v| v.adaptive = true,
+            |v| v.fog = true,
+            |v| v.glow = true,
         ];
         let mut out = Vec::new();
         for base in Variant::all_base() {

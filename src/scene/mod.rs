@@ -147,6 +147,34 @@ scene_schema! {
                 "the irradiance on a surface facing it, {range} (0 = no sun)";
         }
 
+        /// A homogeneous medium filling the bounding region (docs/book/atmosphere.md): path mode
+        /// scatters light in it (light shafts through the set), phong mode blends toward its
+        /// colour.
+        fog: Fog "a homogeneous medium filling the bounding region: light shafts in path mode" {
+            /// The extinction coefficient sigma_t per unit length, grey (0: no fog).
+            density: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 4.0),
+                "extinction per unit length, {range} (0 = no fog)";
+            /// The single-scattering albedo (path mode), the colour blended toward (phong mode).
+            colour: [f64; 3] = [0.8, 0.8, 0.8], vector(Range::closed(0.0, 1.0)),
+                "single-scattering albedo (path), the colour blended toward (phong), {range}";
+            /// Path mode: the Henyey-Greenstein g (0 isotropic, > 0 forward scattering).
+            anisotropy: f64 = 0.0, float(Range::open(-1.0, 1.0)), slider(-0.95, 0.95),
+                "path mode: Henyey-Greenstein g, {range} (0 = isotropic, > 0 forward)";
+        }
+
+        /// Phong mode: a halo around the set, added to rays that miss by how close they came.
+        glow: Glow "phong mode: a halo around the set on rays that miss" {
+            /// Linear colour of the halo.
+            colour: [f64; 3] = [1.0, 0.6, 0.3], vector(Range::closed(0.0, 1.0)),
+                "linear colour, {range}";
+            /// The halo's brightness where a ray grazes the set (0: off).
+            strength: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 4.0),
+                "colour += strength x colour x exp(-d_min / radius), {range} (0 = off)";
+            /// The distance over which the halo falls to 1/e.
+            radius: f64 = 0.1, float(Range::above(0.0)), slider(0.005, 1.0, log),
+                "the halo falls to 1/e over this distance, {range}";
+        }
+
         shading: Shading "" {
             /// How hits are lit: the seed's Phong, or the path tracer (docs/book/path.md).
             model: ShadingModel = ShadingModel::Phong, choice(),
@@ -217,6 +245,10 @@ scene_schema! {
             /// of before, for comparison.
             multiscatter: bool = true, boolean(),
                 "Kulla and Conty's multiple scattering for the GGX lobe (true: a white rough metal reflects all it receives)";
+            /// The radiance the surface emits, times its albedo (the colouring's colour): one
+            /// number for all three channels, or an RGB triple (0: none).
+            emission: [f64; 3] = [0.0, 0.0, 0.0], vector_or_number(Range::at_least(0.0)),
+                "emitted radiance x albedo: a number or [r, g, b], {range} (0 = none)";
         }
 
         /// Path mode: the paths (docs/book/path.md); adaptive sampling, in either model

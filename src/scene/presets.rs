@@ -115,6 +115,31 @@ pub const PRESETS: &[Preset] = &[
         two_d: false,
     },
     Preset {
+        name: "Fog shafts",
+        slug: "fog-shafts",
+        about: "the basilica in fog under a low sun, path traced: its shadows fall through the fog as light shafts",
+        toml: "[fractal]\nc = [-1.0, 0.0, 0.0, 0.0]\nmax_iterations = 16\nbounding_radius_squared = 7.0\n\
+               [camera]\neye = [0.6, -1.3, 2.7]\n\
+               [shading]\nmodel = \"path\"\ncolouring = \"orbit_trap\"\n\
+               [sun]\ndirection = [0.5, 1.0, -0.6]\nintensity = 8.0\nangular_radius_degrees = 0.5\n\
+               [sky]\nintensity = 0.01\n\
+               [fog]\ndensity = 0.15\nanisotropy = 0.4\ncolour = [0.95, 0.9, 0.85]\n\
+               [path]\nbounces = 2\n\
+               [image]\nsamples = 256\nexposure = -1.0\ntone_map = \"aces\"\ndenoise = \"atrous\"\n",
+        two_d: false,
+    },
+    Preset {
+        name: "Glow",
+        slug: "glow",
+        about: "the tentacles' set in phong mode with an orange halo where rays pass close to it",
+        toml: "[fractal]\nc = [-0.125, -0.256, 0.847, 0.0895]\nmax_iterations = 12\n\
+               [camera]\neye = [1.5, 1.5, 2.0]\n\
+               [shading]\ncolouring = \"orbit_trap\"\nbackground = [0.01, 0.01, 0.02]\n\
+               [glow]\nstrength = 1.2\nradius = 0.08\ncolour = [1.0, 0.55, 0.2]\n\
+               [image]\nsamples = 4\n",
+        two_d: false,
+    },
+    Preset {
         name: "Path traced",
         slug: "path-traced",
         about: "the seed's set path traced under sky and sun: a glossy material, 3 bounces, a little depth of field",

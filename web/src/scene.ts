@@ -42,6 +42,8 @@ export interface Key {
   choices?: string[];
   length?: number;
   each?: Range | null;
+  /// A vector that also takes one number, which every component takes (Rust's `splat`).
+  splat?: boolean;
   /// The explorer's slider, where the key has one.
   slider?: { min: number; max: number; logarithmic: boolean } | null;
 }
@@ -206,10 +208,19 @@ function parseValue(key: Key, v: Value, s: Scene): string | null {
     case 'hyper': {
       const len = (s.get(key.path) as number[]).length;
       const algebra = s.get('fractal.algebra') as string;
+      const one = key.type === 'vector' && key.splat ? number(v) : null;
+      if (one !== null) {
+        // One number for every component.
+        if (!Number.isFinite(one)) return 'must be finite';
+        s.set(key.path, new Array<number>(len).fill(one));
+        return null;
+      }
       const shape =
         key.type === 'hyper' && algebra !== 'quaternion'
           ? `must be an array of ${len} numbers (fractal.algebra is "${algebra}")`
-          : `must be an array of ${len} numbers`;
+          : key.splat
+            ? `must be a number or an array of ${len} numbers`
+            : `must be an array of ${len} numbers`;
       if (!Array.isArray(v)) return shape;
       if (v.length !== len) return `${shape}, not ${v.length}`;
       const out: number[] = [];

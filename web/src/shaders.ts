@@ -7,6 +7,7 @@ import bsdf from '../../shaders/bsdf.wgsl?raw';
 import ggxAlbedo from '../../shaders/ggx_albedo.wgsl?raw';
 import julia2d from '../../shaders/julia2d.wgsl?raw';
 import light from '../../shaders/light.wgsl?raw';
+import medium from '../../shaders/medium.wgsl?raw';
 import path from '../../shaders/path.wgsl?raw';
 import real32 from '../../shaders/real32.wgsl?raw';
 import sobol from '../../shaders/sobol.wgsl?raw';
@@ -15,7 +16,9 @@ import trace from '../../shaders/trace.wgsl?raw';
 /// The tracer in f32 (TRACE_MODULE): the prelude, quaternion arithmetic, the kernel.
 export const TRACE_MODULE = [real32, algebra, trace].join('\n');
 /// The path tracer in f32 (PATH_MODULE): the tracer's module, the material and its albedo
-/// tables, the light, the sampler, then the path kernel.
-export const PATH_MODULE = [real32, algebra, trace, bsdf, ggxAlbedo, light, sobol, path].join('\n');
+/// tables, the light, the fog's medium, the sampler, then the path kernel.
+export const PATH_MODULE = [real32, algebra, trace, bsdf, ggxAlbedo, light, medium, sobol, path].join(
+  '\n',
+);
 /// The 2D Julia view in f32 (JULIA2D_MODULE).
 export const JULIA2D_MODULE = [real32, julia2d].join('\n');

@@ -140,6 +140,10 @@ export function traceParams(s: Scene): Map<string, number | number[]> {
     ['trap_scale', f('shading.trap_scale')],
     ['cut_normal', unit(v('cut.normal'))],
     ['cut_offset', f('cut.offset')],
+    ['fog_colour', v('fog.colour')],
+    ['fog_density', f('fog.density')],
+    ['glow_colour', v('glow.colour')],
+    ['glow_strength', f('glow.strength')],
     ['shadow_factor', f('shading.shadow_factor')],
     ['normal_delta', f('shading.normal_delta')],
     ['step_scale', f('fractal.step_scale')],
@@ -153,6 +157,8 @@ export function traceParams(s: Scene): Map<string, number | number[]> {
     ['focus_distance', focusDistance(s)],
     ['blade_rotation', toRadians(f('camera.blade_rotation'))],
     ['noise_target', f('path.noise_target')],
+    ['fog_anisotropy', f('fog.anisotropy')],
+    ['glow_radius', f('glow.radius')],
     ['max_iterations', f('fractal.max_iterations')],
     ['max_steps', f('fractal.max_steps')],
     ['width', f('image.width')],
@@ -275,6 +281,8 @@ export function pathParams(s: Scene): Map<string, number | number[]> {
     ['seed', f('path.seed')],
     ['step_scale', f('path.step_scale')],
     ['pad1', 0],
+    ['emission', v('material.emission')],
+    ['pad2', 0],
   ]);
 }
 
@@ -369,6 +377,8 @@ export function overrides(s: Scene): [string, number][] {
     ['CUT', n('cut')],
     ['LENS', b(f32(n('aperture')) > 0)],
     ['ADAPTIVE', b(samples && f32(n('noise_target')) > 0)],
+    ['FOG', b(f32(n('fog_density')) > 0)],
+    ['GLOW', b(!path && f32(n('glow_strength')) > 0)],
   ];
 }
 

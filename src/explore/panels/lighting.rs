@@ -1,6 +1,7 @@
 //! The side panel's groups of the light and the shading (the Phong-only keys greyed out in
 //! path mode), path tracing (display, material, sky, sun, paths), the denoiser switch and its
-//! `[denoise]` keys, and adaptive sampling; with the direction and colour controls they use.
+//! `[denoise]` keys, adaptive sampling, and the atmosphere (fog and glow); with the direction
+//! and colour controls they use.
 
 use super::widgets::{colour_edit, key_slider, key_slider_u32};
 use crate::denoise::Denoiser;
@@ -85,6 +86,34 @@ pub(super) fn path_tracing(ui: &mut egui::Ui, scene: &mut Scene) {
     paths(ui, &mut scene.path);
 }
 
+/// The atmosphere (docs/book/atmosphere.md): the fog in either model, phong mode's glow (greyed
+/// out in path mode).
+pub(super) fn atmosphere(ui: &mut egui::Ui, scene: &mut Scene) {
+    let fog = &mut scene.fog;
+    ui.add(key_slider(&mut fog.density, "fog.density").text("fog density (0 = none)"))
+        .on_hover_text("extinction per unit length inside the bounding ball");
+    ui.horizontal(|ui| {
+        colour_edit(ui, &mut fog.colour);
+        ui.label("fog colour (path mode: its albedo)");
+    });
+    ui.add(key_slider(&mut fog.anisotropy, "fog.anisotropy").text("fog anisotropy g (path)"))
+        .on_hover_text("Henyey-Greenstein g: 0 isotropic, toward 1 forward (light shafts)");
+    ui.separator();
+    let phong = scene.shading.model == ShadingModel::Phong;
+    if !phong {
+        ui.label("Glow is phong only (path mode ignores it):");
+    }
+    let glow = &mut scene.glow;
+    ui.add_enabled_ui(phong, |ui| {
+        ui.add(key_slider(&mut glow.strength, "glow.strength").text("glow strength (0 = off)"));
+        ui.add(key_slider(&mut glow.radius, "glow.radius").text("glow radius"));
+        ui.horizontal(|ui| {
+            colour_edit(ui, &mut glow.colour);
+            ui.label("glow colour");
+        });
+    });
+}
+
 /// `image.denoise`: the denoiser the view and the exports run, in either model.
 pub(super) fn denoiser_switch(ui: &mut egui::Ui, denoise: &mut Denoiser) {
     ui.horizontal(|ui| {
@@ -136,6 +165,7 @@ fn material(ui: &mut egui::Ui, m: &mut Material) {
     ui.add(key_slider(&mut m.roughness, "material.roughness").text("roughness"));
     ui.add(key_slider(&mut m.metallic, "material.metallic").text("metallic"));
     ui.add(key_slider(&mut m.specular, "material.specular").text("material specular (F0 / 0.08)"));
+    linear_colour(ui, &mut m.emission, "emission (x albedo)");
 }
 
 /// `[sky]`: its three colours, its up (as two angles) and its intensity.

@@ -36,6 +36,16 @@ pub(super) fn parse(kind: &Kind, v: &Value, s: &mut Scene) -> Result<(), String>
                 return Err(format!("must be one of {}", names.join(", ")));
             }
         }
+        Kind::Vector {
+            at, splat: true, ..
+        } if number(v).is_some() => {
+            // One number for every component.
+            let x = number(v).unwrap_or_default();
+            if !x.is_finite() {
+                return Err("must be finite".into());
+            }
+            (at.get_mut)(s).fill(x);
+        }
         Kind::Vector { at, .. } | Kind::Hyper { at } => {
             // A fixed vector keeps its length; a number of the algebra has its dimension (the
             // scene's vectors already do: `set_algebra` ran).
@@ -46,6 +56,9 @@ pub(super) fn parse(kind: &Kind, v: &Value, s: &mut Scene) -> Result<(), String>
                     "must be an array of {len} numbers (fractal.algebra is \"{}\")",
                     algebra.name()
                 ),
+                Kind::Vector { splat: true, .. } => {
+                    format!("must be a number or an array of {len} numbers")
+                }
                 _ => format!("must be an array of {len} numbers"),
             };
             let items = v.as_array().ok_or_else(shape)?;
@@ -69,7 +82,7 @@ fn check_range(kind: &Kind, s: &Scene) -> Result<(), String> {
         Kind::Float { at, range } if !range.contains(*(at.get)(s)) => {
             Err(format!("must be {range}"))
         }
-        Kind::Vector { at, each } if (at.get)(s).iter().any(|&x| !each.contains(x)) => {
+        Kind::Vector { at, each, .. } if (at.get)(s).iter().any(|&x| !each.contains(x)) => {
             Err(format!("must have every component {each}"))
         }
         _ => Ok(()),

@@ -140,10 +140,13 @@ fn key(k: &Key) -> Value {
             let quoted: Vec<String> = names().iter().map(|n| format!("\"{n}\"")).collect();
             put("must_be", format!("one of {}", quoted.join(", ")).into());
         }
-        Kind::Vector { at, each } => {
+        Kind::Vector { at, each, splat } => {
             put("type", "vector".into());
             put("length", (at.get)(&Scene::default()).len().into());
             put("each", range(each));
+            if splat {
+                put("splat", true.into());
+            }
         }
         Kind::Hyper { .. } => {
             put("type", "hyper".into());

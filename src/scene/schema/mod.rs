@@ -98,8 +98,13 @@ pub enum Kind {
         /// Sets the value named; false when no value has that name.
         set: fn(&mut Scene, &str) -> bool,
     },
-    /// Exactly as many finite numbers as the field holds, each within `each`.
-    Vector { at: At<[f64]>, each: Range },
+    /// Exactly as many finite numbers as the field holds, each within `each`; with `splat`,
+    /// also one number, which every component takes (`material.emission = 2`).
+    Vector {
+        at: At<[f64]>,
+        each: Range,
+        splat: bool,
+    },
     /// A number of the algebra: exactly `fractal.algebra`'s dimension of finite numbers.
     Hyper { at: At<[f64]> },
 }
@@ -394,6 +399,14 @@ macro_rules! scene_key_kind {
         $crate::scene::schema::Kind::Vector {
             at: $crate::scene::schema::scene_key_kind!(@at $table.$field),
             each: $each,
+            splat: false,
+        }
+    };
+    (vector_or_number($each:expr), $ty:ty, $table:ident . $field:ident) => {
+        $crate::scene::schema::Kind::Vector {
+            at: $crate::scene::schema::scene_key_kind!(@at $table.$field),
+            each: $each,
+            splat: true,
         }
     };
     (hyper(), $ty:ty, $table:ident . $field:ident) => {
