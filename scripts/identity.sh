@@ -2,7 +2,8 @@
 # Byte identity of two qjulia binaries' outputs: every output of render (GPU, CPU f32 and CPU
 # f64; PNG, depth and steps), the step views, render2d, animate frames and mesh PLY/STL/OBJ, path
 # mode, the denoiser, adaptive sampling, --hdr, tiles and merge, `schema --json` and `gpu-params
-# --json`, on a few presets at small sizes (PNGs without their embedded scene text, see `same`). Prints a markdown table, one row per output, and exits 1 when
+# --json`, on a few presets at small sizes (PNGs and EXRs without their embedded scene text, see
+# `same`). Prints a markdown table, one row per output, and exits 1 when
 # any output differs. For a refactor that must change no byte:
 #   scripts/identity.sh OLD_BINARY NEW_BINARY
 set -uo pipefail
@@ -31,6 +32,31 @@ def chunks(path):
         at += 12 + n
     return data[:8], out
 sys.exit(0 if chunks(sys.argv[1]) == chunks(sys.argv[2]) else 1)
+PY
+    elif [[ $1 == *.exr ]] && ! cmp -s "$1" "$2"; then
+        # An EXR holds the scene in its `qjulia-scene` header attribute (a new key changes
+        # it): every channel's samples and every other attribute must be the same. Needs
+        # python3 with the OpenEXR and numpy modules.
+        python3 - "$1" "$2" <<'PY'
+import sys
+import numpy as np
+import OpenEXR
+def read(path):
+    f = OpenEXR.File(path)
+    parts = []
+    for part in f.parts:
+        header = {k: v for k, v in part.header.items() if k != "qjulia-scene"}
+        channels = {k: np.asarray(v.pixels) for k, v in part.channels.items()}
+        parts.append((header, channels))
+    return parts
+a, b = read(sys.argv[1]), read(sys.argv[2])
+same = len(a) == len(b) and all(
+    str(ha) == str(hb)
+    and ca.keys() == cb.keys()
+    and all(np.array_equal(ca[k], cb[k], equal_nan=True) for k in ca)
+    for (ha, ca), (hb, cb) in zip(a, b)
+)
+sys.exit(0 if same else 1)
 PY
     else
         cmp -s "$1" "$2"
