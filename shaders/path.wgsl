@@ -11,7 +11,7 @@
 // why).
 //
 // Why it passes 600 lines: it is one estimator, surface and fog vertices alike; the fog's vertex
-// (medium_direct_light, path_fog) reads the sampler (path_random) and the path uniform, which
+// (direct_light with in_fog, path_fog) reads the sampler (path_random) and the path uniform, which
 // live here, so it cannot join medium.wgsl, which comes before them; and its twin is split alike.
 
 // The path tracer's own parameters, a second uniform beside the tracer's Params (keep in sync
@@ -178,38 +178,36 @@ fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
     return c * (path.clamp_contribution / m);
 }
 
-// Next-event estimation at a hit: the sun and the sphere light, each by one sample toward it
-// and a shadow ray, weighted against BSDF sampling by the power heuristic.
-fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material) -> vec3<f32> {
+// Next-event estimation at a vertex: the sun and the sphere light, each by one sample toward it
+// and a shadow ray (visibility: the set's occlusion and the fog's transmittance), weighted
+// against BSDF or phase sampling by the power heuristic. At a surface hit (in_fog false) the
+// BSDF of m in the frame f, with wo, and shadow rays from p + SURFACE_OFFSET epsilon n; at a
+// scattering event in the fog (in_fog true) the phase function (phase_hg of fog.anisotropy)
+// of light that travelled along d, no cosine, and shadow rays from p itself. One function, so
+// that the kernel holds one shadow trace per light.
+fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-    let origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
+    var origin = p;
+    if !in_fog {
+        origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
+    }
+    let g = f32(params.fog_anisotropy);
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
         // Each light its own point (DIM_SUN, DIM_SPHERE_LIGHT).
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
         let ls = sample_sun(path_sun(), u);
         let wi = to_local(f, ls.wi);
-        if wi.z > 0.0 {
+        if in_fog || wi.z > 0.0 {
             let v = visibility(origin, vec3<Real>(ls.wi), 3.0e38);
             if v > 0.0 {
-                var w = 1.0;
-                if path.strategy == STRATEGY_BOTH {
-                    w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
-                }
-                sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
-            }
-        }
-    }
-    if any(path.light_intensity > vec3<f32>(0.0)) {
-        let light = path_sphere_light();
-        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
-        let ls = sample_sphere_light(light, vec3<f32>(p), u);
-        let wi = to_local(f, ls.wi);
-        if ls.pdf > 0.0 && wi.z > 0.0 {
-            let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
-            if v > 0.0 {
-                if ls.delta {
-                    sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z * v;
+                if in_fog {
+                    let phase = phase_hg(g, dot(d, ls.wi));
+                    var w = 1.0;
+                    if path.strategy == STRATEGY_BOTH {
+                        w = power_heuristic(ls.pdf, phase);
+                    }
+                    sum += ls.radiance * (phase * w / ls.pdf * v);
                 } else {
                     var w = 1.0;
                     if path.strategy == STRATEGY_BOTH {
@@ -220,45 +218,33 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, p: vec3<Real>, f: Basi
             }
         }
     }
-    return sum;
-}
-
-// Next-event estimation at a scattering event in the fog, at x, of light that travelled along d:
-// direct_light with the phase function (phase_hg, of fog.anisotropy) for the BSDF and no cosine,
-// each light's shadow ray carrying the fog's transmittance (visibility), weighted against phase
-// sampling by the power heuristic. The fog's albedo is in the path's throughput (fog_event).
-fn medium_direct_light(i: u32, j: u32, sample: u32, bounce: u32, x: vec3<Real>, d: vec3<f32>) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
-    let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-    let g = f32(params.fog_anisotropy);
-    if any(path.sun_irradiance > vec3<f32>(0.0)) {
-        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
-        let ls = sample_sun(path_sun(), u);
-        let v = visibility(x, vec3<Real>(ls.wi), 3.0e38);
-        if v > 0.0 {
-            let phase = phase_hg(g, dot(d, ls.wi));
-            var w = 1.0;
-            if path.strategy == STRATEGY_BOTH {
-                w = power_heuristic(ls.pdf, phase);
-            }
-            sum += ls.radiance * (phase * w / ls.pdf * v);
-        }
-    }
     if any(path.light_intensity > vec3<f32>(0.0)) {
+        let light = path_sphere_light();
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
-        let ls = sample_sphere_light(path_sphere_light(), vec3<f32>(x), u);
-        if ls.pdf > 0.0 {
-            let v = visibility(x, vec3<Real>(ls.wi), Real(ls.distance));
+        let ls = sample_sphere_light(light, vec3<f32>(p), u);
+        let wi = to_local(f, ls.wi);
+        if ls.pdf > 0.0 && (in_fog || wi.z > 0.0) {
+            let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
             if v > 0.0 {
-                let phase = phase_hg(g, dot(d, ls.wi));
-                if ls.delta {
-                    sum += ls.radiance * (phase * v);
+                if in_fog {
+                    let phase = phase_hg(g, dot(d, ls.wi));
+                    if ls.delta {
+                        sum += ls.radiance * (phase * v);
+                    } else {
+                        var w = 1.0;
+                        if path.strategy == STRATEGY_BOTH {
+                            w = power_heuristic(ls.pdf, phase);
+                        }
+                        sum += ls.radiance * (phase * w / ls.pdf * v);
+                    }
+                } else if ls.delta {
+                    sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z * v;
                 } else {
                     var w = 1.0;
                     if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(ls.pdf, phase);
+                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
                     }
-                    sum += ls.radiance * (phase * w / ls.pdf * v);
+                    sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
                 }
             }
         }
@@ -430,6 +416,8 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         // In fog, the ray may scatter before its stretch ends (at the light, the set, where it
         // ran out, or where it leaves): a scattering event is the path's next vertex, lit by
         // next-event estimation and left by phase sampling, and counts as a bounce.
+        var in_fog = false;
+        var p = origin;
         if fog_on() {
             var t_stop = trace.t;
             if meets_light {
@@ -443,77 +431,77 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
                 if bounce == path.bounces {
                     break;
                 }
-                if path.strategy != STRATEGY_BSDF {
-                    radiance += clamp_indirect(throughput * medium_direct_light(i, j, sample, bounce, fog.point, dir32), bounce);
-                }
-                let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-                let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
-                let ps = sample_hg(f32(params.fog_anisotropy), dir32, u);
-                // The phase sample's weight, phase / pdf, is 1.
-                pdf_prev = ps.pdf;
-                origin = fog.point;
-                dir = real_normalize(vec3<Real>(ps.wi));
-                let q = roulette(i, j, sample, bounce, throughput);
-                if q <= 0.0 {
-                    break;
-                }
-                throughput /= q;
-                continue;
+                in_fog = true;
+                p = fog.point;
             }
         }
-        if meets_light {
-            let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
-            radiance += clamp_indirect(throughput * e, vertex);
-            break;
-        }
-        if ran_out {
-            break;
-        }
-        if !trace.hit {
-            radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), vertex);
-            break;
-        }
-        // material.emission: the set's own light, the hit's albedo times the emission (found by
-        // the rays alone: no light sampling aims at it).
-        if any(path.emission > vec3<f32>(0.0)) {
-            let albedo = vec3<f32>(hit_albedo(origin + trace.t * dir));
-            radiance += clamp_indirect(throughput * path.emission * albedo, vertex);
-        }
-        if bounce == path.bounces {
-            break;
-        }
-        let p = origin + trace.t * dir;
-        let n = face_viewer(vec3<f32>(estimate_normal(p, dir)), -dir32);
-        let f = basis_from_normal(n);
-        let wo = to_local(f, -dir32);
-        var m = path_material(p);
-        if diffuse_before {
-            m = regularized(m);
-        }
-        if bounce == 0u {
-            result.albedo = m.albedo;
-            result.normal = n;
-        }
-        if wo.z <= 0.0 {
-            break;
+        // A surface vertex's normal, frame, wo and material (unused in the fog).
+        var n = vec3<f32>(0.0, 0.0, 1.0);
+        var f = Basis(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
+        var wo = n;
+        var m = Material(vec3<f32>(0.0), 1.0, 0.0, 0.0, false);
+        if !in_fog {
+            if meets_light {
+                let e = light_emission(vec3<f32>(origin), dir32, bounce, pdf_prev);
+                radiance += clamp_indirect(throughput * e, vertex);
+                break;
+            }
+            if ran_out {
+                break;
+            }
+            if !trace.hit {
+                radiance += clamp_indirect(throughput * escaped(dir32, bounce, pdf_prev), vertex);
+                break;
+            }
+            p = origin + trace.t * dir;
+            // material.emission: the set's own light, the hit's albedo times the emission
+            // (found by the rays alone: no light sampling aims at it).
+            if any(path.emission > vec3<f32>(0.0)) {
+                radiance += clamp_indirect(throughput * path.emission * vec3<f32>(hit_albedo(p)), vertex);
+            }
+            if bounce == path.bounces {
+                break;
+            }
+            n = face_viewer(vec3<f32>(estimate_normal(p, dir)), -dir32);
+            f = basis_from_normal(n);
+            wo = to_local(f, -dir32);
+            m = path_material(p);
+            if diffuse_before {
+                m = regularized(m);
+            }
+            if bounce == 0u {
+                result.albedo = m.albedo;
+                result.normal = n;
+            }
+            if wo.z <= 0.0 {
+                break;
+            }
         }
         if path.strategy != STRATEGY_BSDF {
-            radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, p, f, wo, m), bounce);
+            radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, in_fog, p, f, wo, m, dir32), bounce);
         }
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
-        let lobe = path_random(i, j, sample, dim + DIM_BSDF_CHOICE);
-        let bs = bsdf_sample(m, wo, lobe, u);
-        if bs.pdf <= 0.0 {
-            break;
+        if in_fog {
+            let ps = sample_hg(f32(params.fog_anisotropy), dir32, u);
+            // The phase sample's weight, phase / pdf, is 1.
+            pdf_prev = ps.pdf;
+            origin = p;
+            dir = real_normalize(vec3<Real>(ps.wi));
+        } else {
+            let lobe = path_random(i, j, sample, dim + DIM_BSDF_CHOICE);
+            let bs = bsdf_sample(m, wo, lobe, u);
+            if bs.pdf <= 0.0 {
+                break;
+            }
+            if path.regularize > 0.0 && lobe >= specular_probability(m, wo) {
+                diffuse_before = true;
+            }
+            throughput *= bs.f * (bs.wi.z / bs.pdf);
+            pdf_prev = bs.pdf;
+            origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(n);
+            dir = real_normalize(vec3<Real>(to_world(f, bs.wi)));
         }
-        if path.regularize > 0.0 && lobe >= specular_probability(m, wo) {
-            diffuse_before = true;
-        }
-        throughput *= bs.f * (bs.wi.z / bs.pdf);
-        pdf_prev = bs.pdf;
-        origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(n);
-        dir = real_normalize(vec3<Real>(to_world(f, bs.wi)));
         let q = roulette(i, j, sample, bounce, throughput);
         if q <= 0.0 {
             break;

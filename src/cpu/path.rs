@@ -277,18 +277,24 @@ impl<F: Real> TraceParams<F> {
         c * (path.clamp_contribution / m)
     }
 
-    /// Next-event estimation at a hit: the sun and the sphere light, each by one sample toward
-    /// it and a shadow ray, weighted against BSDF sampling by the power heuristic.
+    /// Next-event estimation at a vertex: the sun and the sphere light, each by one sample
+    /// toward it and a shadow ray ([`Self::visibility`]: the set's occlusion and the fog's
+    /// transmittance), weighted against BSDF or phase sampling by the power heuristic. At a
+    /// surface hit (`in_fog` false) the BSDF of m in the frame f, with wo, and shadow rays from
+    /// p + SURFACE_OFFSET epsilon n; at a scattering event in the fog (`in_fog` true) the phase
+    /// function ([`phase_hg`] of `fog.anisotropy`) of light that travelled along d, no cosine,
+    /// and shadow rays from p itself. One function, as in the kernel, which then holds one
+    /// shadow trace per light.
     #[allow(clippy::too_many_arguments)]
     pub fn direct_light(
         &self,
         path: &PathParams<F>,
         (i, j, sample): (u32, u32, u32),
         bounce: u32,
+        in_fog: bool,
         p: Vec3<F>,
-        f: Basis<F>,
-        wo: Vec3<F>,
-        m: Material<F>,
+        (f, wo, m): (Basis<F>, Vec3<F>, Material<F>),
+        d: Vec3<F>,
     ) -> Vec3<F> {
         let mut sum = Vec3::zero();
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
@@ -299,18 +305,32 @@ impl<F: Real> TraceParams<F> {
                 self.path_random(path, i, j, sample, dim + first + 1),
             )
         };
-        let origin = p + f.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+        let mut origin = p;
+        if !in_fog {
+            origin = p + f.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+        }
+        let g = self.fog_anisotropy;
+        let weight = |light_pdf: F, other_pdf: F| {
+            if path.strategy == Strategy::Both {
+                power_heuristic(light_pdf, other_pdf)
+            } else {
+                F::one()
+            }
+        };
         if any_positive(path.sun.irradiance) {
             let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
             let wi = to_local(f, ls.wi);
-            if wi.z > F::zero() {
+            if in_fog || wi.z > F::zero() {
                 let v = self.visibility(path, origin, ls.wi, F::lit(3.0e38));
                 if v > F::zero() {
-                    let mut w = F::one();
-                    if path.strategy == Strategy::Both {
-                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                    if in_fog {
+                        let phase = phase_hg(g, d.dot(ls.wi));
+                        let w = weight(ls.pdf, phase);
+                        sum += ls.radiance * (phase * w / ls.pdf * v);
+                    } else {
+                        let w = weight(ls.pdf, bsdf_pdf(m, wo, wi));
+                        sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf) * v;
                     }
-                    sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf) * v;
                 }
             }
         }
@@ -318,73 +338,25 @@ impl<F: Real> TraceParams<F> {
             let light = self.path_sphere_light(path);
             let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
             let wi = to_local(f, ls.wi);
-            if ls.pdf > F::zero() && wi.z > F::zero() {
+            if ls.pdf > F::zero() && (in_fog || wi.z > F::zero()) {
                 let v = self.visibility(path, origin, ls.wi, ls.distance);
                 if v > F::zero() {
-                    let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
-                    if ls.delta {
-                        sum += f_wi * wi.z * v;
-                    } else {
-                        let mut w = F::one();
-                        if path.strategy == Strategy::Both {
-                            w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+                    if in_fog {
+                        let phase = phase_hg(g, d.dot(ls.wi));
+                        if ls.delta {
+                            sum += ls.radiance * (phase * v);
+                        } else {
+                            let w = weight(ls.pdf, phase);
+                            sum += ls.radiance * (phase * w / ls.pdf * v);
                         }
-                        sum += f_wi * (wi.z * w / ls.pdf) * v;
-                    }
-                }
-            }
-        }
-        sum
-    }
-
-    /// Next-event estimation at a scattering event in the fog, at x, of light that travelled
-    /// along d: [`Self::direct_light`] with the phase function ([`phase_hg`] of
-    /// `fog.anisotropy`) for the BSDF and no cosine, each light's shadow ray carrying the fog's
-    /// transmittance ([`Self::visibility`]), weighted against phase sampling by the power
-    /// heuristic. The fog's albedo is in the path's throughput ([`fog_event`]).
-    pub fn medium_direct_light(
-        &self,
-        path: &PathParams<F>,
-        (i, j, sample): (u32, u32, u32),
-        bounce: u32,
-        x: Vec3<F>,
-        d: Vec3<F>,
-    ) -> Vec3<F> {
-        let mut sum = Vec3::zero();
-        let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-        let point = |first: u32| {
-            crate::algebra::Vec2::new(
-                self.path_random(path, i, j, sample, dim + first),
-                self.path_random(path, i, j, sample, dim + first + 1),
-            )
-        };
-        let g = self.fog_anisotropy;
-        if any_positive(path.sun.irradiance) {
-            let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
-            let v = self.visibility(path, x, ls.wi, F::lit(3.0e38));
-            if v > F::zero() {
-                let phase = phase_hg(g, d.dot(ls.wi));
-                let mut w = F::one();
-                if path.strategy == Strategy::Both {
-                    w = power_heuristic(ls.pdf, phase);
-                }
-                sum += ls.radiance * (phase * w / ls.pdf * v);
-            }
-        }
-        if any_positive(path.light_intensity) {
-            let ls = sample_sphere_light(self.path_sphere_light(path), x, point(DIM_SPHERE_LIGHT));
-            if ls.pdf > F::zero() {
-                let v = self.visibility(path, x, ls.wi, ls.distance);
-                if v > F::zero() {
-                    let phase = phase_hg(g, d.dot(ls.wi));
-                    if ls.delta {
-                        sum += ls.radiance * (phase * v);
                     } else {
-                        let mut w = F::one();
-                        if path.strategy == Strategy::Both {
-                            w = power_heuristic(ls.pdf, phase);
+                        let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
+                        if ls.delta {
+                            sum += f_wi * wi.z * v;
+                        } else {
+                            let w = weight(ls.pdf, bsdf_pdf(m, wo, wi));
+                            sum += f_wi * (wi.z * w / ls.pdf) * v;
                         }
-                        sum += ls.radiance * (phase * w / ls.pdf * v);
                     }
                 }
             }
@@ -623,6 +595,8 @@ impl<F: Real> TraceParams<F> {
             // In fog, the ray may scatter before its stretch ends (at the light, the set, where
             // it ran out, or where it leaves): a scattering event is the path's next vertex, lit
             // by next-event estimation and left by phase sampling, and counts as a bounce.
+            let mut in_fog = false;
+            let mut p = origin;
             if self.fog_on() {
                 let mut t_stop = trace.t;
                 if meets_light {
@@ -636,69 +610,67 @@ impl<F: Real> TraceParams<F> {
                     if bounce == path.bounces {
                         break;
                     }
-                    if path.strategy != Strategy::Bsdf {
-                        let x = fog.point;
-                        let d = self.medium_direct_light(path, (i, j, sample), bounce, x, dir);
-                        radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
-                    }
-                    let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-                    let u = crate::algebra::Vec2::new(
-                        self.path_random(path, i, j, sample, dim + DIM_BSDF),
-                        self.path_random(path, i, j, sample, dim + DIM_BSDF + 1),
-                    );
-                    let ps = sample_hg(self.fog_anisotropy, dir, u);
-                    // The phase sample's weight, phase / pdf, is 1.
-                    pdf_prev = ps.pdf;
-                    origin = fog.point;
-                    dir = ps.wi.normalize();
-                    let q = self.roulette(path, (i, j, sample), bounce, throughput);
-                    if q <= F::zero() {
-                        break;
-                    }
-                    throughput = throughput / q;
-                    continue;
+                    in_fog = true;
+                    p = fog.point;
                 }
             }
-            if meets_light {
-                let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
-                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
-                break;
-            }
-            if ran_out {
-                break;
-            }
-            if !trace.hit {
-                let e = self.escaped(path, dir, bounce, pdf_prev);
-                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
-                break;
-            }
-            // material.emission: the set's own light, the hit's albedo times the emission
-            // (found by the rays alone: no light sampling aims at it).
-            if any_positive(path.emission) {
-                let albedo = self.hit_albedo(origin + dir * trace.t);
-                let e = path.emission.mul_elem(albedo);
-                radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
-            }
-            if bounce == path.bounces {
-                break;
-            }
-            let p = origin + dir * trace.t;
-            let n = self.face_viewer(self.estimate_normal(p, dir), -dir);
-            let f = basis_from_normal(n);
-            let wo = to_local(f, -dir);
-            let mut m = self.path_material(path, p);
-            if diffuse_before {
-                m = self.regularized(path, m);
-            }
-            if bounce == 0 {
-                result.albedo = m.albedo;
-                result.normal = n;
-            }
-            if wo.z <= F::zero() {
-                break;
+            // A surface vertex's normal, frame, wo and material (unused in the fog).
+            let mut n = Vec3::new(F::zero(), F::zero(), F::one());
+            let mut f = Basis {
+                t: Vec3::new(F::one(), F::zero(), F::zero()),
+                b: Vec3::new(F::zero(), F::one(), F::zero()),
+                n,
+            };
+            let mut wo = n;
+            let mut m = Material {
+                albedo: Vec3::zero(),
+                roughness: F::one(),
+                metallic: F::zero(),
+                specular: F::zero(),
+                multiscatter: false,
+            };
+            if !in_fog {
+                if meets_light {
+                    let e = self.light_emission(path, origin, dir, bounce, pdf_prev);
+                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
+                    break;
+                }
+                if ran_out {
+                    break;
+                }
+                if !trace.hit {
+                    let e = self.escaped(path, dir, bounce, pdf_prev);
+                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
+                    break;
+                }
+                p = origin + dir * trace.t;
+                // material.emission: the set's own light, the hit's albedo times the emission
+                // (found by the rays alone: no light sampling aims at it).
+                if any_positive(path.emission) {
+                    let e = path.emission.mul_elem(self.hit_albedo(p));
+                    radiance += self.clamp_indirect(path, throughput.mul_elem(e), vertex);
+                }
+                if bounce == path.bounces {
+                    break;
+                }
+                n = self.face_viewer(self.estimate_normal(p, dir), -dir);
+                f = basis_from_normal(n);
+                wo = to_local(f, -dir);
+                m = self.path_material(path, p);
+                if diffuse_before {
+                    m = self.regularized(path, m);
+                }
+                if bounce == 0 {
+                    result.albedo = m.albedo;
+                    result.normal = n;
+                }
+                if wo.z <= F::zero() {
+                    break;
+                }
             }
             if path.strategy != Strategy::Bsdf {
-                let d = self.direct_light(path, (i, j, sample), bounce, p, f, wo, m);
+                let at = (i, j, sample);
+                let d = self.direct_light(path, at, bounce, in_fog, p, (f, wo, m), dir);
                 radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
             }
             let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
@@ -706,18 +678,26 @@ impl<F: Real> TraceParams<F> {
                 self.path_random(path, i, j, sample, dim + DIM_BSDF),
                 self.path_random(path, i, j, sample, dim + DIM_BSDF + 1),
             );
-            let lobe = self.path_random(path, i, j, sample, dim + DIM_BSDF_CHOICE);
-            let bs = bsdf_sample(m, wo, lobe, u);
-            if bs.pdf <= F::zero() {
-                break;
+            if in_fog {
+                let ps = sample_hg(self.fog_anisotropy, dir, u);
+                // The phase sample's weight, phase / pdf, is 1.
+                pdf_prev = ps.pdf;
+                origin = p;
+                dir = ps.wi.normalize();
+            } else {
+                let lobe = self.path_random(path, i, j, sample, dim + DIM_BSDF_CHOICE);
+                let bs = bsdf_sample(m, wo, lobe, u);
+                if bs.pdf <= F::zero() {
+                    break;
+                }
+                if path.regularize > F::zero() && lobe >= specular_probability(m, wo) {
+                    diffuse_before = true;
+                }
+                throughput = throughput.mul_elem(bs.f) * (bs.wi.z / bs.pdf);
+                pdf_prev = bs.pdf;
+                origin = p + n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+                dir = to_world(f, bs.wi).normalize();
             }
-            if path.regularize > F::zero() && lobe >= specular_probability(m, wo) {
-                diffuse_before = true;
-            }
-            throughput = throughput.mul_elem(bs.f) * (bs.wi.z / bs.pdf);
-            pdf_prev = bs.pdf;
-            origin = p + n * (F::lit(SURFACE_OFFSET) * self.epsilon);
-            dir = to_world(f, bs.wi).normalize();
             let q = self.roulette(path, (i, j, sample), bounce, throughput);
             if q <= F::zero() {
                 break;
