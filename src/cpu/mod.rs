@@ -4,6 +4,7 @@
 pub mod bsdf;
 mod counters;
 pub mod denoise;
+pub mod environment;
 pub mod ggx_albedo;
 pub mod ggx_quadrature;
 pub mod julia2d;
