@@ -16,7 +16,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-TARGETS=(scene_toml set png_scene exr_scene animation mesh_box merge_part)
+TARGETS=(scene_toml set png_scene exr_scene animation mesh_box merge_part map_exr map_hdr)
 LIMITS=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=256)
 
 fuzz() { (cd fuzz && cargo +nightly fuzz "$@"); }

@@ -12,6 +12,7 @@ pub mod compare;
 pub mod cpu;
 pub mod denoise;
 pub mod display;
+pub mod envmap;
 pub mod error;
 #[cfg(feature = "gpu")]
 pub mod explore;

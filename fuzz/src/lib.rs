@@ -14,7 +14,7 @@ use qjulia::scene::{
 pub type Target = fn(&[u8]);
 
 /// Every target, by name, as fuzz/fuzz_targets/ and fuzz/corpus/ name them.
-pub const TARGETS: [(&str, Target); 7] = [
+pub const TARGETS: [(&str, Target); 9] = [
     ("scene_toml", scene_toml),
     ("set", set),
     ("png_scene", png_scene),
@@ -22,6 +22,8 @@ pub const TARGETS: [(&str, Target); 7] = [
     ("animation", animation),
     ("mesh_box", mesh_box),
     ("merge_part", merge_part),
+    ("map_exr", map_exr),
+    ("map_hdr", map_hdr),
 ];
 
 /// Panics unless `message` is one non-empty line: what the CLI prints after "error: ".
@@ -184,5 +186,36 @@ const MEMORY: u64 = 64 << 20;
 pub fn merge_part(data: &[u8]) {
     if let Err(e) = qjulia::tile::check_part_bytes(data, std::path::Path::new("fuzz.exr"), MEMORY) {
         one_line(e);
+    }
+}
+
+/// The memory a fuzzed environment map may take: a header that asks for more is refused before
+/// its pixels are read.
+const MAP_BUDGET: u64 = 64 << 20;
+
+/// The environment map's OpenEXR reader (`environment.file`): any bytes end in a map exactly
+/// twice as wide as high, of finite texels >= 0, or a one-line reason.
+pub fn map_exr(data: &[u8]) {
+    map(data, qjulia::envmap::MapFormat::OpenExr);
+}
+
+/// The environment map's Radiance `.hdr` reader, as [`map_exr`].
+pub fn map_hdr(data: &[u8]) {
+    map(data, qjulia::envmap::MapFormat::Radiance);
+}
+
+fn map(data: &[u8], format: qjulia::envmap::MapFormat) {
+    match qjulia::envmap::from_bytes(data, format, Some(MAP_BUDGET)) {
+        Ok(m) => {
+            assert_eq!(m.width, 2 * m.height);
+            assert_eq!(m.texels.len(), m.width * m.height);
+            assert!(
+                m.texels
+                    .iter()
+                    .flatten()
+                    .all(|c| c.is_finite() && *c >= 0.0)
+            );
+        }
+        Err(e) => one_line(e),
     }
 }
