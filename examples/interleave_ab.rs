@@ -18,7 +18,9 @@
 //!     cargo run --release --example interleave_ab [SIZE] [SAMPLES]
 
 use qjulia::gpu::kernel::{Band, Kernel, KernelSpec, Run};
-use qjulia::gpu::shaders::{ALGEBRA_WGSL, REAL32_WGSL, ShaderModuleSource, TRACE_WGSL};
+use qjulia::gpu::shaders::{
+    ALGEBRA_WGSL, ENVIRONMENT_WGSL, REAL32_WGSL, ShaderModuleSource, TRACE_WGSL,
+};
 use qjulia::gpu::{GpuContext, GpuParams, TRACE_OUTPUTS};
 use qjulia::params::TraceParams;
 
@@ -134,7 +136,13 @@ fn pair_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 const MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "interleave",
-    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL, EXPERIMENT_WGSL],
+    parts: &[
+        REAL32_WGSL,
+        ALGEBRA_WGSL,
+        TRACE_WGSL,
+        ENVIRONMENT_WGSL,
+        EXPERIMENT_WGSL,
+    ],
 };
 
 fn spec(entry_point: &'static str) -> KernelSpec {
@@ -147,6 +155,7 @@ fn spec(entry_point: &'static str) -> KernelSpec {
         band_row_multiple: 1,
         trusted: true,
         second_uniform: None,
+        input: Some(8),
         bake_keeps: None,
     }
 }
@@ -191,6 +200,7 @@ fn main() {
             read: &read,
             dispatches_per_band: 1,
             params: &uniform,
+            input: None,
         };
         let mut sums: Vec<f32> = Vec::new();
         let times = kernel

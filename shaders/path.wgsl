@@ -178,13 +178,13 @@ fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
     return c * (path.clamp_contribution / m);
 }
 
-// Next-event estimation at a vertex: the sun and the sphere light, each by one sample toward it
-// and a shadow ray (visibility: the set's occlusion and the fog's transmittance), weighted
-// against BSDF or phase sampling by the power heuristic. At a surface hit (in_fog false) the
-// BSDF of m in the frame f, with wo, and shadow rays from p + SURFACE_OFFSET epsilon n; at a
-// scattering event in the fog (in_fog true) the phase function (phase_hg of fog.anisotropy)
-// of light that travelled along d, no cosine, and shadow rays from p itself. One function, so
-// that the kernel holds one shadow trace per light.
+// Next-event estimation at a vertex: the sun, the environment map and the sphere light, each by
+// one sample toward it and a shadow ray (visibility: the set's occlusion and the fog's
+// transmittance), weighted against BSDF or phase sampling by the power heuristic. At a surface
+// hit (in_fog false) the BSDF of m in the frame f, with wo, and shadow rays from p +
+// SURFACE_OFFSET epsilon n; at a scattering event in the fog (in_fog true) the phase function
+// (phase_hg of fog.anisotropy) of light that travelled along d, no cosine, and shadow rays from
+// p itself. One function, so that the kernel holds one shadow trace per light.
 fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
@@ -214,6 +214,31 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<
                         w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
                     }
                     sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
+                }
+            }
+        }
+    }
+    if environment_on() {
+        // The map's point (DIM_ENVIRONMENT), the sun's group's other two dimensions.
+        let u = vec2<f32>(path_random(i, j, sample, dim + DIM_ENVIRONMENT), path_random(i, j, sample, dim + DIM_ENVIRONMENT + 1u));
+        let es = sample_environment(u);
+        let wi = to_local(f, es.wi);
+        if es.pdf > 0.0 && (in_fog || wi.z > 0.0) {
+            let v = visibility(origin, vec3<Real>(es.wi), 3.0e38);
+            if v > 0.0 {
+                if in_fog {
+                    let phase = phase_hg(g, dot(d, es.wi));
+                    var w = 1.0;
+                    if path.strategy == STRATEGY_BOTH {
+                        w = power_heuristic(es.pdf, phase);
+                    }
+                    sum += es.radiance * (phase * w / es.pdf * v);
+                } else {
+                    var w = 1.0;
+                    if path.strategy == STRATEGY_BOTH {
+                        w = power_heuristic(es.pdf, bsdf_pdf(m, wo, wi));
+                    }
+                    sum += bsdf_eval(m, wo, wi) * es.radiance * (wi.z * w / es.pdf) * v;
                 }
             }
         }
@@ -287,11 +312,26 @@ fn roulette(i: u32, j: u32, sample: u32, bounce: u32, throughput: vec3<f32>) -> 
     return q;
 }
 
-// The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
-// weighted against next-event estimation (bsdf_pdf the density the ray was drawn with; a camera
-// ray, drawn with no density, sees the sun whole).
+// The radiance reaching a ray that leaves the bounding region: the sky (the environment map
+// where the scene has one), and the sun's disc, the map and the sun weighted against their
+// next-event estimation (bsdf_pdf the density the ray was drawn with; a camera ray, drawn with
+// no density, sees them whole).
 fn escaped(dir: vec3<f32>, bounce: u32, bsdf_pdf_prev: f32) -> vec3<f32> {
-    var c = sky_radiance(path_sky(), dir);
+    var c = vec3<f32>(0.0);
+    if environment_on() {
+        // The map, weighted against its own next-event estimation as the sun is.
+        var w = 1.0;
+        if bounce > 0u {
+            if path.strategy == STRATEGY_LIGHT {
+                w = 0.0;
+            } else if path.strategy == STRATEGY_BOTH {
+                w = power_heuristic(bsdf_pdf_prev, environment_pdf(dir));
+            }
+        }
+        c = w * env_radiance(dir);
+    } else {
+        c = sky_radiance(path_sky(), dir);
+    }
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
         var w = 1.0;
         if bounce > 0u {

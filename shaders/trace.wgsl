@@ -52,6 +52,12 @@ struct Params {
     // Phong mode's halo: its colour and strength (0: off).
     glow_colour: vec3<Real>,
     glow_strength: Real,
+    // The environment map's frame (shaders/environment.wgsl): up and the turn about it in
+    // radians, front (u = 0 at turn 0) and the radiance's factor.
+    env_up: vec3<Real>,
+    env_rotation: Real,
+    env_front: vec3<Real>,
+    env_intensity: Real,
     shadow_factor: Real,
     normal_delta: Real,
     step_scale: Real,
@@ -89,6 +95,10 @@ struct Params {
     // The aperture's blades: 0 round, 3..16 a regular polygon.
     blades: u32,
     min_samples: u32,
+    // Whether the environment map is bound (1) or not (0), and whether phong mode's ambient
+    // light is its irradiance (1).
+    env_map: u32,
+    env_light: u32,
     // This dispatch's: the band of rows, where it lands (row_stride, out_row: see the outputs
     // below), and the samples it adds, [sample_start, sample_end).
     row_offset: u32,
@@ -131,6 +141,8 @@ override LENS: bool = true;
 // The atmosphere: fog.density > 0 (either model; fog_on), glow.strength > 0 (phong; glow_on).
 override FOG: bool = true;
 override GLOW: bool = true;
+// The environment map: environment.file names one (either model; environment_on).
+override ENVIRONMENT: bool = true;
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.
@@ -870,7 +882,10 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
         a = occlusion(p, n);
     }
-    let ambient = params.ambient * a * base;
+    var ambient = params.ambient * a * base;
+    if environment_on() && params.env_light != 0u {
+        ambient *= vec3<Real>(env_irradiance(vec3<f32>(n)));
+    }
     let l = safe_normalize(params.light - p, n);
     let e = safe_normalize(eye - p, n);
     let n_dot_l = dot(n, l);
@@ -897,6 +912,15 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
         }
     }
     return ambient + light;
+}
+
+// What a ray along dir that hits nothing shows: the environment map's radiance where the scene
+// has one (phong mode clamps it as any colour), else the flat background.
+fn background(dir: vec3<Real>) -> vec3<Real> {
+    if environment_on() {
+        return vec3<Real>(env_radiance(vec3<f32>(dir)));
+    }
+    return params.background;
 }
 
 // The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left corner.
@@ -1127,7 +1151,7 @@ fn atmosphere(colour: vec3<Real>, ray: Primary, trace: Trace) -> vec3<Real> {
 fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
     let none = vec3<Real>(0.0);
     if !trace.hit {
-        return Pixel(atmosphere(params.background, ray, trace), -1.0, trace.steps, false, none, none);
+        return Pixel(atmosphere(background(ray.dir), ray, trace), -1.0, trace.steps, false, none, none);
     }
     if SPECIALISED && !SHADE {
         return Pixel(params.background, trace.t, trace.steps, true, none, none);

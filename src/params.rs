@@ -4,7 +4,10 @@
 //! worked out, and their images, the uniforms the GPU reads (`Params` of shaders/trace.wgsl,
 //! `Julia2dParams` of shaders/julia2d.wgsl).
 
+use std::sync::Arc;
+
 use crate::algebra::{Vec2, Vec3, hyper_from_f64};
+use crate::envmap::EnvironmentData;
 use crate::scene::{Colouring, NormalMethod, Tracing};
 use crate::uniform::uniform;
 
@@ -23,6 +26,7 @@ uniform! {
         let frame = scene.camera_frame();
         let bounds = scene.slice_bounds();
         let (f, s, sh) = (&scene.fractal, &scene.slice, &scene.shading);
+        let env_frame = environment_frame(scene);
     }
     fields {
         c: Hyper = hyper_from_f64(&f.c),
@@ -61,6 +65,13 @@ uniform! {
         /// Phong mode's halo (`[glow]`): its colour, and its strength (0: off).
         glow_colour: Vec3 = Vec3::from_f64(scene.glow.colour),
         glow_strength: Real = F::lit(scene.glow.strength),
+        /// The environment map's frame (src/cpu/environment.rs): up (`sky.up`, unit) and its
+        /// turn about it in radians (`environment.rotation_degrees`), front (u = 0 at turn 0,
+        /// unit, orthogonal to up) and the radiance's factor (`environment.intensity`).
+        env_up: Vec3 = Vec3::from_f64(env_frame.0),
+        env_rotation: Real = F::lit(env_frame.2),
+        env_front: Vec3 = Vec3::from_f64(env_frame.1),
+        env_intensity: Real = F::lit(scene.environment.intensity),
         shadow_factor: Real = F::lit(sh.shadow_factor),
         normal_delta: Real = F::lit(sh.normal_delta),
         step_scale: Real = F::lit(f.step_scale),
@@ -105,6 +116,10 @@ uniform! {
         /// Adaptive sampling's floor (`path.min_samples`): no pixel stops before
         /// max(min(min_samples, samples), 4) samples.
         min_samples: u32 = scene.path.min_samples,
+        /// Whether the scene's environment map is loaded and bound (`environment.file`).
+        env_map: bool = scene.loaded.environment.is_some(),
+        /// Phong mode's ambient light from the map's irradiance (`shading.environment_light`).
+        env_light: bool = sh.environment_light,
     }
     per_dispatch(p, row_offset, row_count) {
         /// The band of rows this dispatch traces: [row_offset, row_offset + row_count).
@@ -119,6 +134,32 @@ uniform! {
         sample_start: u32 = 0,
         sample_end: u32 = p.samples,
     }
+    host_only {
+        /// The environment map as loaded and packed (`scene.loaded.environment`), which the
+        /// kernels read at binding 8 and the CPU twin here; None: no map.
+        environment: Option<Arc<EnvironmentData>> = scene.loaded.environment.clone(),
+    }
+}
+
+/// The environment map's frame in f64: up (`sky.up`, unit), front (the world's +z, or +y where
+/// |up.z| >= 0.9, made orthogonal to up: u = 0 and the map's edges
+/// lie toward front, so that its centre, u = 1/2, faces the default camera's view along -z) and
+/// the turn about up in radians (`environment.rotation_degrees` modulo a full turn). Right,
+/// toward u = 1/4, is front x up.
+pub fn environment_frame(scene: &crate::scene::Scene) -> ([f64; 3], [f64; 3], f64) {
+    let up = glam::DVec3::from_array(unit(scene.sky.up));
+    let axis = if up.z.abs() < 0.9 {
+        glam::DVec3::Z
+    } else {
+        glam::DVec3::Y
+    };
+    let front = (axis - up * axis.dot(up)).normalize();
+    let turn = scene
+        .environment
+        .rotation_degrees
+        .to_radians()
+        .rem_euclid(std::f64::consts::TAU);
+    (up.to_array(), front.to_array(), turn)
 }
 
 /// `v` scaled to unit length (validation has made sure it is not zero); divided by its largest

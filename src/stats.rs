@@ -68,6 +68,10 @@ pub struct RenderStats {
     pub render_seconds: f64,
     /// GPU time from timestamp queries; None where unsupported (and on the CPU).
     pub gpu_seconds: Option<f64>,
+    /// Seconds to read the environment map, decode it and pack it with its distribution (the
+    /// scene's load, before the render); absent where the scene has no map.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub environment_seconds: Option<f64>,
     /// The denoiser's figures, where it ran (`image.denoise`); nothing where it did not.
     #[serde(flatten)]
     pub denoise: Option<DenoiseStats>,

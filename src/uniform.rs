@@ -164,11 +164,12 @@ macro_rules! uniform {
         fn new($scene:ident) { $($setup:tt)* }
         fields { $($fields:tt)* }
         per_dispatch $args:tt $dispatch:tt
+        $(host_only { $($host_only:tt)* })?
     ) => {
         $crate::uniform::uniform!(@field {
             [$(#[$host_meta])*] $host $wgsl
             [$(#[$gpu32_meta])*] $gpu32 [$(#[$gpu64_meta])*] $gpu64
-            $scene { $($setup)* } $args $dispatch
+            $scene { $($setup)* } $args $dispatch { $($($host_only)*)? }
         } [] $($fields)*);
     };
 
@@ -209,6 +210,7 @@ macro_rules! uniform {
         ($p:ident, $row_offset:ident, $row_count:ident) {
             $( $(#[$dmeta:meta])* $dfield:ident: u32 = $dvalue:expr, )*
         }
+        { $( $(#[$hmeta:meta])* $hfield:ident: $hty:ty = $hvalue:expr, )* }
     } [$( {
         [$(#[$meta:meta])*] $field:ident $kind:ident ($value:expr) ($($host_ty:tt)*)
         ($($ty32:tt)*) ($($ty64:tt)*)
@@ -216,13 +218,14 @@ macro_rules! uniform {
         $(#[$host_meta])*
         pub struct $host<F> {
             $( $(#[$meta])* pub $field: $($host_ty)*, )*
+            $( $(#[$hmeta])* pub $hfield: $hty, )*
         }
 
         impl<F: $crate::algebra::Real> $host<F> {
             /// The parameters of a validated scene, rounded to the precision.
             pub fn new($scene: &$crate::scene::Scene) -> Self {
                 $($setup)*
-                Self { $( $field: $value, )* }
+                Self { $( $field: $value, )* $( $hfield: $hvalue, )* }
             }
         }
 

@@ -56,6 +56,7 @@ const ACCUMULATE: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: None,
 };
 
@@ -78,6 +79,7 @@ fn the_runner_accumulates_dispatches_band_by_band_and_reads_back_what_is_asked()
         read: &[true, false],
         dispatches_per_band: dispatches,
         params: &params,
+        input: None,
     };
     let mut bands = Vec::new();
     let mut sums = Vec::new();

@@ -308,8 +308,8 @@ fn every_specialised_variant_validates() {
     use qjulia::gpu::Variant;
     use qjulia::gpu::shaders::TRACE64_MODULE;
     let variants = Variant::all();
-    // 576 base variants, each with none, each one and all nine of the picture's features.
-    assert_eq!(variants.len(), 576 * 11);
+    // 576 base variants, each with none, each one and all ten of the picture's features.
+    assert_eq!(variants.len(), 576 * 12);
     for source in [TRACE_MODULE, TRACE64_MODULE] {
         validate_variants(&source, "main", &variants, &mut |_, _| {});
     }

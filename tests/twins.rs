@@ -299,6 +299,26 @@ const MEDIUM: Twin = Twin {
     only_in: &[],
 };
 
+const ENVIRONMENT: Twin = Twin {
+    wgsl: "shaders/environment.wgsl",
+    rust: "src/cpu/environment.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "env_word",
+            reason: "reads a float of the packed map, which WGSL indexes as the `environment` \
+                     binding directly",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "from_f32",
+            reason: "the f32 radiance in the CPU's precision `F`; WGSL's `vec3<Real>(...)`",
+        },
+    ],
+};
+
 const LIGHT: Twin = Twin {
     wgsl: "shaders/light.wgsl",
     rust: "src/cpu/light.rs",
@@ -538,6 +558,11 @@ fn light_twins_match() {
 }
 
 #[test]
+fn environment_twins_match() {
+    check(&ENVIRONMENT);
+}
+
+#[test]
 fn medium_twins_match() {
     check(&MEDIUM);
 }
@@ -555,7 +580,17 @@ fn denoise_twins_match() {
 #[test]
 fn every_exception_has_a_reason() {
     for twin in [
-        &TRACE, &ALGEBRA, &JULIA2D, &SAMPLE, &SOBOL, &BSDF, &LIGHT, &MEDIUM, &PATH, &DENOISE,
+        &TRACE,
+        &ALGEBRA,
+        &JULIA2D,
+        &SAMPLE,
+        &SOBOL,
+        &BSDF,
+        &LIGHT,
+        &ENVIRONMENT,
+        &MEDIUM,
+        &PATH,
+        &DENOISE,
     ] {
         for only in twin.only_in {
             assert!(!only.reason.trim().is_empty(), "{}: no reason", only.name);

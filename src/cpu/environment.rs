@@ -1,369 +1,225 @@
-//! The environment map's light (issue 38, item 1; not wired yet): an equirectangular HDR image
-//! about `sky.up`, looked up texel by texel (piecewise constant), and importance-sampled by a
-//! 2D piecewise-constant distribution of luminance times sin(theta): the marginal over rows and
-//! each row's conditional, each a CDF searched by bisection. The directions drawn and the
-//! densities stated are those of the lookup, so that multiple importance sampling with the BSDF
-//! is unbiased. Twin-to-be of shaders/environment.wgsl.
+//! The environment map (`[environment]`, docs/book/atmosphere.md) on the CPU: the twin of
+//! shaders/environment.wgsl, same names, same order (tests/twins.rs). An equirectangular HDR
+//! image about `sky.up`, turned by `rotation_degrees`, looked up texel by texel (piecewise
+//! constant), read from the same packed buffer the kernels bind (src/envmap.rs packs it), so
+//! that both draw the same texels. Its sampling is the path tracer's light (src/cpu/light.rs).
 
-use crate::algebra::{Vec2, Vec3};
+use crate::algebra::{Real, Vec2, Vec3};
+use crate::params::TraceParams;
 
-/// A piecewise-constant distribution over [0, 1) in `func.len()` equal pieces: `cdf[k]` is the
-/// mass of the pieces before k (`cdf[0] = 0`, `cdf[n] = 1`), `integral` the mean of `func`. A
-/// distribution of no mass (every piece 0) is uniform, so that sampling never divides by 0.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Distribution1d {
-    pub func: Vec<f32>,
-    pub cdf: Vec<f32>,
-    pub integral: f32,
-}
+/// Where the packed buffer holds the map's width (a float, exact).
+pub const ENV_WIDTH: u32 = 0;
+/// Where it holds the height.
+pub const ENV_HEIGHT: u32 = 1;
+/// Where the irradiance's nine coefficients start (RGB in a slot of four floats each).
+pub const ENV_IRRADIANCE: u32 = 4;
+/// Where the texels start: RGB and the density over the map's [0, 1)^2, four floats each; then
+/// the marginal CDF over rows (height + 1), then each row's CDF (width + 1 each).
+pub const ENV_TEXELS: u32 = 40;
+/// The largest f32 below 1: where u or v would round up to 1.
+pub const ENV_ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+/// Pi in f32.
+pub const ENV_PI: f32 = std::f32::consts::PI;
 
-impl Distribution1d {
-    /// The distribution of `func` (each value >= 0 and finite).
-    pub fn new(func: &[f32]) -> Self {
-        let n = func.len();
-        let mut cdf = vec![0.0f64; n + 1];
-        for k in 0..n {
-            cdf[k + 1] = cdf[k] + f64::from(func[k]) / n as f64;
-        }
-        let integral = cdf[n];
-        let cdf = if integral > 0.0 {
-            cdf.iter().map(|c| (c / integral) as f32).collect()
-        } else {
-            (0..=n).map(|k| k as f32 / n as f32).collect()
-        };
-        Self {
-            func: func.to_vec(),
-            cdf,
-            integral: integral as f32,
-        }
-    }
-
-    /// The piece that `u` in [0, 1) falls in: the last k with cdf[k] <= u, by bisection.
-    pub fn piece(&self, u: f32) -> usize {
-        let (mut lo, mut hi) = (0usize, self.func.len());
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if self.cdf[mid] <= u {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        lo
-    }
-
-    /// x in [0, 1) drawn with density [`Self::pdf`] from u in [0, 1), by inverting the CDF
-    /// within the piece, with that density.
-    pub fn sample(&self, u: f32) -> (f32, f32) {
-        let k = self.piece(u);
-        let width = self.cdf[k + 1] - self.cdf[k];
-        let du = if width > 0.0 {
-            ((u - self.cdf[k]) / width).clamp(0.0, 1.0)
-        } else {
-            0.5
-        };
-        let n = self.func.len() as f32;
-        let x = ((k as f32 + du) / n).min(1.0 - f32::EPSILON / 2.0);
-        (x, self.pdf_piece(k))
-    }
-
-    /// The density of piece k: func[k] / integral (1, uniform, for a distribution of no mass).
-    pub fn pdf_piece(&self, k: usize) -> f32 {
-        if self.integral > 0.0 {
-            self.func[k] / self.integral
-        } else {
-            1.0
-        }
-    }
-}
-
-/// The 2D distribution over the map's [0, 1)^2: the marginal over rows (v) and each row's
-/// conditional over columns (u).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Distribution2d {
-    pub rows: Vec<Distribution1d>,
-    pub marginal: Distribution1d,
-}
-
-impl Distribution2d {
-    /// The distribution of `func`, `width` values a row.
-    pub fn new(func: &[f32], width: usize) -> Self {
-        let rows: Vec<Distribution1d> = func.chunks(width).map(Distribution1d::new).collect();
-        let marginal = Distribution1d::new(&rows.iter().map(|r| r.integral).collect::<Vec<_>>());
-        Self { rows, marginal }
-    }
-
-    /// (u, v) drawn with density [`Self::pdf`] (over [0, 1)^2), and that density.
-    pub fn sample(&self, u: Vec2<f32>) -> (Vec2<f32>, f32) {
-        let (v, pdf_v) = self.marginal.sample(u.y);
-        let row = self.marginal.piece(u.y);
-        let (x, pdf_u) = self.rows[row].sample(u.x);
-        (Vec2::new(x, v), pdf_v * pdf_u)
-    }
-
-    /// The density at (u, v) in [0, 1)^2.
-    pub fn pdf(&self, uv: Vec2<f32>) -> f32 {
-        let height = self.rows.len();
-        let width = self.rows[0].func.len();
-        let j = ((uv.y * height as f32) as usize).min(height - 1);
-        let i = ((uv.x * width as f32) as usize).min(width - 1);
-        self.marginal.pdf_piece(j) * self.rows[j].pdf_piece(i)
-    }
-}
-
-/// An equirectangular map about an up direction: `width` = 2 `height` texels of linear RGB,
-/// row 0 at the zenith, turned by `rotation` radians about up, times `intensity`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnvironmentMap {
-    pub width: usize,
-    pub height: usize,
-    pub texels: Vec<[f32; 3]>,
-    /// Up, and two unit directions completing a right-handed frame with it: u = 0 looks along
-    /// `front`, u = 1/4 along `right`.
+/// The map's frame: up (`sky.up`), front (u = 0 at turn 0), right = front x up (u = 1/4), the
+/// turn in radians and the radiance's factor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvFrame {
     pub up: Vec3<f32>,
     pub front: Vec3<f32>,
     pub right: Vec3<f32>,
     pub rotation: f32,
     pub intensity: f32,
-    pub distribution: Distribution2d,
 }
 
-/// Rec. 709 luminance.
-fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+/// A direction drawn toward the map ([`sample_environment`]), the radiance along it and the
+/// density per solid angle it was drawn with (0: no sample).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvSample<F> {
+    pub wi: Vec3<F>,
+    pub radiance: Vec3<F>,
+    pub pdf: F,
 }
 
-impl EnvironmentMap {
-    /// The map of `texels` (`width` x `height`, row 0 at the zenith) about `up` (unit), turned
-    /// by `rotation_degrees`, with its distribution: luminance times sin(theta) at each row's
-    /// centre, theta from the zenith.
-    pub fn new(
-        width: usize,
-        height: usize,
-        texels: Vec<[f32; 3]>,
-        up: Vec3<f32>,
-        rotation_degrees: f64,
-        intensity: f32,
-    ) -> Self {
-        let func: Vec<f32> = texels
-            .iter()
-            .enumerate()
-            .map(|(k, &t)| {
-                let theta = std::f64::consts::PI * ((k / width) as f64 + 0.5) / height as f64;
-                (luminance(t).max(0.0) as f64 * theta.sin()) as f32
-            })
-            .collect();
-        // A frame about up: front is the unit vector of the world axis least along up, made
-        // orthogonal to it.
-        let axis = if up.y.abs() < 0.9 {
-            Vec3::new(0.0, 1.0, 0.0)
-        } else {
-            Vec3::new(0.0, 0.0, -1.0)
-        };
-        let front = (axis - up * axis.dot(up)).normalize();
-        let right = front.cross(up);
-        Self {
-            width,
-            height,
-            texels,
+impl<F: Real> TraceParams<F> {
+    /// Whether the scene has a map (`environment.file`), loaded.
+    pub fn environment_on(&self) -> bool {
+        self.env_map && self.environment.is_some()
+    }
+
+    /// Float `k` of the packed buffer (WGSL: `environment[k]`).
+    pub fn env_word(&self, k: u32) -> f32 {
+        self.environment
+            .as_ref()
+            .map_or(0.0, |e| e.packed[k as usize])
+    }
+
+    pub fn env_frame(&self) -> EnvFrame {
+        let up = self.env_up.to_f32();
+        let front = self.env_front.to_f32();
+        EnvFrame {
             up,
             front,
-            right,
-            rotation: rotation_degrees
-                .to_radians()
-                .rem_euclid(std::f64::consts::TAU) as f32,
-            intensity,
-            distribution: Distribution2d::new(&func, width),
+            right: front.cross(up),
+            rotation: self.env_rotation.to_f64() as f32,
+            intensity: self.env_intensity.to_f64() as f32,
         }
+    }
+
+    /// The map's width and height in texels.
+    pub fn env_size(&self) -> (u32, u32) {
+        (
+            self.env_word(ENV_WIDTH) as u32,
+            self.env_word(ENV_HEIGHT) as u32,
+        )
     }
 
     /// The map's (u, v) of the unit direction d: v = theta / pi from up, u = phi / (2 pi) about
     /// up from front toward right, less the rotation, in [0, 1).
-    pub fn direction_uv(&self, d: Vec3<f32>) -> Vec2<f32> {
-        let tau = std::f32::consts::TAU;
-        let cos_theta = d.dot(self.up).clamp(-1.0, 1.0);
-        let phi = d.dot(self.right).atan2(d.dot(self.front)) - self.rotation;
-        let u = (phi / tau).rem_euclid(1.0);
-        let v = cos_theta.acos() / std::f32::consts::PI;
-        Vec2::new(
-            u.min(1.0 - f32::EPSILON / 2.0),
-            v.min(1.0 - f32::EPSILON / 2.0),
-        )
+    pub fn env_direction_uv(&self, f: EnvFrame, d: Vec3<f32>) -> Vec2<f32> {
+        let cos_theta = d.dot(f.up).clamp(-1.0, 1.0);
+        let turns = (d.dot(f.right).atan2(d.dot(f.front)) - f.rotation) / (2.0 * ENV_PI);
+        let u = turns - turns.floor();
+        let v = cos_theta.acos() / ENV_PI;
+        Vec2::new(u.min(ENV_ONE_BELOW), v.min(ENV_ONE_BELOW))
     }
 
-    /// The unit direction of the map's (u, v) ([`Self::direction_uv`]'s inverse).
-    pub fn uv_direction(&self, uv: Vec2<f32>) -> Vec3<f32> {
-        let theta = std::f32::consts::PI * uv.y;
-        let phi = std::f32::consts::TAU * uv.x + self.rotation;
+    /// The unit direction of the map's (u, v): [`Self::env_direction_uv`]'s inverse.
+    pub fn env_uv_direction(&self, f: EnvFrame, uv: Vec2<f32>) -> Vec3<f32> {
+        let theta = ENV_PI * uv.y;
+        let phi = 2.0 * ENV_PI * uv.x + f.rotation;
         let s = theta.sin();
-        self.front * (s * phi.cos()) + self.right * (s * phi.sin()) + self.up * theta.cos()
+        f.front * (s * phi.cos()) + f.right * (s * phi.sin()) + f.up * theta.cos()
     }
 
-    /// The radiance along d: the texel d falls in, times the intensity.
-    pub fn radiance(&self, d: Vec3<f32>) -> Vec3<f32> {
-        let uv = self.direction_uv(d);
-        let i = ((uv.x * self.width as f32) as usize).min(self.width - 1);
-        let j = ((uv.y * self.height as f32) as usize).min(self.height - 1);
-        let t = self.texels[j * self.width + i];
-        Vec3::new(t[0], t[1], t[2]) * self.intensity
+    /// The texel (u, v) falls in, as its index j * width + i.
+    pub fn env_texel(&self, uv: Vec2<f32>) -> u32 {
+        let (w, h) = self.env_size();
+        let i = ((uv.x * w as f32) as u32).min(w - 1);
+        let j = ((uv.y * h as f32) as u32).min(h - 1);
+        j * w + i
     }
 
-    /// A direction drawn toward the map's bright texels from u in [0, 1)^2, with its density per
-    /// solid angle: pdf(u, v) / (2 pi^2 sin(theta)) (0 at the poles, where sin is 0).
-    pub fn sample(&self, u: Vec2<f32>) -> (Vec3<f32>, f32) {
-        let (uv, pdf_uv) = self.distribution.sample(u);
-        let d = self.uv_direction(uv);
-        (d, self.solid_angle_pdf(uv, pdf_uv))
+    /// The radiance along the unit direction d: the texel it falls in, times the intensity.
+    pub fn env_radiance(&self, d: Vec3<f32>) -> Vec3<f32> {
+        let f = self.env_frame();
+        let k = ENV_TEXELS + 4 * self.env_texel(self.env_direction_uv(f, d));
+        Vec3::new(self.env_word(k), self.env_word(k + 1), self.env_word(k + 2)) * f.intensity
     }
 
-    /// The density per solid angle with which [`Self::sample`] draws the unit direction d.
-    pub fn pdf(&self, d: Vec3<f32>) -> f32 {
-        let uv = self.direction_uv(d);
-        self.solid_angle_pdf(uv, self.distribution.pdf(uv))
-    }
-
-    fn solid_angle_pdf(&self, uv: Vec2<f32>, pdf_uv: f32) -> f32 {
-        let s = (std::f32::consts::PI * uv.y).sin();
-        if s <= 0.0 {
-            return 0.0;
+    /// The map's irradiance at the unit normal n divided by pi, times the intensity: the nine
+    /// coefficients' polynomial in n's coordinates in the map's own frame, at least 0.
+    pub fn env_irradiance(&self, n: Vec3<f32>) -> Vec3<f32> {
+        let f = self.env_frame();
+        let a = n.dot(f.front);
+        let b = n.dot(f.right);
+        let (c, s) = (f.rotation.cos(), f.rotation.sin());
+        let x = a * c + b * s;
+        let y = b * c - a * s;
+        let z = n.dot(f.up);
+        let basis = [
+            1.0,
+            y,
+            z,
+            x,
+            x * y,
+            y * z,
+            3.0 * z * z - 1.0,
+            x * z,
+            x * x - y * y,
+        ];
+        let mut e = Vec3::new(0.0f32, 0.0, 0.0);
+        for (k, b) in basis.iter().enumerate() {
+            let at = ENV_IRRADIANCE + 4 * k as u32;
+            e += Vec3::new(
+                self.env_word(at),
+                self.env_word(at + 1),
+                self.env_word(at + 2),
+            ) * *b;
         }
-        pdf_uv / (2.0 * std::f32::consts::PI * std::f32::consts::PI * s)
+        Vec3::new(e.x.max(0.0), e.y.max(0.0), e.z.max(0.0)) * f.intensity
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+// The map as a light: importance sampling by the 2D piecewise-constant distribution packed with it, the marginal
+// over rows then the row's conditional over texels, each CDF searched by bisection; a
+// direction's density per solid angle is its texel's density over [0, 1)^2 divided by
+// 2 pi^2 sin(theta). In f32, as the kernels, whatever `F`.
 
-    /// A small deterministic generator for the tests' u (PCG32, O'Neill 2014).
-    struct Pcg(u64);
-
-    impl Pcg {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            let x = (((self.0 >> 18) ^ self.0) >> 27) as u32;
-            let r = (self.0 >> 59) as u32;
-            (x.rotate_right(r) >> 8) as f32 / (1u32 << 24) as f32
+/// The piece of the CDF of n pieces at words start..start + n of the map's buffer that u falls
+/// in: the last k with cdf[k] <= u.
+pub fn env_bisect<F: Real>(p: &TraceParams<F>, start: u32, n: u32, u: f32) -> u32 {
+    let (mut lo, mut hi) = (0u32, n);
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if p.env_word(start + mid) <= u {
+            lo = mid;
+        } else {
+            hi = mid;
         }
     }
+    lo
+}
 
-    /// A 64 x 32 map: a dim gradient, a bright patch and a black band (the pdf must be 0
-    /// there and positive wherever there is light).
-    fn test_map(rotation: f64) -> EnvironmentMap {
-        let (w, h) = (64, 32);
-        let texels = (0..w * h)
-            .map(|k| {
-                let (i, j) = (k % w, k / w);
-                if (20..24).contains(&j) {
-                    [0.0, 0.0, 0.0]
-                } else if (40..44).contains(&i) && (6..9).contains(&j) {
-                    [50.0, 40.0, 30.0]
-                } else {
-                    [0.1 + 0.01 * i as f32, 0.2, 0.3 + 0.02 * j as f32]
-                }
-            })
-            .collect();
-        let up = Vec3::new(0.3f32, 1.0, -0.2).normalize();
-        EnvironmentMap::new(w, h, texels, up, rotation, 1.0)
+/// Where u falls within piece k of the CDF at start, of n pieces: (k + du) / n, du the CDF
+/// inverted within the piece (its middle for a piece of no mass), below 1.
+pub fn env_piece_point<F: Real>(p: &TraceParams<F>, start: u32, k: u32, n: u32, u: f32) -> f32 {
+    let c0 = p.env_word(start + k);
+    let width = p.env_word(start + k + 1) - c0;
+    let mut du = 0.5;
+    if width > 0.0 {
+        du = ((u - c0) / width).clamp(0.0, 1.0);
     }
+    ((k as f32 + du) / n as f32).min(ENV_ONE_BELOW)
+}
 
-    /// The pdf integrates to 1 over the sphere: the sum over a fine grid of directions (in the
-    /// map's own (u, v), each cell's solid angle 2 pi^2 sin(theta) du dv).
-    #[test]
-    fn the_pdf_integrates_to_one() {
-        let map = test_map(30.0);
-        let (n, m) = (1024, 512);
-        let mut sum = 0.0f64;
-        for j in 0..m {
-            for i in 0..n {
-                let uv = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / m as f32);
-                let d = map.uv_direction(uv);
-                let omega =
-                    2.0 * std::f64::consts::PI.powi(2) * (std::f64::consts::PI * uv.y as f64).sin()
-                        / (n * m) as f64;
-                sum += map.pdf(d) as f64 * omega;
-            }
-        }
-        assert!((sum - 1.0).abs() < 2e-3, "{sum}");
+/// A direction toward the map drawn from u in [0, 1)^2 with the radiance of its texel (times
+/// the intensity) and its density per solid angle (pdf 0, no sample, at a pole).
+pub fn sample_environment<F: Real>(p: &TraceParams<F>, u: Vec2<F>) -> EnvSample<F> {
+    let u = Vec2::new(u.x.to_f64() as f32, u.y.to_f64() as f32);
+    let (w, h) = p.env_size();
+    let marginal = ENV_TEXELS + 4 * w * h;
+    let j = env_bisect(p, marginal, h, u.y);
+    let v = env_piece_point(p, marginal, j, h, u.y);
+    let row = marginal + h + 1 + j * (w + 1);
+    let i = env_bisect(p, row, w, u.x);
+    let x = env_piece_point(p, row, i, w, u.x);
+    let k = ENV_TEXELS + 4 * (j * w + i);
+    let f = p.env_frame();
+    let wi = from_f32(p.env_uv_direction(f, Vec2::new(x, v)));
+    let s = (ENV_PI * v).sin();
+    let pdf_uv = p.env_word(k + 3);
+    if s <= 0.0 || pdf_uv <= 0.0 {
+        return EnvSample {
+            wi,
+            radiance: Vec3::zero(),
+            pdf: F::zero(),
+        };
     }
+    let radiance = Vec3::new(p.env_word(k), p.env_word(k + 1), p.env_word(k + 2)) * f.intensity;
+    EnvSample {
+        wi,
+        radiance: from_f32(radiance),
+        pdf: F::lit(f64::from(pdf_uv / (2.0 * ENV_PI * ENV_PI * s))),
+    }
+}
 
-    /// Samples fall in proportion to the pdf: a chi-square test over quarters of the map's
-    /// texels (4 x 2,048 bins, so that where a sample falls within its texel counts too; those
-    /// of mass, the black band gets none) with 400,000 samples, against the 0.1% critical
-    /// value. Each sample's stated pdf is the pdf of its direction (but for the few whose f32
-    /// direction, a rounding from a texel's edge, reads back in the neighbouring texel: at most
-    /// 1 in 2,000; 56 of 400,000 here), and no sample lands where the map is black.
-    #[test]
-    fn samples_follow_the_pdf() {
-        let map = test_map(-75.0);
-        let mut rng = Pcg(0x853c_49e6_748f_ea9b);
-        let n = 400_000;
-        let (bw, bh) = (2 * map.width, 2 * map.height);
-        let mut counts = vec![0u32; bw * bh];
-        let mut read_back_elsewhere = 0;
-        for _ in 0..n {
-            let (d, pdf) = map.sample(Vec2::new(rng.next(), rng.next()));
-            assert!(pdf > 0.0);
-            if (pdf - map.pdf(d)).abs() > 1e-3 * pdf {
-                read_back_elsewhere += 1;
-            }
-            let uv = map.direction_uv(d);
-            let i = ((uv.x * bw as f32) as usize).min(bw - 1);
-            let j = ((uv.y * bh as f32) as usize).min(bh - 1);
-            counts[j * bw + i] += 1;
-        }
-        assert!(
-            read_back_elsewhere <= n / 2_000,
-            "{read_back_elsewhere} of {n}"
-        );
-        let total: f64 = map.distribution.marginal.integral as f64;
-        let (mut chi2, mut bins) = (0.0f64, 0usize);
-        for j in 0..bh {
-            let row = &map.distribution.rows[j / 2];
-            for i in 0..bw {
-                let p = row.func[i / 2] as f64 / (bw * bh) as f64 / total;
-                let k = counts[j * bw + i] as f64;
-                if p == 0.0 {
-                    assert_eq!(k, 0.0, "a sample in a black texel ({i}, {j})");
-                    continue;
-                }
-                let expected = p * n as f64;
-                chi2 += (k - expected).powi(2) / expected;
-                bins += 1;
-            }
-        }
-        // The 0.1% critical value of chi-square with df degrees of freedom (Wilson-Hilferty).
-        let df = (bins - 1) as f64;
-        let z = 3.0902;
-        let critical = df * (1.0 - 2.0 / (9.0 * df) + z * (2.0 / (9.0 * df)).sqrt()).powi(3);
-        eprintln!("chi-square {chi2:.1} over {bins} bins, critical {critical:.1}");
-        assert!(
-            chi2 < critical,
-            "chi-square {chi2:.1} over {bins} bins, critical {critical:.1}"
-        );
+/// The density per solid angle with which [`sample_environment`] draws the unit direction d.
+pub fn environment_pdf<F: Real>(p: &TraceParams<F>, d: Vec3<F>) -> F {
+    let uv = p.env_direction_uv(p.env_frame(), d.to_f32());
+    let s = (ENV_PI * uv.y).sin();
+    if s <= 0.0 {
+        return F::zero();
     }
+    let pdf = p.env_word(ENV_TEXELS + 4 * p.env_texel(uv) + 3) / (2.0 * ENV_PI * ENV_PI * s);
+    F::lit(f64::from(pdf))
+}
 
-    /// Directions and (u, v) are inverses, and the rotation turns the map about up: 360 degrees
-    /// is 0, and 90 moves every direction's u by a quarter.
-    #[test]
-    fn rotation_turns_the_map_about_up() {
-        let (a, full, quarter) = (test_map(0.0), test_map(360.0), test_map(90.0));
-        let mut rng = Pcg(7);
-        for _ in 0..1000 {
-            let uv = Vec2::new(rng.next(), 0.02 + 0.96 * rng.next());
-            let d = a.uv_direction(uv);
-            let back = a.direction_uv(d);
-            assert!((back.x - uv.x).abs() < 1e-4 || (back.x - uv.x).abs() > 1.0 - 1e-4);
-            assert!((back.y - uv.y).abs() < 1e-4);
-            let f = full.direction_uv(d);
-            assert!((f.x - uv.x).abs() < 1e-4 || (f.x - uv.x).abs() > 1.0 - 1e-4);
-            let q = quarter.direction_uv(d);
-            let shift = (uv.x - q.x).rem_euclid(1.0);
-            assert!((shift - 0.25).abs() < 1e-4, "{shift}");
-            assert_eq!(a.radiance(d), a.radiance(a.uv_direction(back)));
-        }
-    }
+/// An f32 vector in `F`.
+pub fn from_f32<F: Real>(v: Vec3<f32>) -> Vec3<F> {
+    Vec3::new(
+        F::lit(f64::from(v.x)),
+        F::lit(f64::from(v.y)),
+        F::lit(f64::from(v.z)),
+    )
 }

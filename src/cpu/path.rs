@@ -11,6 +11,7 @@ use super::bsdf::{
     Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, specular_probability,
     to_local, to_world,
 };
+use super::environment::{environment_pdf, from_f32, sample_environment};
 use super::light::{
     Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
     sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_one_minus_cos, sun_pdf,
@@ -18,8 +19,8 @@ use super::light::{
 };
 use super::medium::{fog_event, phase_hg, sample_hg};
 use super::sobol::{
-    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_FOG, DIM_LENS, DIM_PIXEL, DIM_ROULETTE,
-    DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
+    DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_ENVIRONMENT, DIM_FOG, DIM_LENS, DIM_PIXEL,
+    DIM_ROULETTE, DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
 use super::trace::{Aovs, Primary, Trace, add_aovs, add_to_streams, sample_luminance};
 use crate::algebra::{Real, Vec3};
@@ -277,8 +278,8 @@ impl<F: Real> TraceParams<F> {
         c * (path.clamp_contribution / m)
     }
 
-    /// Next-event estimation at a vertex: the sun and the sphere light, each by one sample
-    /// toward it and a shadow ray ([`Self::visibility`]: the set's occlusion and the fog's
+    /// Next-event estimation at a vertex: the sun, the environment map and the sphere light,
+    /// each by one sample toward it and a shadow ray ([`Self::visibility`]: the set's occlusion and the fog's
     /// transmittance), weighted against BSDF or phase sampling by the power heuristic. At a
     /// surface hit (`in_fog` false) the BSDF of m in the frame f, with wo, and shadow rays from
     /// p + SURFACE_OFFSET epsilon n; at a scattering event in the fog (`in_fog` true) the phase
@@ -330,6 +331,24 @@ impl<F: Real> TraceParams<F> {
                     } else {
                         let w = weight(ls.pdf, bsdf_pdf(m, wo, wi));
                         sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf) * v;
+                    }
+                }
+            }
+        }
+        if self.environment_on() {
+            // The map's point (DIM_ENVIRONMENT), the sun's group's other two dimensions.
+            let es = sample_environment(self, point(DIM_ENVIRONMENT));
+            let wi = to_local(f, es.wi);
+            if es.pdf > F::zero() && (in_fog || wi.z > F::zero()) {
+                let v = self.visibility(path, origin, es.wi, F::lit(3.0e38));
+                if v > F::zero() {
+                    if in_fog {
+                        let phase = phase_hg(g, d.dot(es.wi));
+                        let w = weight(es.pdf, phase);
+                        sum += es.radiance * (phase * w / es.pdf * v);
+                    } else {
+                        let w = weight(es.pdf, bsdf_pdf(m, wo, wi));
+                        sum += bsdf_eval(m, wo, wi).mul_elem(es.radiance) * (wi.z * w / es.pdf) * v;
                     }
                 }
             }
@@ -417,9 +436,10 @@ impl<F: Real> TraceParams<F> {
         q
     }
 
-    /// The radiance reaching a ray that leaves the bounding region: the sky, and the sun's disc
-    /// weighted against next-event estimation (`bsdf_pdf_prev` the density the ray was drawn
-    /// with; a camera ray, drawn with no density, sees the sun whole).
+    /// The radiance reaching a ray that leaves the bounding region: the sky (the environment
+    /// map where the scene has one), and the sun's disc, the map and the sun weighted against
+    /// their next-event estimation (`bsdf_pdf_prev` the density the ray was drawn with; a
+    /// camera ray, drawn with no density, sees them whole).
     pub fn escaped(
         &self,
         path: &PathParams<F>,
@@ -427,7 +447,21 @@ impl<F: Real> TraceParams<F> {
         bounce: u32,
         bsdf_pdf_prev: F,
     ) -> Vec3<F> {
-        let mut c = sky_radiance(self.path_sky(path), dir);
+        let mut c;
+        if self.environment_on() {
+            // The map, weighted against its own next-event estimation as the sun is.
+            let mut w = F::one();
+            if bounce > 0 {
+                if path.strategy == Strategy::Light {
+                    w = F::zero();
+                } else if path.strategy == Strategy::Both {
+                    w = power_heuristic(bsdf_pdf_prev, environment_pdf(self, dir));
+                }
+            }
+            c = from_f32(self.env_radiance(dir.to_f32())) * w;
+        } else {
+            c = sky_radiance(self.path_sky(path), dir);
+        }
         if any_positive(path.sun.irradiance) {
             let mut w = F::one();
             if bounce > 0 {

@@ -16,8 +16,8 @@ pub const SAMPLER_RANDOM: u32 = 1;
 // the sun's 2D point, the sphere light's 2D point, then the BSDF's 2D direction, its lobe's
 // choice and Russian roulette. Each 2D point takes its group's first two dimensions, the
 // best-stratified pair (a (0, 2)-sequence), as the image plane's does; a light and its lobe
-// choice share no group with another light. Dimensions 2 and 3 of the lights' groups are
-// free: a later issue's per-bounce dimensions go there.
+// choice share no group with another light. Dimensions 2 and 3 of the sun's group are the
+// environment map's 2D point; the sphere light's group's third is the fog's free flight.
 
 /// The image plane's 2D point: dimensions 0 and 1.
 pub const DIM_PIXEL: u32 = 0;
@@ -29,6 +29,8 @@ pub const DIM_BOUNCE_BASE: u32 = 4;
 pub const DIMS_PER_BOUNCE: u32 = 12;
 /// Within a bounce: the point on the sun (2D), its first group's first two dimensions.
 pub const DIM_SUN: u32 = 0;
+/// Within a bounce: the point on the environment map (2D), the sun's group's third and fourth.
+pub const DIM_ENVIRONMENT: u32 = 2;
 /// Within a bounce: the point on the sphere light (2D), its second group's first two.
 pub const DIM_SPHERE_LIGHT: u32 = 4;
 /// Within a bounce: the fog's free-flight distance (1D), the sphere light's group's third (the

@@ -831,7 +831,12 @@ impl<F: Real> TraceParams<F> {
         if self.occlusion > F::zero() {
             a = self.occlusion(p, n);
         }
-        let ambient = base * (self.ambient * a);
+        let mut ambient = base * (self.ambient * a);
+        if self.environment_on() && self.env_light {
+            ambient = ambient.mul_elem(super::environment::from_f32(
+                self.env_irradiance(n.to_f32()),
+            ));
+        }
         let l = safe_normalize(self.light - p, n);
         let e = safe_normalize(eye - p, n);
         let n_dot_l = n.dot(l);
@@ -856,6 +861,15 @@ impl<F: Real> TraceParams<F> {
             }
         }
         ambient + light
+    }
+
+    /// What a ray along `dir` that hits nothing shows: the environment map's radiance where
+    /// the scene has one (phong mode clamps it as any colour), else the flat background.
+    pub fn background(&self, dir: Vec3<F>) -> Vec3<F> {
+        if self.environment_on() {
+            return super::environment::from_f32(self.env_radiance(dir.to_f32()));
+        }
+        self.background
     }
 
     /// The ray through the point (x, y) of the image plane in pixel units, (0, 0) the top left
@@ -1089,7 +1103,7 @@ impl<F: Real> TraceParams<F> {
         let none = Vec3::zero();
         if !trace.hit {
             return Pixel {
-                colour: self.atmosphere(self.background, ray, trace),
+                colour: self.atmosphere(self.background(ray.dir), ray, trace),
                 depth: -F::one(),
                 steps: trace.steps,
                 hit: false,

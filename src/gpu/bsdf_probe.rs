@@ -102,6 +102,7 @@ const PROBE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: None,
 };
 
@@ -158,6 +159,7 @@ pub fn probe_bsdf(ctx: GpuContext, m: Material<f32>, count: u32) -> Result<Vec<P
         read: &[true; 5],
         dispatches_per_band: 1,
         params: &uniform,
+        input: None,
     };
     let mut results = Vec::with_capacity((width * rows) as usize);
     kernel.run(

@@ -75,6 +75,7 @@ const DENOISE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: None,
 };
 
@@ -173,7 +174,7 @@ impl GpuDenoiser {
                 0,
                 bytemuck::bytes_of(&GpuDenoiseParams::new(&one, 0)),
             );
-            let bind_group = self.kernel.bind_group(&uniform, &buffers);
+            let bind_group = self.kernel.bind_group(&uniform, &buffers, &None);
             let mut encoder = device.create_command_encoder(&Default::default());
             self.kernel
                 .encode(&mut encoder, &pipeline, &bind_group, (1, 1), None);
@@ -188,7 +189,7 @@ impl GpuDenoiser {
             let uniform = self.kernel.uniform_buffer("denoise params");
             let params = GpuDenoiseParams::new(p, (k % 2) as u32);
             queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
-            let bind_group = self.kernel.bind_group(&uniform, &buffers);
+            let bind_group = self.kernel.bind_group(&uniform, &buffers, &None);
             // The first pass's start and the last's end (no writes for the passes between).
             let writes = timestamps
                 .as_ref()

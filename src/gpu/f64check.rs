@@ -104,6 +104,7 @@ pub const F64CHECK_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: None,
 };
 
@@ -223,6 +224,7 @@ fn run_kernel(kernel: &Kernel, constants: &[(&'static str, f64)]) -> Result<Vec<
         read: &[true],
         dispatches_per_band: 1,
         params: &uniform,
+        input: None,
     };
     let mut results = Vec::new();
     kernel.run(

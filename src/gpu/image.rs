@@ -147,7 +147,7 @@ pub(crate) struct Accumulated {
 /// Runs an image kernel over a `width` x `height` image with these override constants and
 /// per-dispatch uniform, `dispatches` a band, handing each band to `sink` as a [`Frame`] of the
 /// outputs `read` asks for (by index; [`image_readback`] gives a [`Readback`]'s) and of the
-/// accumulator what `kept` says.
+/// accumulator what `kept` says, binding the scene's `input` array (the environment map).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn render_image_bands(
     kernel: &Kernel,
@@ -157,6 +157,7 @@ pub(crate) fn render_image_bands(
     kept: Accumulated,
     uniform: &dyn Fn(kernel::Band) -> Vec<u8>,
     rows: std::ops::Range<u32>,
+    input: kernel::InputData,
     sink: &mut dyn FnMut(Frame) -> Result<()>,
 ) -> Result<kernel::RunTimes> {
     let mut read = read.to_vec();
@@ -169,6 +170,7 @@ pub(crate) fn render_image_bands(
         read: &read,
         dispatches_per_band: dispatches,
         params: uniform,
+        input,
     };
     // A band must start on a multiple of the kernel's rows (a cone block's): rendered from the
     // block row at or above `rows.start`, and the rows above it cropped off.

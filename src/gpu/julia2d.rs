@@ -23,6 +23,7 @@ pub const JULIA2D_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: Some(super::kernel::JULIA2D_BAKE_KEEPS),
 };
 
@@ -122,6 +123,7 @@ impl<F: GpuReal> GpuJulia2d<F> {
             Default::default(),
             &uniform,
             0..size.1,
+            None,
             sink,
         )
     }

@@ -291,6 +291,7 @@ pub const PATH_KERNEL: KernelSpec = KernelSpec {
         binding: 7,
         bytes: size_of::<GpuPathParams>() as u64,
     }),
+    input: Some(8),
     bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
 
@@ -494,6 +495,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
             kept,
             &uniform,
             rows,
+            params.environment.clone(),
             sink,
         )
     }

@@ -53,6 +53,7 @@ pub const SAMPLE_KERNEL: KernelSpec = KernelSpec {
         binding: 7,
         bytes: size_of::<GpuSampleGrid>() as u64,
     }),
+    input: None,
     // The grid's band (row_offset, row_count) shares its names with the tracer's.
     bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
@@ -113,6 +114,7 @@ impl GpuSampler {
             read: &[true],
             dispatches_per_band: 1,
             params: &uniform,
+            input: None,
         };
         self.kernel.run(
             &run,

@@ -21,6 +21,9 @@ pub const REAL64_WGSL: &str = include_str!("../../shaders/real64.wgsl");
 pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
 /// The tracer kernel (twin: src/cpu/trace.rs); needs a prelude and [`ALGEBRA_WGSL`] in front.
 pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+/// The environment map (twin: src/cpu/environment.rs): its lookup, irradiance and sampling;
+/// f32, reads [`TRACE_WGSL`]'s `params` and overrides, which every module with it holds.
+pub const ENVIRONMENT_WGSL: &str = include_str!("../../shaders/environment.wgsl");
 /// The voxel sampler of `qjulia mesh` (twin: src/cpu/sample.rs); needs a prelude,
 /// [`ALGEBRA_WGSL`] and [`TRACE_WGSL`] in front of it, whose estimate it runs.
 pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
@@ -74,19 +77,25 @@ impl ShaderModuleSource {
 /// The tracer in f32: quaternion arithmetic, then the kernel.
 pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "trace",
-    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL],
+    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL, ENVIRONMENT_WGSL],
 };
 
 /// The tracer in f64: the same files after the f64 prelude.
 pub const TRACE64_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "trace64",
-    parts: &[REAL64_WGSL, ALGEBRA_WGSL, TRACE_WGSL],
+    parts: &[REAL64_WGSL, ALGEBRA_WGSL, TRACE_WGSL, ENVIRONMENT_WGSL],
 };
 
 /// The voxel sampler (f32): quaternion arithmetic, the tracer (its estimate), then the sampler.
 pub const SAMPLE_MODULE: ShaderModuleSource = ShaderModuleSource {
     name: "sample",
-    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL, SAMPLE_WGSL],
+    parts: &[
+        REAL32_WGSL,
+        ALGEBRA_WGSL,
+        TRACE_WGSL,
+        ENVIRONMENT_WGSL,
+        SAMPLE_WGSL,
+    ],
 };
 
 /// The 2D Julia view in f32.
@@ -115,6 +124,7 @@ pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
         REAL32_WGSL,
         ALGEBRA_WGSL,
         TRACE_WGSL,
+        ENVIRONMENT_WGSL,
         BSDF_WGSL,
         GGX_ALBEDO_WGSL,
         LIGHT_WGSL,
@@ -131,6 +141,7 @@ pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
         REAL64_WGSL,
         ALGEBRA_WGSL,
         TRACE_WGSL,
+        ENVIRONMENT_WGSL,
         BSDF_WGSL,
         GGX_ALBEDO_WGSL,
         LIGHT_WGSL,

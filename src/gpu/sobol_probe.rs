@@ -41,6 +41,7 @@ pub const SOBOL_PROBE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: 1,
     trusted: false,
     second_uniform: None,
+    input: None,
     bake_keeps: None,
 };
 
@@ -75,6 +76,7 @@ pub fn sobol_probe(
         read: &[true],
         dispatches_per_band: 1,
         params: &params,
+        input: None,
     };
     let mut bits = vec![0u32; (width as usize) * pixels.len()];
     kernel.run(

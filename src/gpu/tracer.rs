@@ -33,6 +33,7 @@ pub const TRACE_KERNEL: KernelSpec = KernelSpec {
     band_row_multiple: super::WORKGROUP_SIZE.1,
     trusted: true,
     second_uniform: None,
+    input: Some(8),
     bake_keeps: Some(super::kernel::TRACE_BAKE_KEEPS),
 };
 
@@ -266,6 +267,7 @@ impl<F: GpuReal> GpuTracer<F> {
             kept,
             &uniform,
             rows,
+            params.environment.clone(),
             sink,
         )
     }
@@ -290,6 +292,7 @@ impl<F: GpuReal> GpuTracer<F> {
                 read: &read,
                 dispatches_per_band: self.dispatches(&params),
                 params: &uniform,
+                input: params.environment.clone(),
             };
             self.kernel.steps(&run).collect::<Vec<_>>()
         });

@@ -152,6 +152,8 @@ pub struct Variant {
     pub fog: bool,
     /// Phong mode's halo: glow.strength > 0 (with colour wanted).
     pub glow: bool,
+    /// An environment map (environment.file, loaded; with colour wanted).
+    pub environment: bool,
 }
 
 impl Variant {
@@ -183,6 +185,7 @@ impl Variant {
             adaptive: p.samples > 1 && p.noise_target > F::zero(),
             fog: shade && p.fog_density > F::zero(),
             glow: shade && p.glow_strength > F::zero(),
+            environment: shade && p.env_map,
         }
     }
 
@@ -225,6 +228,7 @@ impl Variant {
             ("ADAPTIVE", b(self.adaptive)),
             ("FOG", b(self.fog)),
             ("GLOW", b(self.glow)),
+            ("ENVIRONMENT", b(self.environment)),
         ]
     }
 
@@ -255,6 +259,7 @@ impl Variant {
                     adaptive: false,
                     fog: false,
                     glow: false,
+                    environment: false,
                 });
             }
         }
@@ -264,7 +269,7 @@ impl Variant {
     /// The variants the tests validate: every base variant with none of the picture's
     /// features, with each one alone, and with all of them.
     pub fn all() -> Vec<Variant> {
-        let features: [fn(&mut Variant); 9] = [
+        let features: [fn(&mut Variant); 10] = [
             |v| v.samples = true,
             |v| v.soft_shadows = true,
             |v| v.occlusion = true,
@@ -274,6 +279,7 @@ impl Variant {
             |v| v.adaptive = true,
             |v| v.fog = true,
             |v| v.glow = true,
+            |v| v.environment = true,
         ];
         let mut out = Vec::new();
         for base in Variant::all_base() {

@@ -204,7 +204,9 @@ impl Renderer {
             }
             false => banded.render_bands(scene, picture, readback, rows, &mut counted)?,
         };
-        Ok(self.stats(size, times, summary.finish()))
+        let mut stats = self.stats(size, times, summary.finish());
+        stats.environment_seconds = scene.loaded.environment.as_ref().map(|e| e.seconds);
+        Ok(stats)
     }
 
     /// The stats of a render of this renderer.
@@ -223,6 +225,7 @@ impl Renderer {
             height,
             render_seconds,
             gpu_seconds,
+            environment_seconds: None,
             denoise: None,
             summary,
         }

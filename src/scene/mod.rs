@@ -9,6 +9,7 @@ mod exr;
 mod image;
 mod limits;
 mod load;
+pub mod loaded;
 mod png;
 pub mod presets;
 pub mod rotation;
@@ -20,6 +21,7 @@ pub use error::{SceneError, SceneSource, one_line};
 pub use exr::{SCENE_EXR_ATTRIBUTE, scene_from_exr, scene_from_exr_bytes};
 pub use limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
 pub use load::{SceneLoader, check_scene_length};
+pub use loaded::Loaded;
 pub use png::{SCENE_PNG_KEYWORD, scene_from_png, scene_from_png_bytes};
 
 use schema::{Range, scene_schema};
@@ -147,6 +149,28 @@ scene_schema! {
                 "the irradiance on a surface facing it, {range} (0 = no sun)";
         }
 
+        /// An HDR environment (docs/book/atmosphere.md): an equirectangular map about `sky.up`,
+        /// path mode's sky (importance-sampled light) and phong mode's background.
+        environment: Environment "an HDR equirectangular map about sky.up: path mode's sky, phong mode's background" {
+            /// The map: OpenEXR (`.exr`) or Radiance (`.hdr`), exactly twice as wide as high,
+            /// linear RGB, row 0 at the zenith; `qjulia:NAME` is a map built into the binary.
+            /// Empty: none (path mode's gradient sky, phong mode's flat background).
+            file: String = String::new(), path(),
+                "an equirectangular .exr or .hdr, 2:1, resolved against the scene file's folder (\"\" = none; \"qjulia:dusk.hdr\" is built in)";
+            /// The map's turn about `sky.up`, in degrees: its left edge (u = 0) faces the
+            /// frame's front at 0 (docs/book/atmosphere.md).
+            rotation_degrees: f64 = 0.0, float(Range::ANY), slider(0.0, 360.0),
+                "degrees about sky.up";
+            /// The map's radiance is multiplied by this.
+            intensity: f64 = 1.0, float(Range::at_least(0.0)), slider(0.0, 8.0, log),
+                "the map's radiance is multiplied by this, {range}";
+            /// The CRC-32 of the map's file: recorded in the scene of every picture rendered
+            /// with it, and verified when a scene that records it loads the map again (0: not
+            /// recorded).
+            checksum: u32 = 0, integer(0, 4_294_967_295),
+                "the map file's CRC-32, recorded when it loads and verified after, {range} (0 = unchecked)";
+        }
+
         /// A homogeneous medium filling the bounding region (docs/book/atmosphere.md): path mode
         /// scatters light in it (light shafts through the set), phong mode blends toward its
         /// colour.
@@ -207,6 +231,10 @@ scene_schema! {
             /// Colour of rays that hit nothing; the seed's grey 0.3.
             background: [f64; 3] = [0.3, 0.3, 0.3], vector(Range::closed(0.0, 1.0)),
                 "colour of rays that hit nothing, {range}";
+            /// The ambient term's light: with an environment map, its irradiance at the hit's
+            /// normal (divided by pi, prefiltered on the host) in place of white.
+            environment_light: bool = false, boolean(),
+                "the ambient term takes the environment map's irradiance (needs environment.file)";
             /// Light that reaches every hit, times the base colour and the occlusion.
             ambient: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 1.0),
                 "colour += ambient * occlusion factor * base colour, {range} (0 = the seed)";

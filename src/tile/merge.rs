@@ -91,6 +91,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
         height,
         render_seconds,
         gpu_seconds,
+        environment_seconds: scene.loaded.environment.as_ref().map(|e| e.seconds),
         denoise: None,
         summary: Summary::of(&whole),
     };

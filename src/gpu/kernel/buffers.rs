@@ -16,6 +16,8 @@ pub(super) struct RunBuffers {
     /// Readback copies of the outputs asked for.
     pub(super) readback: Vec<Option<wgpu::Buffer>>,
     pub(super) bind_group: wgpu::BindGroup,
+    /// The input array the bind group binds ([`super::input_source`]).
+    pub(super) input: usize,
     pub(super) timestamps: Option<Timestamps>,
 }
 
@@ -27,9 +29,10 @@ pub(super) struct Timestamps {
 }
 
 impl RunBuffers {
-    /// Whether these buffers serve a band of `items` reading back `read` (larger ones would
+    /// Whether these buffers serve a band of `items` reading back `read` with the input array
+    /// `input` (larger ones would
     /// do, but a step of another size is another grid: allocate it its own).
-    pub(super) fn fits(&self, items: u64, read: &[bool]) -> bool {
-        self.items == items && self.read == read
+    pub(super) fn fits(&self, items: u64, read: &[bool], input: usize) -> bool {
+        self.items == items && self.read == read && self.input == input
     }
 }

@@ -78,6 +78,9 @@ pub struct KernelSpec {
     pub trusted: bool,
     /// A second uniform beside binding 0's (the sampler's grid, beside the tracer's `Params`).
     pub second_uniform: Option<SecondUniform>,
+    /// The binding of a read-only storage array the scene gives (the environment map): each
+    /// run's own ([`Run::input`]), a placeholder of a few words where it has none.
+    pub input: Option<u32>,
     /// Whether a run may bake the scene's values into its pipeline ([`BAKE_VALUES`]): None
     /// where it may not; else the uniforms' members still read at run time (the per-dispatch
     /// ones: the band, where it lands, the samples it adds).
@@ -138,6 +141,9 @@ pub struct Run<'a> {
     pub dispatches_per_band: u32,
     /// The uniform's bytes for one dispatch.
     pub params: &'a dyn Fn(Band) -> Vec<u8>,
+    /// The scene's input array ([`KernelSpec::input`]; None where the kernel has none or the
+    /// scene gives none).
+    pub input: InputData,
 }
 
 /// One band read back: its rows, and the bytes of each output asked for (None for the others).
@@ -178,6 +184,8 @@ pub struct Kernel {
     /// Whether the params (binding 0 and the second uniform) are bound as read-only storage
     /// ([`GpuContext::uniforms_as_storage`]).
     uniforms_as_storage: bool,
+    /// The input arrays uploaded ([`Kernel::input_buffer`]), by the data they hold.
+    inputs: Mutex<Vec<(InputData, wgpu::Buffer)>>,
     /// The last run's buffers, kept for the next run of the same band size and readback (an
     /// animation's frames, the explorer's views): allocating and clearing them anew each time
     /// costs more than a fast GPU's whole render (a 4 Mpixel band is 128 MiB of outputs).
@@ -216,6 +224,7 @@ impl Kernel {
             count: None,
         };
         let storage = wgpu::BufferBindingType::Storage { read_only: false };
+        let input = wgpu::BufferBindingType::Storage { read_only: true };
         let entries: Vec<_> =
             std::iter::once(entry(0, params, wgpu::BufferSize::new(spec.uniform_bytes)))
                 .chain((1..=spec.outputs.len() as u32).map(|b| entry(b, storage, None)))
@@ -223,6 +232,7 @@ impl Kernel {
                     spec.second_uniform
                         .map(|u| entry(u.binding, params, wgpu::BufferSize::new(u.bytes))),
                 )
+                .chain(spec.input.map(|b| entry(b, input, None)))
                 .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(spec.name),
@@ -250,6 +260,7 @@ impl Kernel {
             parsed,
             kept_ranges: OnceLock::new(),
             uniforms_as_storage,
+            inputs: Mutex::new(Vec::new()),
             spare: Mutex::new(Vec::new()),
         })
     }
@@ -260,6 +271,49 @@ impl Kernel {
 
     pub fn spec(&self) -> &KernelSpec {
         &self.spec
+    }
+}
+
+/// The scene's input array a run binds ([`KernelSpec::input`]): the environment map, or None.
+pub type InputData = Option<std::sync::Arc<crate::envmap::EnvironmentData>>;
+
+/// Where a run's input is among the buffers uploaded: the address of its data (0: none).
+pub(super) fn input_source(data: &InputData) -> usize {
+    data.as_ref()
+        .map_or(0, |d| std::sync::Arc::as_ptr(d) as usize)
+}
+
+/// Inputs kept uploaded ([`Kernel::input_buffer`]): the last few maps, each held alive so
+/// that its address stays its own.
+const INPUTS_KEPT: usize = 2;
+
+impl Kernel {
+    /// The buffer holding `data` on the device, uploaded at its first use and kept for the
+    /// next runs ([`INPUTS_KEPT`] of them); sixteen bytes of zeros for None, where the kernel
+    /// reads nothing of it.
+    pub fn input_buffer(&self, data: &InputData) -> wgpu::Buffer {
+        use wgpu::util::DeviceExt;
+        let mut inputs = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
+        let source = input_source(data);
+        if let Some((_, buffer)) = inputs.iter().find(|(d, _)| input_source(d) == source) {
+            return buffer.clone();
+        }
+        let placeholder = [0.0f32; 4];
+        let contents: &[f32] = data.as_ref().map_or(&placeholder, |d| &d.packed);
+        let buffer = self
+            .ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("input"),
+                contents: bytemuck::cast_slice(contents),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        if inputs.len() > INPUTS_KEPT {
+            // The oldest map goes; the placeholder, first, stays.
+            inputs.remove(1);
+        }
+        inputs.push((data.clone(), buffer.clone()));
+        buffer
     }
 }
 

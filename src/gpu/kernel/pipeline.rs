@@ -267,14 +267,20 @@ impl Kernel {
         bytes
     }
 
-    /// Binds a uniform buffer (binding 0, and the second uniform's binding) and the output
-    /// arrays (bindings 1..).
-    pub fn bind_group(&self, uniform: &wgpu::Buffer, outputs: &[wgpu::Buffer]) -> wgpu::BindGroup {
+    /// Binds a uniform buffer (binding 0, and the second uniform's binding), the output arrays
+    /// (bindings 1..) and the scene's input array ([`KernelSpec::input`], [`Kernel::input_buffer`]).
+    pub fn bind_group(
+        &self,
+        uniform: &wgpu::Buffer,
+        outputs: &[wgpu::Buffer],
+        input: &super::InputData,
+    ) -> wgpu::BindGroup {
         assert_eq!(
             outputs.len(),
             self.spec.outputs.len(),
             "one buffer per output"
         );
+        let input = self.input_buffer(input);
         let part = |offset, bytes| {
             wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                 buffer: uniform,
@@ -302,6 +308,10 @@ impl Kernel {
         .chain(self.spec.second_uniform.map(|second| wgpu::BindGroupEntry {
             binding: second.binding,
             resource: part(self.second_uniform_offset(), second.bytes),
+        }))
+        .chain(self.spec.input.map(|binding| wgpu::BindGroupEntry {
+            binding,
+            resource: input.as_entire_binding(),
         }))
         .collect();
         self.ctx

@@ -11,8 +11,14 @@ use crate::error::{Error, Result};
 const TIMESTAMP_BYTES: u64 = 16;
 
 impl Kernel {
-    /// A band's buffers for `items` items, with readback copies of the outputs `read` asks for.
-    pub(super) fn run_buffers(&self, items: u64, read: &[bool]) -> RunBuffers {
+    /// A band's buffers for `items` items, with readback copies of the outputs `read` asks for,
+    /// binding the input array `input`.
+    pub(super) fn run_buffers(
+        &self,
+        items: u64,
+        read: &[bool],
+        input: &super::InputData,
+    ) -> RunBuffers {
         let device = &self.ctx.device;
         let uniform = self.uniform_buffer(&format!("{} params", self.spec.name));
         let storage = self.output_buffers(items, self.spec.name, read);
@@ -27,7 +33,7 @@ impl Kernel {
                 wanted.then(|| buffer(device, &label, items * o.bytes_per_item, read_usage))
             })
             .collect();
-        let bind_group = self.bind_group(&uniform, &storage);
+        let bind_group = self.bind_group(&uniform, &storage, input);
         let timestamps = self.ctx.has_timestamps().then(|| Timestamps {
             queries: device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("kernel time"),
@@ -49,6 +55,7 @@ impl Kernel {
             storage,
             readback,
             bind_group,
+            input: super::input_source(input),
             timestamps,
         }
     }

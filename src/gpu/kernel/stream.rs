@@ -24,6 +24,8 @@ pub struct Step {
     pub band_rows: u32,
     pub uniforms: Vec<Vec<u8>>,
     pub read: Vec<bool>,
+    /// The scene's input array ([`super::Run::input`]).
+    pub input: super::InputData,
 }
 
 /// A step done: what `decode` made of it, when it was submitted and decoded, and its GPU time
@@ -137,6 +139,7 @@ impl Kernel {
         let dispatches = run.dispatches_per_band.max(1);
         let constants = run.constants.to_vec();
         let read = run.read.to_vec();
+        let input = run.input.clone();
         (rows.start..end)
             .step_by(band_rows as usize)
             .map(move |row| {
@@ -149,6 +152,7 @@ impl Kernel {
                     rows,
                     band_rows,
                     read: read.clone(),
+                    input: input.clone(),
                     uniforms: (0..dispatches)
                         .map(|dispatch| {
                             (run.params)(Band {
@@ -199,9 +203,10 @@ impl Kernel {
                 finish_oldest(&mut in_flight, &mut free)?;
             }
             let items = step.band_rows as u64 * step.width as u64;
-            let buffers = match free.iter().position(|b| b.fits(items, &step.read)) {
+            let input = super::input_source(&step.input);
+            let buffers = match free.iter().position(|b| b.fits(items, &step.read, input)) {
                 Some(k) => free.swap_remove(k),
-                None => self.run_buffers(items, &step.read),
+                None => self.run_buffers(items, &step.read, &step.input),
             };
             in_flight.push_back(self.submit(step, buffers)?);
         }

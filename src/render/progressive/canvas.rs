@@ -43,26 +43,35 @@ pub struct Target {
     /// Whether the AOVs output is whole (else a placeholder): the denoised view reads it.
     pub aovs: bool,
     pub outputs: Vec<wgpu::Buffer>,
+    /// The scene's input array bound (the environment map).
+    pub input: crate::gpu::kernel::InputData,
     pub bind_group: wgpu::BindGroup,
 }
 
 impl Target {
-    /// Output buffers of `size`, bound with `uniform`. With `aovs` the tracer's AOVs output is
-    /// whole, else a placeholder, as every other on-demand output is.
-    pub fn new(kernel: &Kernel, uniform: &wgpu::Buffer, size: [u32; 2], aovs: bool) -> Self {
+    /// Output buffers of `size`, bound with `uniform` and the scene's `input`. With `aovs` the
+    /// tracer's AOVs output is whole, else a placeholder, as every other on-demand output is.
+    pub fn new(
+        kernel: &Kernel,
+        uniform: &wgpu::Buffer,
+        size: [u32; 2],
+        aovs: bool,
+        input: crate::gpu::kernel::InputData,
+    ) -> Self {
         let row_stride = size[0].next_multiple_of(ROW_ALIGN);
         let mut read = vec![false; kernel.spec().outputs.len()];
         if let Some(slot) = read.get_mut(crate::gpu::AOVS_OUTPUT) {
             *slot = aovs;
         }
         let outputs = kernel.output_buffers(row_stride as u64 * size[1] as u64, "view", &read);
-        let bind_group = kernel.bind_group(uniform, &outputs);
+        let bind_group = kernel.bind_group(uniform, &outputs, &input);
         Self {
             width: size[0],
             height: size[1],
             row_stride,
             aovs,
             outputs,
+            input,
             bind_group,
         }
     }

@@ -137,7 +137,7 @@ impl<F: GpuReal, C: Canvas> Julia2dView<F, C> {
             return;
         }
         let kernel = self.julia.kernel();
-        self.target = Some(Target::new(kernel, &self.uniform, size, false));
+        self.target = Some(Target::new(kernel, &self.uniform, size, false, None));
         self.canvas.resize(Quality::Full, size);
     }
 }

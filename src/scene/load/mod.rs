@@ -181,6 +181,7 @@ impl SceneLoader {
         }
         r.reject_unknown()?;
         validate(&mut s, &r)?;
+        load_files(&mut s, &r)?;
         Ok(s)
     }
 }
@@ -305,17 +306,40 @@ impl Reader {
     }
 }
 
+/// Loads the files the path keys name (`environment.file`): a relative path resolves against
+/// the folder of the scene file that gave it (then, for a PNG's or an EXR's scene, the current
+/// directory), or the current directory where a flag or `--set` gave it. The checksum the scene
+/// records is verified where it comes from the same layer as the file, or a later one: a file
+/// given later (a `--set` over a PNG's scene) takes its own checksum.
+fn load_files(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
+    let (_, file_source) = r.source_of("environment.file");
+    let (_, checksum_source) = r.source_of("environment.checksum");
+    let bases = match &file_source {
+        SceneSource::File(path) => super::loaded::bases_of_file(path),
+        _ => Vec::new(),
+    };
+    let verify = rank(&checksum_source) >= rank(&file_source);
+    s.load_environment(&bases, verify).map_err(|(key, reason)| {
+        let (v, src) = r.source_of(key);
+        SceneError::value(&src, key, &v, &reason)
+    })
+}
+
+/// How late a layer comes: defaults, presets, scene files, flags, `--set`.
+fn rank(source: &SceneSource) -> u8 {
+    match source {
+        SceneSource::Default => 0,
+        SceneSource::Preset(_) => 1,
+        SceneSource::File(_) => 2,
+        SceneSource::Flag(_) => 3,
+        SceneSource::Set(_) => 4,
+    }
+}
+
 /// Range and consistency checks over the whole scene, once all layers are in.
 fn validate(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
     // The camera's and the slice's checks blame the later-given of the keys involved.
     let latest = |keys: &[&str]| -> String {
-        let rank = |src: &SceneSource| match src {
-            SceneSource::Default => 0,
-            SceneSource::Preset(_) => 1,
-            SceneSource::File(_) => 2,
-            SceneSource::Flag(_) => 3,
-            SceneSource::Set(_) => 4,
-        };
         keys.iter()
             .max_by_key(|k| rank(&r.source_of(k).1))
             .map(|k| k.to_string())

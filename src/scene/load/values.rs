@@ -36,6 +36,13 @@ pub(super) fn parse(kind: &Kind, v: &Value, s: &mut Scene) -> Result<(), String>
                 return Err(format!("must be one of {}", names.join(", ")));
             }
         }
+        Kind::Path { at } => {
+            let text = v.as_str().ok_or("must be a string: a file's path")?;
+            if text.contains('\0') {
+                return Err("must not hold a NUL".into());
+            }
+            *(at.get_mut)(s) = text.to_string();
+        }
         Kind::Vector {
             at, splat: true, ..
         } if number(v).is_some() => {

@@ -152,6 +152,10 @@ fn key(k: &Key) -> Value {
             put("type", "hyper".into());
             put("length_from", "fractal.algebra".into());
         }
+        Kind::Path { .. } => {
+            put("type", "path".into());
+            put("must_be", "a file's path (a string; \"\" for none)".into());
+        }
     }
     out
 }

@@ -107,6 +107,11 @@ pub enum Kind {
     },
     /// A number of the algebra: exactly `fractal.algebra`'s dimension of finite numbers.
     Hyper { at: At<[f64]> },
+    /// A file's path, as written (a string; empty: none). A relative path resolves against the
+    /// folder of the scene file that gives it (then, for a PNG's or an EXR's scene, the current
+    /// directory), or against the current directory where `--set` gives it; `qjulia:NAME`
+    /// names a file built into the binary.
+    Path { at: At<String> },
 }
 
 impl Kind {
@@ -119,6 +124,7 @@ impl Kind {
             Kind::Bool { at } => Value::Boolean(*(at.get)(scene)),
             Kind::Choice { get, .. } => Value::String(get(scene).to_string()),
             Kind::Vector { at, .. } | Kind::Hyper { at } => floats((at.get)(scene)),
+            Kind::Path { at } => Value::String((at.get)(scene).clone()),
         }
     }
 
@@ -276,9 +282,11 @@ pub fn slider(path: &str) -> Option<Slider> {
 ///
 /// Kinds: `float(range)` (an f64 field), `integer(min, max)` (u32), `boolean()`, `choice()`
 /// (an enum with `ALL` and `name`), `vector()` / `vector(range of each component)` (an
-/// `[f64; N]`), `hyper()` (a `Vec<f64>` as long as the algebra's dimension). Generates the
-/// structs (deriving `Clone, Debug, PartialEq, Serialize`), their `Default`s, and the constants
-/// `TABLES`, `SCHEMA` and `KEYS`.
+/// `[f64; N]`), `hyper()` (a `Vec<f64>` as long as the algebra's dimension), `path()` (a
+/// `String`: a file's path as written). Generates the structs (deriving `Clone, Debug,
+/// PartialEq, Serialize`), their `Default`s, and the constants `TABLES`, `SCHEMA` and `KEYS`;
+/// the scene also holds what its path keys' files load to ([`super::Loaded`]: not keys, not
+/// written).
 macro_rules! scene_schema {
     (
         $(#[$scene_meta:meta])*
@@ -302,6 +310,10 @@ macro_rules! scene_schema {
                 $(#[$table_meta])*
                 pub $table: $Table,
             )*
+            /// What the path keys' files hold, loaded (the environment map): set where the
+            /// scene is built ([`SceneLoader`](crate::scene::SceneLoader)), never written.
+            #[serde(skip)]
+            pub loaded: $crate::scene::Loaded,
         }
 
         $(
@@ -409,6 +421,11 @@ macro_rules! scene_key_kind {
             splat: true,
         }
     };
+    (path(), $ty:ty, $table:ident . $field:ident) => {
+        $crate::scene::schema::Kind::Path {
+            at: $crate::scene::schema::scene_key_kind!(@at $table.$field),
+        }
+    };
     (hyper(), $ty:ty, $table:ident . $field:ident) => {
         $crate::scene::schema::Kind::Hyper {
             at: $crate::scene::schema::scene_key_kind!(@at $table.$field),
@@ -510,7 +527,7 @@ mod tests {
                 }
                 Kind::Vector { each, .. } => each.contains(x),
                 Kind::Hyper { .. } => true,
-                Kind::Bool { .. } | Kind::Choice { .. } => false,
+                Kind::Bool { .. } | Kind::Choice { .. } | Kind::Path { .. } => false,
             };
             assert!(ok(slider.min) && ok(slider.max), "{}: {slider:?}", key.path);
         }

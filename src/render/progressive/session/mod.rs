@@ -454,11 +454,21 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
 
     /// Makes sure the target for `quality` has this size, re-creating it if not.
     /// (`aovs`: with the AOVs output whole).
-    fn ensure_target(&mut self, quality: Quality, size: [u32; 2], aovs: bool) {
+    fn ensure_target(
+        &mut self,
+        quality: Quality,
+        size: [u32; 2],
+        aovs: bool,
+        input: crate::gpu::kernel::InputData,
+    ) {
         let slot = quality as usize;
+        let same_input = |t: &Target| match (&t.input, &input) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            (a, b) => a.is_none() && b.is_none(),
+        };
         if self.targets[slot]
             .as_ref()
-            .is_some_and(|t| [t.width, t.height] == size && t.aovs == aovs)
+            .is_some_and(|t| [t.width, t.height] == size && t.aovs == aovs && same_input(t))
         {
             return;
         }
@@ -468,7 +478,13 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         if self.kept.as_ref().is_some_and(|k| k.quality == quality) {
             self.kept = None;
         }
-        self.targets[slot] = Some(Target::new(self.kernel.kernel(), &self.uniform, size, aovs));
+        self.targets[slot] = Some(Target::new(
+            self.kernel.kernel(),
+            &self.uniform,
+            size,
+            aovs,
+            input,
+        ));
         self.canvas.resize(quality, size);
     }
 }

@@ -120,7 +120,8 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             // Phong mode's mean goes straight to the texture: nothing kept to show.
             self.kept = None;
         }
-        span("target", || self.ensure_target(quality, size, aovs));
+        let input = scene.loaded.environment.clone();
+        span("target", || self.ensure_target(quality, size, aovs, input));
         let path_uniform = match &self.kernel {
             ViewKernel::Phong(_) => Vec::new(),
             ViewKernel::Path(_) => {
