@@ -1,7 +1,7 @@
 //! Writes assets/environment/dusk.hdr, the environment map built into the binary
 //! (`environment.file = "qjulia:dusk.hdr"`, the `environment` preset's): a procedural sky at
-//! dusk, 512 x 256 texels of linear RGB in Radiance's format. A low sun (2,000 times brighter
-//! than the sky around it, 1.2 degrees across) over a warm horizon under a deep blue zenith,
+//! dusk, 1024 x 512 texels of linear RGB in Radiance's format. A low sun (about 700 times brighter
+//! than the sky around it, 2.4 degrees across) over a warm horizon under a deep blue zenith,
 //! its glow and a band of thin clouds lit from below, and a dark ground. Deterministic: the same
 //! file every run.
 //!
@@ -10,8 +10,8 @@
 use std::f64::consts::PI;
 
 /// The map's size: twice as wide as high.
-const WIDTH: usize = 512;
-const HEIGHT: usize = 256;
+const WIDTH: usize = 1024;
+const HEIGHT: usize = 512;
 
 /// A smooth value noise in [0, 1) of (x, y), periodic in x with period `period` (the map's
 /// seam joins), from an integer hash.
@@ -74,9 +74,9 @@ fn radiance(u: f64, v: f64) -> [f64; 3] {
         return mix([0.16, 0.11, 0.08], [0.035, 0.03, 0.03], t);
     }
     let height = elevation / (PI / 2.0);
-    let zenith = [0.045, 0.075, 0.2];
+    let zenith = [0.025, 0.055, 0.22];
     let horizon = [0.95, 0.5, 0.26];
-    let mut c = mix(horizon, zenith, height.powf(0.45));
+    let mut c = mix(horizon, zenith, height.powf(0.35));
     // The sun's glow: a broad halo and a tight aureole.
     let glow = 0.9 * (-angle / 0.35).exp() + 4.0 * (-angle / 0.06).exp();
     for (k, tint) in [1.0, 0.62, 0.3].iter().enumerate() {
@@ -85,12 +85,12 @@ fn radiance(u: f64, v: f64) -> [f64; 3] {
     // Thin clouds above the horizon, lit warm from below and darker toward the zenith.
     let band =
         ((elevation - 0.05) / 0.08).clamp(0.0, 1.0) * ((0.6 - elevation) / 0.3).clamp(0.0, 1.0);
-    let density = (fbm(u * 16.0, v * 40.0, 16) - 0.45).max(0.0) * 2.2 * band;
+    let density = (fbm(u * 16.0, v * 40.0, 16) - 0.42).max(0.0) * 2.6 * band;
     let lit = mix([1.4, 0.55, 0.3], [0.25, 0.2, 0.3], height.powf(0.6));
     c = mix(c, lit, density.min(0.85));
-    // The sun's disc, 0.6 degrees in radius.
-    if angle < 0.6f64.to_radians() {
-        c = [2400.0, 1900.0, 1300.0];
+    // The sun's disc, 1.2 degrees in radius.
+    if angle < 1.2f64.to_radians() {
+        c = [900.0, 700.0, 480.0];
     }
     c
 }

@@ -43,6 +43,8 @@ pub enum Command {
     ShowHelp,
     /// Opens or closes the help window.
     ToggleHelp,
+    /// Sets `environment.file` (empty: no map) and loads the map, or says why it cannot.
+    SetEnvironment(String),
     /// Says this in the status line (true: as an error).
     Tell(String, bool),
 }

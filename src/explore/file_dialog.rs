@@ -15,6 +15,8 @@ pub enum Purpose {
     ExportPng,
     /// Export the set's surface as a mesh (PLY, STL or OBJ).
     ExportMesh,
+    /// Choose the environment map (OpenEXR or Radiance).
+    OpenEnvironment,
 }
 
 impl Purpose {
@@ -24,6 +26,7 @@ impl Purpose {
             Purpose::SaveScene => "Save scene",
             Purpose::ExportPng => "Export PNG",
             Purpose::ExportMesh => "Export mesh",
+            Purpose::OpenEnvironment => "Choose environment map",
         }
     }
 
@@ -33,12 +36,13 @@ impl Purpose {
             Purpose::SaveScene => &["toml"],
             Purpose::ExportPng => &["png"],
             Purpose::ExportMesh => &["ply", "stl", "obj"],
+            Purpose::OpenEnvironment => &["exr", "hdr"],
         }
     }
 
     fn action(self) -> &'static str {
         match self {
-            Purpose::OpenScene => "Open",
+            Purpose::OpenScene | Purpose::OpenEnvironment => "Open",
             Purpose::SaveScene | Purpose::ExportPng | Purpose::ExportMesh => "Save",
         }
     }

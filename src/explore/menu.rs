@@ -66,7 +66,7 @@ pub fn menu_bar(ui: &mut egui::Ui, mode: &mut Mode, mesh_resolution: &mut u32) -
 /// The file name a dialog for `purpose` proposes.
 pub fn proposed_name(purpose: Purpose) -> &'static str {
     match purpose {
-        Purpose::OpenScene => "",
+        Purpose::OpenScene | Purpose::OpenEnvironment => "",
         Purpose::SaveScene => "scene.toml",
         Purpose::ExportPng => "qjulia.png",
         Purpose::ExportMesh => "qjulia.ply",
@@ -96,6 +96,9 @@ pub fn file_dialog(
                 Purpose::SaveScene => Command::SaveScene(path),
                 Purpose::ExportPng => Command::ExportPng(path),
                 Purpose::ExportMesh => Command::ExportMesh(path),
+                Purpose::OpenEnvironment => {
+                    Command::SetEnvironment(path.to_string_lossy().into_owned())
+                }
             })
         }
     }

@@ -81,7 +81,8 @@ pub fn controls(ui: &mut egui::Ui, s: &mut ExplorerState) -> Vec<Command> {
                 .default_open(true)
                 .show(ui, |ui| path_tracing(ui, &mut s.scene));
         }
-        egui::CollapsingHeader::new("Atmosphere").show(ui, |ui| atmosphere(ui, &mut s.scene));
+        egui::CollapsingHeader::new("Atmosphere")
+            .show(ui, |ui| commands.extend(atmosphere(ui, &mut s.scene)));
         if s.mode == Mode::Slice3d && s.scene.image.denoise != Denoiser::None {
             egui::CollapsingHeader::new("Denoising")
                 .default_open(true)

@@ -306,10 +306,11 @@ pub const PATH64_KERNEL: KernelSpec = KernelSpec {
 };
 
 /// Samples one invocation traces in one dispatch: as many as keep samples x rays x max_steps
-/// within 60,000 (each scattering event traces at most three rays: the bounce's and two shadow
-/// rays; the last ray is one more), at least 1 and at most 8.
-pub fn path_samples_per_dispatch(bounces: u32, max_steps: u32) -> u32 {
-    let rays = 3 * bounces as u64 + 1;
+/// within 60,000 (each scattering event traces at most three rays, four with an environment
+/// map: the bounce's and a shadow ray per light; the last ray is one more), at least 1 and at
+/// most 8.
+pub fn path_samples_per_dispatch(bounces: u32, max_steps: u32, environment: bool) -> u32 {
+    let rays = (3 + u64::from(environment)) * bounces as u64 + 1;
     (60_000 / (rays * max_steps.max(1) as u64)).clamp(1, 8) as u32
 }
 
@@ -463,7 +464,7 @@ impl<F: GpuReal> GpuPathTracer<F> {
         // Within lavapipe's loop budget, and within `band_pixels()` rays a dispatch as the
         // tracer keeps it, so that a big image's dispatches stay of bounded cost.
         let band_rows = self.kernel.band_rows(params.width, params.height);
-        let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps).min(
+        let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps, params.env_map).min(
             super::GpuTracer::<F>::samples_per_dispatch_in(band_rows, params.width, samples),
         );
         let second = GpuPathParams::new(path);

@@ -140,6 +140,17 @@ pub const PRESETS: &[Preset] = &[
         two_d: false,
     },
     Preset {
+        name: "Environment",
+        slug: "environment",
+        about: "the seed's set as gold under the built-in dusk sky (qjulia:dusk.hdr), path traced: the map lights it and is seen behind it",
+        toml: "[shading]\nmodel = \"path\"\ndiffuse = [0.95, 0.72, 0.45]\n\
+               [material]\nmetallic = 1.0\nroughness = 0.22\n\
+               [environment]\nfile = \"qjulia:dusk.hdr\"\nrotation_degrees = -12.0\n\
+               [camera]\neye = [0.3, 0.25, 3.0]\n\
+               [image]\nsamples = 128\ntone_map = \"aces\"\ndenoise = \"atrous\"\n",
+        two_d: false,
+    },
+    Preset {
         name: "Path traced",
         slug: "path-traced",
         about: "the seed's set path traced under sky and sun: a glossy material, 3 bounces, a little depth of field",

@@ -1,9 +1,11 @@
 //! The side panel's groups of the light and the shading (the Phong-only keys greyed out in
 //! path mode), path tracing (display, material, sky, sun, paths), the denoiser switch and its
-//! `[denoise]` keys, adaptive sampling, and the atmosphere (fog and glow); with the direction
-//! and colour controls they use.
+//! `[denoise]` keys, adaptive sampling, and the atmosphere (the environment map, fog and glow);
+//! with the direction and colour controls they use.
 
 use super::widgets::{colour_edit, key_slider, key_slider_u32};
+use crate::explore::command::Command;
+use crate::explore::file_dialog::Purpose;
 use crate::denoise::Denoiser;
 use crate::display::ToneMap;
 use crate::scene::{
@@ -86,9 +88,12 @@ pub(super) fn path_tracing(ui: &mut egui::Ui, scene: &mut Scene) {
     paths(ui, &mut scene.path);
 }
 
-/// The atmosphere (docs/book/atmosphere.md): the fog in either model, phong mode's glow (greyed
-/// out in path mode).
-pub(super) fn atmosphere(ui: &mut egui::Ui, scene: &mut Scene) {
+/// The atmosphere (docs/book/atmosphere.md): the environment map (a file picker, the built-in
+/// map, none; its turn and intensity; phong mode's ambient light from it), the fog in either
+/// model, phong mode's glow (greyed out in path mode). A new map is a command: the app loads it.
+pub(super) fn atmosphere(ui: &mut egui::Ui, scene: &mut Scene) -> Option<Command> {
+    let command = environment(ui, scene);
+    ui.separator();
     let fog = &mut scene.fog;
     ui.add(key_slider(&mut fog.density, "fog.density").text("fog density (0 = none)"))
         .on_hover_text("extinction per unit length inside the bounding ball");
@@ -112,6 +117,52 @@ pub(super) fn atmosphere(ui: &mut egui::Ui, scene: &mut Scene) {
             ui.label("glow colour");
         });
     });
+    command
+}
+
+/// `[environment]`: which map (chosen in the file dialog, the built-in one, or none), its turn
+/// about `sky.up` and its intensity, and `shading.environment_light` (phong mode).
+fn environment(ui: &mut egui::Ui, scene: &mut Scene) -> Option<Command> {
+    let mut command = None;
+    let env = &mut scene.environment;
+    ui.horizontal(|ui| {
+        ui.label("environment map:");
+        match env.file.is_empty() {
+            true => ui.weak("none"),
+            false => ui.monospace(&env.file),
+        };
+    });
+    ui.horizontal(|ui| {
+        if ui.button("Choose…").clicked() {
+            command = Some(Command::OpenDialog(Purpose::OpenEnvironment));
+        }
+        if ui.button("Built-in dusk").clicked() {
+            command = Some(Command::SetEnvironment("qjulia:dusk.hdr".into()));
+        }
+        if ui
+            .add_enabled(!env.file.is_empty(), egui::Button::new("None"))
+            .clicked()
+        {
+            command = Some(Command::SetEnvironment(String::new()));
+        }
+    });
+    let mapped = scene.loaded.environment.is_some();
+    ui.add_enabled_ui(mapped, |ui| {
+        ui.add(
+            key_slider(&mut env.rotation_degrees, "environment.rotation_degrees")
+                .text("map rotation (°)"),
+        );
+        ui.add(key_slider(&mut env.intensity, "environment.intensity").text("map intensity"));
+        let phong = scene.shading.model == ShadingModel::Phong;
+        ui.add_enabled(
+            phong,
+            egui::Checkbox::new(
+                &mut scene.shading.environment_light,
+                "ambient light from the map (phong)",
+            ),
+        );
+    });
+    command
 }
 
 /// `image.denoise`: the denoiser the view and the exports run, in either model.
