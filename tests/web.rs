@@ -525,3 +525,259 @@ fn the_pages_output_sizes_are_the_runners() {
         bytes(qjulia::gpu::JULIA2D_KERNEL.outputs)
     );
 }
+
+/// A map's texels, made up: varied colours over many exponents, with runs of equal texels (the
+/// RLE's runs) and zeros.
+fn map_texel(i: usize, j: usize) -> [f32; 3] {
+    if (i / 4 + j).is_multiple_of(5) {
+        return [0.25, 0.5, 1.0];
+    }
+    let x = (i as f32 + 1.0) * 0.37 + j as f32 * 1.9;
+    [
+        x.sin().abs() * 3.0,
+        (x * 0.5).cos().abs() * 0.01,
+        x * x * 0.125 % 40.0,
+    ]
+}
+
+fn map_texels(width: usize, height: usize) -> Vec<[f32; 3]> {
+    (0..height)
+        .flat_map(|j| (0..width).map(move |i| map_texel(i, j)))
+        .collect()
+}
+
+/// A Radiance file of the made-up texels (new-style RLE from 8 wide, flat scanlines below).
+fn map_hdr(width: usize, height: usize) -> Vec<u8> {
+    let pixels: Vec<image::Rgb<f32>> = map_texels(width, height)
+        .into_iter()
+        .map(image::Rgb)
+        .collect();
+    let mut out = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut out)
+        .encode(&pixels, width, height)
+        .unwrap();
+    out
+}
+
+/// A Radiance file whose scanlines use the old run-length scheme (a pixel of 1, 1, 1 repeats
+/// the one before, 256 times more for each such pixel in a row).
+fn map_hdr_old_rle() -> Vec<u8> {
+    let mut out = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n".to_vec();
+    // Row 0: a pixel and a run of three; row 1: four pixels as they are.
+    out.extend([100, 50, 25, 130, 1, 1, 1, 3]);
+    out.extend([
+        10, 20, 30, 129, 200, 0, 7, 120, 0, 0, 0, 0, 255, 255, 255, 140,
+    ]);
+    out
+}
+
+/// An OpenEXR file of the made-up texels: RGB(A) in `f16` or `f32`, compressed so, in scan
+/// lines of the given order.
+fn map_exr(
+    width: usize,
+    height: usize,
+    half: bool,
+    compression: exr::prelude::Compression,
+    line_order: exr::prelude::LineOrder,
+    texel: impl Fn(usize, usize) -> [f32; 3] + Sync,
+) -> Vec<u8> {
+    use exr::prelude::*;
+    let encoding = Encoding {
+        compression,
+        blocks: Blocks::ScanLines,
+        line_order,
+    };
+    let mut out = std::io::Cursor::new(Vec::new());
+    let attributes = LayerAttributes::named("sky");
+    if half {
+        let channels = SpecificChannels::rgba(|p: Vec2<usize>| {
+            let [r, g, b] = texel(p.x(), p.y());
+            (
+                f16::from_f32(r),
+                f16::from_f32(g),
+                f16::from_f32(b),
+                f16::ONE,
+            )
+        });
+        Image::from_layer(Layer::new((width, height), attributes, encoding, channels))
+            .write()
+            .to_buffered(&mut out)
+            .unwrap();
+    } else {
+        let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+            let [r, g, b] = texel(p.x(), p.y());
+            (r, g, b)
+        });
+        Image::from_layer(Layer::new((width, height), attributes, encoding, channels))
+            .write()
+            .to_buffered(&mut out)
+            .unwrap();
+    }
+    out.into_inner()
+}
+
+/// Little-endian bytes of f32s.
+fn f32_bytes(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// A packed map as the fixture holds it: its size and checksum, the CRC-32 of each part of the
+/// buffer (header and irradiance, texels, marginal CDF, rows' CDFs), and the whole buffer where
+/// it is small (else its head, the size and the irradiance).
+fn packed_json(width: usize, height: usize, checksum: u32, packed: &[f32]) -> serde_json::Value {
+    let texels = 40 + 4 * width * height;
+    let marginal = texels + height + 1;
+    let parts = [
+        &packed[..40],
+        &packed[40..texels],
+        &packed[texels..marginal],
+        &packed[marginal..],
+    ];
+    let crcs: Vec<u32> = parts
+        .iter()
+        .map(|p| crc32fast::hash(&f32_bytes(p)))
+        .collect();
+    let mut json = serde_json::json!({
+        "width": width, "height": height, "checksum": checksum, "floats": packed.len(),
+        "part_crcs": crcs,
+    });
+    if packed.len() <= 4096 {
+        json["packed"] = b64(&f32_bytes(packed)).into();
+    } else {
+        json["head"] = b64(&f32_bytes(&packed[..40])).into();
+    }
+    json
+}
+
+/// The page's reader and packer of environment maps (web/src/envmap.ts) against the library's:
+/// map files in each format the page reads (web/test/fixtures/envmap/, written here), the
+/// built-in dusk.hdr, and a map halved to fit a binding, each with the buffer
+/// `qjulia::envmap` packs of it; and the library's words for the maps it refuses.
+#[test]
+fn the_environment_map_fixture_is_the_librarys() {
+    use exr::prelude::{Compression, LineOrder};
+    use qjulia::envmap::{MapFormat, from_bytes, pack};
+    let dir = web().join("test/fixtures/envmap");
+    std::fs::create_dir_all(&dir).unwrap();
+    let files: Vec<(&str, Vec<u8>)> = vec![
+        ("rle.hdr", map_hdr(32, 16)),
+        ("flat.hdr", map_hdr(4, 2)),
+        ("old-rle.hdr", map_hdr_old_rle()),
+        (
+            "half-zip.exr",
+            map_exr(
+                32,
+                16,
+                true,
+                Compression::ZIP16,
+                LineOrder::Increasing,
+                map_texel,
+            ),
+        ),
+        (
+            "float-zips.exr",
+            map_exr(
+                32,
+                16,
+                false,
+                Compression::ZIP1,
+                LineOrder::Decreasing,
+                map_texel,
+            ),
+        ),
+        (
+            "float-raw.exr",
+            map_exr(
+                16,
+                8,
+                false,
+                Compression::Uncompressed,
+                LineOrder::Increasing,
+                map_texel,
+            ),
+        ),
+        (
+            "half-rle.exr",
+            map_exr(
+                16,
+                8,
+                true,
+                Compression::RLE,
+                LineOrder::Increasing,
+                map_texel,
+            ),
+        ),
+        ("square.hdr", map_hdr(8, 8)),
+        (
+            "negative.exr",
+            map_exr(
+                8,
+                4,
+                false,
+                Compression::Uncompressed,
+                LineOrder::Increasing,
+                |i, j| [0.5, if (i, j) == (5, 2) { -2.0 } else { 0.25 }, 1.0],
+            ),
+        ),
+    ];
+    let mut maps = Vec::new();
+    for (name, bytes) in &files {
+        let path = dir.join(name);
+        if bless() {
+            std::fs::write(&path, bytes).unwrap();
+        }
+        assert!(
+            std::fs::read(&path).unwrap_or_default() == *bytes,
+            "{} is stale: run `QJULIA_BLESS=1 cargo test --release --test web`",
+            path.display()
+        );
+        let format = MapFormat::of(Path::new(name)).unwrap();
+        let mut json = serde_json::json!({ "file": format!("envmap/{name}") });
+        match from_bytes(bytes, format, None) {
+            Ok(map) => {
+                let packed = pack(map.width, map.height, &map.texels);
+                let packed = packed_json(map.width, map.height, map.checksum, &packed);
+                json.as_object_mut()
+                    .unwrap()
+                    .extend(packed.as_object().unwrap().clone());
+            }
+            Err(message) => json["message"] = message.into(),
+        }
+        maps.push(json);
+    }
+    let dusk =
+        qjulia::envmap::load_source(&qjulia::envmap::MapSource::Builtin("dusk.hdr")).unwrap();
+    let mut dusk_json = packed_json(dusk.width, dusk.height, dusk.checksum, &dusk.packed);
+    dusk_json["file"] = "../../../assets/environment/dusk.hdr".into();
+    maps.push(dusk_json);
+    // 4096 x 2048 packs to more than 128 MiB: halved once, to 2048 x 1024. Its texels are
+    // `halving_texel` (web/test/envmap.test.ts makes the same), written as an EXR of f32.
+    let halving_texel = |i: usize, j: usize| {
+        [
+            (i % 7) as f32 * 0.5,
+            (j % 5) as f32 * 0.25,
+            ((i + j) % 3) as f32,
+        ]
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let big = tmp.path().join("big.exr");
+    let exr = map_exr(
+        4096,
+        2048,
+        false,
+        Compression::Uncompressed,
+        LineOrder::Increasing,
+        halving_texel,
+    );
+    std::fs::write(&big, exr).unwrap();
+    let halved = qjulia::envmap::load_source(&qjulia::envmap::MapSource::File(big)).unwrap();
+    assert_eq!(halved.downsampled_from, Some((4096, 2048)));
+    let mut halved_json = packed_json(halved.width, halved.height, halved.checksum, &halved.packed);
+    halved_json["file"] = serde_json::Value::Null;
+    halved_json["texels"] = "halving".into();
+    halved_json["downsampled_from"] = serde_json::json!([4096, 2048]);
+    maps.push(halved_json);
+    let mut made = serde_json::to_string_pretty(&serde_json::json!({ "maps": maps })).unwrap();
+    made.push('\n');
+    check_file(&web().join("test/fixtures/envmap.json"), &made);
+}

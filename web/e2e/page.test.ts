@@ -4,7 +4,9 @@
 // reopens it; a preset renders; bad scenes show the CLI's error line; a drag orbits, a right
 // drag pans and the wheel zooms; the scene saved after a drag, and a PNG exported, render to
 // the page's picture with the CLI (the release binary beside web/, or QJULIA_BIN); the 2D view
-// is render2d's; path mode accumulates to the CLI's picture; the zoom stops where f32 does.
+// is render2d's; path mode accumulates to the CLI's picture; the zoom stops where f32 does; a
+// scene naming the built-in map shows it with no prompt, and one naming a file asks for it,
+// renders without it meanwhile, then as the CLI does once it is given.
 // Without Chromium, WebGPU or the binary this fails, unless QJULIA_SKIP_BROWSER_TESTS=1 (then
 // each test says it skipped).
 
@@ -326,6 +328,35 @@ describe('the page', () => {
       'tone_map = "aces"\n';
     const r = await render(toml);
     assertAgrees('path mode, 4 samples', r, cliRenderText(toml));
+  });
+
+  test('a scene naming the built-in map shows it, asking for nothing, as the CLI does', async () => {
+    if (skipped('the built-in map')) return;
+    const toml =
+      '[environment]\nfile = "qjulia:dusk.hdr"\nrotation_degrees = 40\n' +
+      '[shading]\nenvironment_light = true\nambient = 0.5\n[image]\nwidth = 48\nheight = 48\n';
+    const r = await render(toml);
+    expect(await q('prompt')).toBeNull();
+    expect(await q<string>('status')).not.toMatch(/environment map/);
+    assertAgrees('the built-in map', r, cliRenderText(toml));
+  });
+
+  test('a scene naming a map file asks for it, renders without it meanwhile, then with it', async () => {
+    if (skipped('a map file')) return;
+    const toml = '[environment]\nfile = "sky.hdr"\n[image]\nwidth = 48\nheight = 48\n';
+    const without = await render(toml);
+    expect(await q<string>('prompt')).toMatch(/environment map\s+sky\.hdr/);
+    expect(await q<string>('status')).toMatch(/environment map sky\.hdr not loaded/);
+    assertAgrees('without the map', without, cliRenderText(toml.replace('sky.hdr', '')));
+    const dusk = readFileSync(join(root, '..', 'assets', 'environment', 'dusk.hdr'));
+    expect(await q('pickMap', dusk.toString('base64'))).toBeNull();
+    const withMap = await q<Rendered>('last');
+    expect(await q('prompt')).toBeNull();
+    expect(await q<string>('scene')).toMatch(/checksum = 2166581370/);
+    const dir = scratch();
+    writeFileSync(join(dir, 'scene.toml'), toml);
+    writeFileSync(join(dir, 'sky.hdr'), dusk);
+    assertAgrees('with the map picked', withMap, cliRender(dir, 'scene.toml'));
   });
 
   test('zooming in stops where f32 stops resolving the view, and says why', async () => {

@@ -1,7 +1,8 @@
 // The page's GPU host: the kernels of shaders/ on WebGPU, as the Rust host runs them
 // (src/gpu/tracer.rs, src/gpu/path.rs, src/gpu/julia2d.rs and src/gpu/kernel/): the bind layout
 // of the Rust runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, work,
-// accumulated, aovs; the path tracer's own uniform at 7), one pipeline per kernel and variant's
+// accumulated, aovs; the path tracer's own uniform at 7; the environment map at 8, read-only,
+// or a placeholder of 16 zero bytes where there is none), one pipeline per kernel and variant's
 // override constants (cached, as the Rust side caches them), the samples added dispatch by
 // dispatch with the uniforms of src/uniform.ts, the running mean kept in `accumulated` between
 // them. A render is a [`Job`]: the explorer adds a dispatch of samples a frame and shows what
@@ -36,6 +37,8 @@ const WORKGROUP = 8;
 /// Camera rays an invocation of the path tracer traces together (DEFAULT_PATH_INTERLEAVE of
 /// src/gpu/variant.rs; the tracer's `main` keeps the shader's default, DEFAULT_INTERLEAVE = 2).
 const PATH_INTERLEAVE = 1;
+/// The environment map's binding (shaders/environment.wgsl), a read-only storage buffer.
+const ENVIRONMENT_BINDING = 8;
 
 export interface Rendered {
   width: number;
@@ -48,7 +51,7 @@ export interface Rendered {
   steps: Uint32Array;
   /// Path mode and adaptive sampling: the accumulator (linear mean RGB, then the pixel's
   /// state: M2 while it samples, minus its samples once done), else null.
-  accumulated: Float32Array | null;
+  accumulated: Float32Array<ArrayBuffer> | null;
   /// Samples taken so far (of `samples`).
   taken: number;
   samples: number;
@@ -87,6 +90,8 @@ export class Job {
     private bindGroup: GPUBindGroup,
     readonly width: number,
     readonly height: number,
+    /// Whether the environment map is bound (the uniform's env_map).
+    private envMap: boolean,
   ) {
     this.samples = kind === 'julia2d' ? 1 : Math.max(scene.get('image.samples') as number, 1);
     const perDispatch = samplesPerDispatch(height, width, this.samples);
@@ -116,7 +121,7 @@ export class Job {
       sampleStart: this.taken,
       sampleEnd: Math.min(this.taken + this.perDispatch, this.samples),
     };
-    const bytes = this.kind === 'julia2d' ? packJulia2d(this.scene, d) : packParams(this.scene, d);
+    const bytes = this.kind === 'julia2d' ? packJulia2d(this.scene, d) : packParams(this.scene, d, this.envMap);
     device.queue.writeBuffer(this.uniform, 0, bytes);
     const encoder = device.createCommandEncoder();
     const pass = encoder.beginComputePass();
@@ -180,6 +185,10 @@ export class Job {
 export class Tracer {
   private pipelines = new Map<string, Promise<GPUComputePipeline>>();
   private kernels: Record<Kind, Kernel>;
+  /// Binding 8 where no map is bound: the kernels read nothing of it.
+  private placeholder: GPUBuffer;
+  /// The last environment map uploaded, by its packed floats.
+  private map: { packed: Float32Array<ArrayBuffer>; buffer: GPUBuffer } | null = null;
 
   private constructor(
     public device: GPUDevice,
@@ -204,12 +213,34 @@ export class Tracer {
         pipelineLayout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
       };
     };
+    const environment: GPUBindGroupLayoutEntry = {
+      binding: ENVIRONMENT_BINDING,
+      visibility: GPUShaderStage.COMPUTE,
+      buffer: { type: 'read-only-storage' },
+    };
     const traceEntries = [uniform(0), ...OUTPUT_BYTES.map((_, k) => storage(1 + k))];
     this.kernels = {
-      trace: kernel('trace', TRACE_MODULE, 'main', traceEntries),
-      path: kernel('path', PATH_MODULE, 'path_main', [...traceEntries, uniform(7)]),
+      trace: kernel('trace', TRACE_MODULE, 'main', [...traceEntries, environment]),
+      path: kernel('path', PATH_MODULE, 'path_main', [...traceEntries, uniform(7), environment]),
       julia2d: kernel('julia2d', JULIA2D_MODULE, 'main', [uniform(0), storage(1), storage(2), storage(3)]),
     };
+    this.placeholder = device.createBuffer({ size: 16, usage: GPUBufferUsage.STORAGE });
+  }
+
+  /// The buffer binding 8 takes for `packed` (the map's floats, src/envmap.ts), uploaded at its
+  /// first use and kept while it is the last one; the placeholder for null.
+  private environmentBuffer(packed: Float32Array<ArrayBuffer> | null): GPUBuffer {
+    if (packed === null) return this.placeholder;
+    if (this.map?.packed !== packed) {
+      this.map?.buffer.destroy();
+      const buffer = this.device.createBuffer({
+        size: packed.byteLength,
+        usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST,
+      });
+      this.device.queue.writeBuffer(buffer, 0, packed);
+      this.map = { packed, buffer };
+    }
+    return this.map.buffer;
   }
 
   /// The tracer on the browser's adapter; a string says why there is none.
@@ -229,10 +260,11 @@ export class Tracer {
     return scene.get('shading.model') === 'path' ? 'path' : 'trace';
   }
 
-  /// The pipeline of a kernel and a scene's variant, built on first use and kept.
-  pipeline(kind: Kind, scene: Scene): Promise<GPUComputePipeline> {
+  /// The pipeline of a kernel and a scene's variant (`envMap`: with its environment map bound),
+  /// built on first use and kept.
+  pipeline(kind: Kind, scene: Scene, envMap: boolean): Promise<GPUComputePipeline> {
     const constants: Record<string, number> =
-      kind === 'julia2d' ? {} : Object.fromEntries(overrides(scene));
+      kind === 'julia2d' ? {} : Object.fromEntries(overrides(scene, envMap));
     if (kind === 'path') constants.INTERLEAVE = PATH_INTERLEAVE;
     const key = `${kind} ${JSON.stringify(constants)}`;
     let made = this.pipelines.get(key);
@@ -248,13 +280,16 @@ export class Tracer {
     return made;
   }
 
-  /// A new render of a validated scene (its image.width x image.height), nothing dispatched.
-  async start(scene: Scene, twoD = false): Promise<Job> {
+  /// A new render of a validated scene (its image.width x image.height), nothing dispatched;
+  /// `environment`: its map's packed floats (src/envmap.ts), or null where the page has none
+  /// (the gradient sky, the flat background).
+  async start(scene: Scene, twoD = false, environment: Float32Array<ArrayBuffer> | null = null): Promise<Job> {
     const kind = Tracer.kindOf(scene, twoD);
     const width = scene.get('image.width') as number;
     const height = scene.get('image.height') as number;
     const pixels = width * height;
-    const pipeline = await this.pipeline(kind, scene);
+    const envMap = kind !== 'julia2d' && environment !== null;
+    const pipeline = await this.pipeline(kind, scene, envMap);
     const device = this.device;
     const layout = kind === 'julia2d' ? JULIA2D_LAYOUT : PARAMS_LAYOUT;
     const uniform = device.createBuffer({
@@ -282,13 +317,17 @@ export class Tracer {
       entries.push({ binding: 7, resource: { buffer: path } });
       owned.push(path);
     }
+    if (kind !== 'julia2d') {
+      const buffer = this.environmentBuffer(envMap ? environment : null);
+      entries.push({ binding: ENVIRONMENT_BINDING, resource: { buffer } });
+    }
     const bindGroup = device.createBindGroup({ layout: this.kernels[kind].layout, entries });
-    return new Job(this, scene, kind, pipeline, uniform, owned, bindGroup, width, height);
+    return new Job(this, scene, kind, pipeline, uniform, owned, bindGroup, width, height, envMap);
   }
 
   /// Traces the whole image of a validated scene, every sample, and reads it back.
-  async render(scene: Scene, twoD = false): Promise<Rendered> {
-    const job = await this.start(scene, twoD);
+  async render(scene: Scene, twoD = false, environment: Float32Array<ArrayBuffer> | null = null): Promise<Rendered> {
+    const job = await this.start(scene, twoD, environment);
     while (!job.done) job.step();
     const r = await job.read();
     job.destroy();

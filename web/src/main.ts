@@ -5,21 +5,39 @@
 // desktop explorer does (src/camera.ts); while the view moves it renders at half resolution
 // with one sample, then at full resolution, adding a dispatch of samples a frame up to
 // image.samples, so that the still view is the picture `qjulia render` makes of the scene.
+// A scene's environment map (`environment.file`): a built-in one is fetched with the page
+// (Vite copies assets/environment/ into the build); any other the page asks for with a file
+// picker. Until the map is there the view renders without it, and the status line says so.
 // `window.qjulia` is what the end-to-end tests drive.
 
+import duskUrl from '../../assets/environment/dusk.hdr?url';
 import * as camera from './camera';
+import { BUILTIN_PREFIX, type EnvironmentMap, type MapFormat, builtinChecksum, loadMap, mapFormat, mapNotice } from './envmap';
 import { type Job, type Rendered, Tracer } from './gpu';
 import { type HeatMap, COLOUR_STOPS, divergenceView, samplesView, stepsView } from './heatmap';
 import { Panel } from './panel';
 import { sceneOf, withScene } from './png';
 import { julia2dWarnings, sliceWarnings } from './precision';
-import { SCHEMA, type Scene, SceneError, SceneLoader, type Source, sceneToToml, setAlgebra } from './scene';
+import {
+  type MapChecksums,
+  SCHEMA,
+  type Scene,
+  SceneError,
+  SceneLoader,
+  type Source,
+  sceneToToml,
+  setAlgebra,
+} from './scene';
 
 const NATIVE = 'https://github.com/qjulia/qjulia#two-commands';
 /// How long after the last move the view counts as still (milliseconds).
 const SETTLE_MS = 180;
 /// The moving view's resolution relative to the scene's.
 const MOVING_SCALE = 0.5;
+/// Where the page fetches the built-in maps' bytes (BUILTIN_MAPS of src/envmap.rs).
+const BUILTIN_URLS: Record<string, string> = { 'dusk.hdr': duskUrl };
+/// Maps kept loaded (LOADED_KEPT of src/envmap.rs).
+const MAPS_KEPT = 2;
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
 const status = $<HTMLParagraphElement>('status');
@@ -29,12 +47,16 @@ const text = $<HTMLTextAreaElement>('scene');
 const canvas = $<HTMLCanvasElement>('view');
 const modeMenu = $<HTMLSelectElement>('mode');
 const presetMenu = $<HTMLSelectElement>('preset');
+const envPrompt = $<HTMLParagraphElement>('envmap');
+const envName = $<HTMLElement>('envmap-name');
+const envFile = $<HTMLInputElement>('envmap-file');
 
-/// A scene from TOML text over the defaults, as `qjulia render --scene FILE` loads it.
-export function loadScene(toml: string, name = 'scene.toml'): Scene {
+/// A scene from TOML text over the defaults, as `qjulia render --scene FILE` loads it;
+/// `checksums` as SceneLoader.build takes them.
+export function loadScene(toml: string, name = 'scene.toml', checksums?: MapChecksums): Scene {
   const loader = new SceneLoader();
   loader.tomlStr(toml, { kind: 'file', path: name });
-  return loader.build();
+  return loader.build(checksums);
 }
 
 /// The scene the moving view renders: half the resolution, one sample.
@@ -70,6 +92,14 @@ class Explorer {
   last: Rendered | null = null;
   lastDone = false;
   private panel: Panel;
+  /// The environment maps loaded, by `environment.file`'s value; the built-in ones on their
+  /// way.
+  private maps = new Map<string, EnvironmentMap>();
+  private fetching = new Set<string>();
+  /// The name of the scene's file (as the messages name it).
+  private sourceName = 'scene.toml';
+  /// The CRC-32 of a map the page has, by `environment.file`'s value (SceneLoader.build's).
+  private checksums: MapChecksums = (file) => this.maps.get(file)?.checksum ?? builtinChecksum(file);
 
   constructor(private tracer: Tracer) {
     this.scene = loadScene('');
@@ -81,8 +111,9 @@ class Explorer {
   /// The scene text `text`, loaded as the file `name`; the CLI's line where it is bad.
   loadText(toml: string, name = 'scene.toml'): string | null {
     try {
-      const s = loadScene(toml, name);
+      const s = loadScene(toml, name, this.checksums);
       text.value = toml;
+      this.sourceName = name;
       this.home = s;
       this.set(s, false);
       return null;
@@ -104,7 +135,79 @@ class Explorer {
     error.textContent = '';
     if (rewrite) text.value = sceneToToml(s);
     this.panel.show(s);
+    this.askForMap();
     this.kick();
+  }
+
+  /// The scene's environment map, where the page has it.
+  private mapOf(s: Scene): EnvironmentMap | null {
+    const file = s.get('environment.file') as string;
+    return file === '' ? null : (this.maps.get(file) ?? null);
+  }
+
+  /// Starts fetching a built-in map the scene names, or shows the file picker for any other it
+  /// does not have yet.
+  private askForMap(): void {
+    const file = this.scene.get('environment.file') as string;
+    const builtin = file.startsWith(BUILTIN_PREFIX);
+    envPrompt.hidden = file === '' || builtin || this.maps.has(file);
+    envName.textContent = file;
+    if (!builtin || this.maps.has(file) || this.fetching.has(file)) return;
+    this.fetching.add(file);
+    const name = file.slice(BUILTIN_PREFIX.length);
+    void fetch(BUILTIN_URLS[name])
+      .then(async (r) => {
+        if (!r.ok) throw new Error(`fetching it gave HTTP ${r.status}`);
+        return loadMap(new Uint8Array(await r.arrayBuffer()), mapFormat(name) as MapFormat);
+      })
+      .then(
+        (map) => this.keepMap(file, map),
+        (e: unknown) => (error.textContent = `error: environment.file ${file}: ${e instanceof Error ? e.message : e}`),
+      )
+      .finally(() => {
+        this.fetching.delete(file);
+        this.kick();
+      });
+  }
+
+  private keepMap(file: string, map: EnvironmentMap): void {
+    this.maps.delete(file);
+    this.maps.set(file, map);
+    while (this.maps.size > MAPS_KEPT) this.maps.delete(this.maps.keys().next().value!);
+    notice.textContent = mapNotice(map, file) ?? '';
+  }
+
+  /// The file the picker gave for the scene's map: decoded and packed, then the scene loaded
+  /// again, so that its checksum is verified or recorded as the CLI's loader does.
+  async pickMap(bytes: Uint8Array): Promise<string | null> {
+    const file = this.scene.get('environment.file') as string;
+    const format = mapFormat(file) as MapFormat;
+    try {
+      this.keepMap(file, await loadMap(bytes, format));
+    } catch (e) {
+      error.textContent = `error: ${this.sourceName}: environment.file = ${JSON.stringify(file)}: ${e instanceof Error ? e.message : e}`;
+      return error.textContent;
+    }
+    const loader = new SceneLoader();
+    loader.tomlStr(sceneToToml(this.scene), { kind: 'file', path: this.sourceName });
+    try {
+      this.set(loader.build(this.checksums), false);
+      return null;
+    } catch (e) {
+      this.maps.delete(file);
+      this.askForMap();
+      this.kick();
+      return this.refuse(e);
+    }
+  }
+
+  /// What the status line says of the scene's map where it is not there yet.
+  private mapStatus(s: Scene): string {
+    const file = s.get('environment.file') as string;
+    if (file === '' || this.twoD || this.maps.has(file)) return '';
+    const without = s.get('shading.model') === 'path' ? 'the gradient sky' : 'the flat background';
+    const doing = this.fetching.has(file) ? 'loading' : 'not loaded (choose its file below)';
+    return `; environment map ${file} ${doing}: rendering ${without} meanwhile`;
   }
 
   /// The panel's edit of one key, checked as `--set KEY=VALUE` over the scene.
@@ -116,10 +219,15 @@ class Explorer {
       base = new Map(this.scene);
       setAlgebra(base, JSON.parse(value));
     }
+    if (path === 'environment.file') {
+      // A map named anew records its own checksum, as a `--set` of the file over a scene does.
+      base = new Map(base);
+      base.set('environment.checksum', 0);
+    }
     loader.tomlStr(sceneToToml(base), { kind: 'default' });
     try {
       loader.set(`${path}=${value}`);
-      this.set(loader.build(), true);
+      this.set(loader.build(this.checksums), true);
     } catch (e) {
       this.refuse(e);
       this.panel.show(this.scene);
@@ -187,7 +295,8 @@ class Explorer {
         this.jobKey = '';
       }
       if (!more && !this.pending) {
-        this.idleWaiters.splice(0).forEach((ok) => ok());
+        // Idle once the picture is whole: with its map, where a built-in one is on its way.
+        if (this.fetching.size === 0) this.idleWaiters.splice(0).forEach((ok) => ok());
         await new Promise<void>((ok) => (this.wake = ok));
       } else {
         await new Promise((ok) => requestAnimationFrame(ok));
@@ -200,13 +309,14 @@ class Explorer {
   private async frame(): Promise<boolean> {
     const moving = this.moving();
     const target = moving ? movingScene(this.scene) : this.scene;
-    const key = `${this.twoD ? '2d' : '3d'}\n${sceneToToml(target)}`;
+    const map = this.mapOf(target);
+    const key = `${this.twoD ? '2d' : '3d'}\n${map === null ? 'no map' : 'map'}\n${sceneToToml(target)}`;
     if (key !== this.jobKey) {
       this.job?.destroy();
       this.job = null;
       this.jobKey = key;
       this.lastDone = false;
-      this.job = await this.tracer.start(target, this.twoD);
+      this.job = await this.tracer.start(target, this.twoD, map?.packed ?? null);
     }
     const job = this.job!;
     if (job.done) return moving;
@@ -247,7 +357,7 @@ class Explorer {
     const sampling = r.samples > 1 ? `, samples ${r.taken}/${r.samples}` : '';
     status.textContent =
       `WebGPU: ${this.tracer.adapterName}; ${r.width}x${r.height}${sampling}, ` +
-      `${r.milliseconds.toFixed(0)} ms${this.moving() ? ' (moving: half resolution)' : ''}`;
+      `${r.milliseconds.toFixed(0)} ms${this.moving() ? ' (moving: half resolution)' : ''}${this.mapStatus(s)}`;
   }
 
   /// The scene as a PNG of the view (the picture shown) with the scene's qjulia-scene chunk.
@@ -412,6 +522,12 @@ async function start(): Promise<void> {
   });
   $('save').addEventListener('click', () => download('scene.toml', sceneToToml(x.scene), 'text/plain'));
   $('export').addEventListener('click', async () => download('qjulia.png', await x.png(), 'image/png'));
+  envFile.addEventListener('change', async () => {
+    const f = envFile.files?.[0];
+    if (f === undefined) return;
+    envFile.value = '';
+    await x.pickMap(new Uint8Array(await f.arrayBuffer()));
+  });
   const file = $<HTMLInputElement>('file');
   $('open').addEventListener('click', () => file.click());
   file.addEventListener('change', async () => {
@@ -455,6 +571,11 @@ async function start(): Promise<void> {
       return btoa(s);
     },
     mode: (twoD: boolean) => x.setMode(twoD),
+    /// An environment map's file given to the picker (its bytes as base64).
+    pickMap: (base64: string) => x.pickMap(Uint8Array.from(atob(base64), (c) => c.charCodeAt(0))),
+    /// The status line, the map prompt's text where it shows.
+    status: () => status.textContent,
+    prompt: () => (envPrompt.hidden ? null : envPrompt.textContent),
     error: () => error.textContent,
     notice: () => notice.textContent,
   };

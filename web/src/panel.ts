@@ -2,7 +2,7 @@
 // one declaration of src/scene/mod.rs): a section per table, a control per key with the
 // desktop explorer's slider where the schema gives one (linear or logarithmic, the same ends),
 // a number field beside it that takes any value the key's range allows, a switch, a menu of the
-// choices, or a field of comma-separated numbers for a vector. An edit is handed on as the
+// choices, a field of comma-separated numbers for a vector, or a text field for a file's path. An edit is handed on as the
 // key's value in TOML syntax (what `--set KEY=VALUE` takes), which the loader's twin checks.
 
 import { type Key, SCHEMA, type Scene, displayFloat } from './scene';
@@ -79,6 +79,14 @@ export class Panel {
         row.append(menu);
         row.classList.add('wide');
         this.controls.push({ key, show: (v) => (menu.value = v as string) });
+        break;
+      }
+      case 'path': {
+        const field = input('text', id);
+        field.addEventListener('change', () => send(field.value));
+        row.append(field);
+        row.classList.add('wide');
+        this.controls.push({ key, show: (v) => (field.value = v as string) });
         break;
       }
       case 'vector':

@@ -6,10 +6,14 @@
 //
 // Twin of: SceneLoader (toml_str, set, insert_table, build_scene), Reader (read,
 // reject_unknown, source_of), parse, check_range, check_scene (the ranges, the camera, the
-// blades, the directions, the slice's Gram-Schmidt), Scene::set_algebra and orthonormalise.
+// blades, the directions, the slice's Gram-Schmidt), Scene::set_algebra and orthonormalise;
+// and of load_files (src/scene/loaded.rs): `environment.file` is checked as far as its name
+// goes, and its checksum recorded or verified where the page has the map's bytes (a built-in
+// map's it always has).
 // TOML syntax errors are the one place the words differ: the parsers are not the same.
 
 import { parse as parseToml } from 'smol-toml';
+import { builtinChecksum, mapFileProblem } from './envmap';
 import schemaJson from './generated/schema.json';
 import { type V3, cross, dot, length3, normalize, sub } from './vector';
 
@@ -32,7 +36,7 @@ export interface Key {
   path: string;
   table: string;
   name: string;
-  type: 'float' | 'integer' | 'bool' | 'choice' | 'vector' | 'hyper';
+  type: 'float' | 'integer' | 'bool' | 'choice' | 'vector' | 'hyper' | 'path';
   default: number | string | boolean | number[];
   readme: string;
   range?: Range | null;
@@ -204,6 +208,11 @@ function parseValue(key: Key, v: Value, s: Scene): string | null {
       if (typeof v !== 'string' || !key.choices!.includes(v)) return `must be ${key.must_be}`;
       s.set(key.path, v);
       return null;
+    case 'path':
+      if (typeof v !== 'string') return "must be a string: a file's path";
+      if (v.includes('\0')) return 'must not hold a NUL';
+      s.set(key.path, v);
+      return null;
     case 'vector':
     case 'hyper': {
       const len = (s.get(key.path) as number[]).length;
@@ -302,7 +311,9 @@ export class SceneLoader {
   }
 
   /// The scene: defaults overridden by every layer, then checked; throws a SceneError.
-  build(): Scene {
+  /// `checksums`: the CRC-32 of the map `environment.file` names, where the page has its bytes
+  /// (null where it has not yet: the checksum is then neither recorded nor verified).
+  build(checksums: MapChecksums = builtinChecksum): Scene {
     const entries = new Map(this.entries);
     for (const k of [...entries.keys()]) {
       if (k === 'animation' || k.startsWith('animation.')) entries.delete(k);
@@ -326,8 +337,49 @@ export class SceneLoader {
       const [v, src] = sourceOf(key, used);
       throw SceneError.value(src, key, v, reason);
     }
+    const problem = loadFiles(s, used, checksums);
+    if (problem !== null) {
+      const [key, reason] = problem;
+      const [v, src] = sourceOf(key, used);
+      throw SceneError.value(src, key, v, reason);
+    }
     return s;
   }
+}
+
+/// The CRC-32 of the map file named by `environment.file`'s value, or null where the page does
+/// not have its bytes.
+export type MapChecksums = (file: string) => number | null;
+
+/// The map `environment.file` names, as far as the page can tell (load_files and
+/// Scene::load_environment): none where it is empty (the checksum 0); else a name that can be a
+/// map, whose checksum, where the map's is known, is verified (where it is given by the file's
+/// layer or a later one, and not 0) or recorded. The key at fault and the reason, or null.
+function loadFiles(
+  s: Scene,
+  used: Map<string, [Value, Source]>,
+  checksums: MapChecksums,
+): [string, string] | null {
+  const file = s.get('environment.file') as string;
+  if (file === '') {
+    s.set('environment.checksum', 0);
+    return null;
+  }
+  const problem = mapFileProblem(file);
+  if (problem !== null) return ['environment.file', problem];
+  const actual = checksums(file);
+  if (actual === null) return null;
+  const verify =
+    RANK[sourceOf('environment.checksum', used)[1].kind] >= RANK[sourceOf('environment.file', used)[1].kind];
+  const recorded = s.get('environment.checksum') as number;
+  if (verify && recorded !== 0 && recorded !== actual) {
+    return [
+      'environment.checksum',
+      `is ${recorded}, but ${file}'s CRC-32 is ${actual}: the map is not the one the scene was rendered with`,
+    ];
+  }
+  s.set('environment.checksum', actual);
+  return null;
 }
 
 /// The source of a key's final value, for checks made after reading (Rust's `source_of`).

@@ -105,10 +105,25 @@ function hyper(v: number[]): number[] {
   return Array.from({ length: 16 }, (_, k) => v[k] ?? 0);
 }
 
+/// The environment map's frame in f64 (environment_frame of src/params.rs): up (`sky.up`,
+/// unit), front (+z, or +y where |up.z| >= 0.9, made orthogonal to up) and the turn about up in
+/// radians (`environment.rotation_degrees` modulo a full turn).
+export function environmentFrame(s: Scene): { up: V3; front: V3; turn: number } {
+  const up = unit(s.get('sky.up') as number[]) as V3;
+  const axis: V3 = Math.abs(up[2]) < 0.9 ? [0, 0, 1] : [0, 1, 0];
+  const along = dot(axis, up);
+  const front = normalize([axis[0] - up[0] * along, axis[1] - up[1] * along, axis[2] - up[2] * along]);
+  const tau = 2 * Math.PI;
+  const r = toRadians(s.get('environment.rotation_degrees') as number) % tau;
+  return { up, front, turn: r < 0 ? r + tau : r };
+}
+
 /// Every scene field of `struct Params` by name, in f64 (TraceParams::new); numbers, vectors,
-/// or 16 floats for a number of the algebra.
-export function traceParams(s: Scene): Map<string, number | number[]> {
+/// or 16 floats for a number of the algebra. `envMap`: whether the scene's environment map is
+/// loaded and bound (the page may not have its file yet).
+export function traceParams(s: Scene, envMap: boolean): Map<string, number | number[]> {
   const frame = cameraFrame(s);
+  const env = environmentFrame(s);
   const bounds = sliceBounds(s);
   const f = (k: string) => s.get(k) as number;
   const v = (k: string) => s.get(k) as number[];
@@ -144,6 +159,10 @@ export function traceParams(s: Scene): Map<string, number | number[]> {
     ['fog_density', f('fog.density')],
     ['glow_colour', v('glow.colour')],
     ['glow_strength', f('glow.strength')],
+    ['env_up', env.up],
+    ['env_rotation', env.turn],
+    ['env_front', env.front],
+    ['env_intensity', f('environment.intensity')],
     ['shadow_factor', f('shading.shadow_factor')],
     ['normal_delta', f('shading.normal_delta')],
     ['step_scale', f('fractal.step_scale')],
@@ -172,6 +191,8 @@ export function traceParams(s: Scene): Map<string, number | number[]> {
     ['cut', b('cut.enabled')],
     ['blades', f('camera.blades')],
     ['min_samples', f('path.min_samples')],
+    ['env_map', envMap ? 1 : 0],
+    ['env_light', b('shading.environment_light')],
   ]);
 }
 
@@ -202,13 +223,14 @@ export interface Dispatch {
   sampleEnd: number;
 }
 
-/// The bytes of `struct Params` (f32) for `s` and one dispatch.
+/// The bytes of `struct Params` (f32) for `s` and one dispatch, `envMap` as traceParams.
 export function packParams(
   s: Scene,
   d: Dispatch,
+  envMap: boolean,
   layout: Layout = PARAMS_LAYOUT,
 ): Uint8Array<ArrayBuffer> {
-  return packDispatch(layout, traceParams(s), d);
+  return packDispatch(layout, traceParams(s, envMap), d);
 }
 
 /// A uniform of a dispatch: its fields from `values`, the per-dispatch ones from `d` (a
@@ -351,9 +373,9 @@ const f32 = Math.fround;
 
 /// The shaded picture's pipeline override constants for `s` (Variant::of(params, true), or in
 /// path mode Variant::of_path: none of phong's shading, no cone), as `gpu-params` prints them,
-/// in order.
-export function overrides(s: Scene): [string, number][] {
-  const p = traceParams(s);
+/// in order; `envMap` as traceParams.
+export function overrides(s: Scene, envMap: boolean): [string, number][] {
+  const p = traceParams(s, envMap);
   const path = s.get('shading.model') === 'path';
   const n = (k: string) => p.get(k) as number;
   const standard = (k: string, axis: number) =>
@@ -379,6 +401,7 @@ export function overrides(s: Scene): [string, number][] {
     ['ADAPTIVE', b(samples && f32(n('noise_target')) > 0)],
     ['FOG', b(f32(n('fog_density')) > 0)],
     ['GLOW', b(!path && f32(n('glow_strength')) > 0)],
+    ['ENVIRONMENT', n('env_map')],
   ];
 }
 
