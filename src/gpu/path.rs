@@ -464,9 +464,10 @@ impl<F: GpuReal> GpuPathTracer<F> {
         // Within lavapipe's loop budget, and within `band_pixels()` rays a dispatch as the
         // tracer keeps it, so that a big image's dispatches stay of bounded cost.
         let band_rows = self.kernel.band_rows(params.width, params.height);
-        let per_dispatch = path_samples_per_dispatch(path.bounces, params.max_steps, params.env_map).min(
-            super::GpuTracer::<F>::samples_per_dispatch_in(band_rows, params.width, samples),
-        );
+        let per_dispatch =
+            path_samples_per_dispatch(path.bounces, params.max_steps, params.env_map).min(
+                super::GpuTracer::<F>::samples_per_dispatch_in(band_rows, params.width, samples),
+            );
         let second = GpuPathParams::new(path);
         let uniform = |band: Band| {
             let start = band.dispatch * per_dispatch;

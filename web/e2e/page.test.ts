@@ -352,7 +352,7 @@ describe('the page', () => {
     expect(await q('pickMap', dusk.toString('base64'))).toBeNull();
     const withMap = await q<Rendered>('last');
     expect(await q('prompt')).toBeNull();
-    expect(await q<string>('scene')).toMatch(/checksum = 2166581370/);
+    expect(await q<string>('scene')).toMatch(/checksum = 1760195408/);
     const dir = scratch();
     writeFileSync(join(dir, 'scene.toml'), toml);
     writeFileSync(join(dir, 'sky.hdr'), dusk);

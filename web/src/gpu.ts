@@ -99,7 +99,11 @@ export class Job {
       kind === 'path'
         ? Math.min(
             perDispatch,
-            pathSamplesPerDispatch(scene.get('path.bounces') as number, scene.get('fractal.max_steps') as number),
+            pathSamplesPerDispatch(
+              scene.get('path.bounces') as number,
+              scene.get('fractal.max_steps') as number,
+              envMap,
+            ),
           )
         : perDispatch;
   }

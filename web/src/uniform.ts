@@ -205,10 +205,10 @@ export function samplesPerDispatch(rows: number, width: number, samples: number)
 }
 
 /// Samples one invocation of the path tracer traces in one dispatch: as many as keep samples x
-/// rays x max_steps within 60,000 (each scattering event traces at most three rays), at least 1
-/// and at most 8 (path_samples_per_dispatch of src/gpu/path.rs).
-export function pathSamplesPerDispatch(bounces: number, maxSteps: number): number {
-  const rays = 3 * bounces + 1;
+/// rays x max_steps within 60,000 (each scattering event traces at most three rays, four with an
+/// environment map), at least 1 and at most 8 (path_samples_per_dispatch of src/gpu/path.rs).
+export function pathSamplesPerDispatch(bounces: number, maxSteps: number, environment: boolean): number {
+  const rays = (3 + (environment ? 1 : 0)) * bounces + 1;
   return Math.min(Math.max(Math.floor(60_000 / (rays * Math.max(maxSteps, 1))), 1), 8);
 }
 

@@ -4,10 +4,10 @@
 //! with the direction and colour controls they use.
 
 use super::widgets::{colour_edit, key_slider, key_slider_u32};
-use crate::explore::command::Command;
-use crate::explore::file_dialog::Purpose;
 use crate::denoise::Denoiser;
 use crate::display::ToneMap;
+use crate::explore::command::Command;
+use crate::explore::file_dialog::Purpose;
 use crate::scene::{
     Denoise, Image, Light, Material, Path, PathSampler, Scene, Shading, ShadingModel, Sky, Sun,
 };
