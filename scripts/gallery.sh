@@ -18,7 +18,9 @@ r cut --set cut.enabled=true --set 'cut.normal=[0, 0, 1]' --set cut.offset=0.0
 # Path mode's two presets, at their own 512x512.
 "$q" render --preset path-traced -o "$out/path-traced.png" --stats /tmp/gallery-path-traced.json
 "$q" render --preset path-gallery -o "$out/path-gallery.png" --stats /tmp/gallery-path-gallery.json
-# The atmosphere (docs/book/atmosphere.md): light shafts in fog, and phong mode's glow.
+# The atmosphere (docs/book/atmosphere.md): an HDR environment, light shafts in fog, and phong
+# mode's glow.
+"$q" render --preset environment -o "$out/environment.png" --stats /tmp/gallery-environment.json
 "$q" render --preset fog-shafts -o "$out/fog-shafts.png" --stats /tmp/gallery-fog-shafts.json
 "$q" render --preset glow -o "$out/glow.png" --stats /tmp/gallery-glow.json
 # The denoiser (docs/book/denoise.md): the path-traced preset at 256x256, 16 samples noisy and

@@ -218,7 +218,7 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<
             }
         }
     }
-    if environment_on() {
+    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
         // The map's point (DIM_ENVIRONMENT), the sun's group's other two dimensions.
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_ENVIRONMENT), path_random(i, j, sample, dim + DIM_ENVIRONMENT + 1u));
         let es = sample_environment(u);
@@ -318,7 +318,7 @@ fn roulette(i: u32, j: u32, sample: u32, bounce: u32, throughput: vec3<f32>) -> 
 // no density, sees them whole).
 fn escaped(dir: vec3<f32>, bounce: u32, bsdf_pdf_prev: f32) -> vec3<f32> {
     var c = vec3<f32>(0.0);
-    if environment_on() {
+    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
         // The map, weighted against its own next-event estimation as the sun is.
         var w = 1.0;
         if bounce > 0u {
@@ -458,7 +458,7 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         // next-event estimation and left by phase sampling, and counts as a bounce.
         var in_fog = false;
         var p = origin;
-        if fog_on() {
+        if (!SPECIALISED || FOG) && fog_on() {
             var t_stop = trace.t;
             if meets_light {
                 t_stop = Real(t_light);

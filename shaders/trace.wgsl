@@ -143,6 +143,10 @@ override FOG: bool = true;
 override GLOW: bool = true;
 // The environment map: environment.file names one (either model; environment_on).
 override ENVIRONMENT: bool = true;
+// Each call site of fog_on, glow_on and environment_on writes its override beside the call,
+// `(!SPECIALISED || FOG) && fog_on()`: the specialisation (src/gpu/kernel/specialise.rs) decides
+// a branch by the constants in the function itself, and does not look into the functions it
+// calls, so without it a specialised pipeline kept the feature's code (the fog's shadow traces).
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.
@@ -883,7 +887,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
         a = occlusion(p, n);
     }
     var ambient = params.ambient * a * base;
-    if environment_on() && params.env_light != 0u {
+    if (!SPECIALISED || ENVIRONMENT) && environment_on() && params.env_light != 0u {
         ambient *= vec3<Real>(env_irradiance(vec3<f32>(n)));
     }
     let l = safe_normalize(params.light - p, n);
@@ -917,7 +921,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
 // What a ray along dir that hits nothing shows: the environment map's radiance where the scene
 // has one (phong mode clamps it as any colour), else the flat background.
 fn background(dir: vec3<Real>) -> vec3<Real> {
-    if environment_on() {
+    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
         return vec3<Real>(env_radiance(vec3<f32>(dir)));
     }
     return params.background;
@@ -1110,7 +1114,7 @@ fn glow_on() -> bool {
 // length of that stretch within the bounding ball (the fog fills the ball); 1 without fog. In
 // f32, as path mode's radiance is.
 fn fog_transmittance(origin: vec3<Real>, dir: vec3<Real>, t_stop: Real) -> f32 {
-    if !fog_on() {
+    if !((!SPECIALISED || FOG) && fog_on()) {
         return 1.0;
     }
     let bounds = intersect_bounds(origin, dir);
@@ -1135,10 +1139,10 @@ fn glow(closest: Real) -> vec3<Real> {
 // basic fog). Without fog and glow the colour unchanged.
 fn atmosphere(colour: vec3<Real>, ray: Primary, trace: Trace) -> vec3<Real> {
     var c = colour;
-    if !trace.hit && glow_on() {
+    if !trace.hit && (!SPECIALISED || GLOW) && glow_on() {
         c += glow(trace.closest);
     }
-    if fog_on() {
+    if (!SPECIALISED || FOG) && fog_on() {
         let t_stop = select(Real(3.0e38), trace.t, trace.hit);
         let transmittance = Real(fog_transmittance(ray.origin, ray.dir, t_stop));
         c = mix(params.fog_colour, c, vec3<Real>(transmittance));

@@ -4,18 +4,11 @@
 //! constant), read from the same packed buffer the kernels bind (src/envmap.rs packs it), so
 //! that both draw the same texels. Its sampling is the path tracer's light (src/cpu/light.rs).
 
+pub use crate::envmap::{ENV_HEIGHT, ENV_IRRADIANCE, ENV_TEXELS, ENV_WIDTH};
+
 use crate::algebra::{Real, Vec2, Vec3};
 use crate::params::TraceParams;
 
-/// Where the packed buffer holds the map's width (a float, exact).
-pub const ENV_WIDTH: u32 = 0;
-/// Where it holds the height.
-pub const ENV_HEIGHT: u32 = 1;
-/// Where the irradiance's nine coefficients start (RGB in a slot of four floats each).
-pub const ENV_IRRADIANCE: u32 = 4;
-/// Where the texels start: RGB and the density over the map's [0, 1)^2, four floats each; then
-/// the marginal CDF over rows (height + 1), then each row's CDF (width + 1 each).
-pub const ENV_TEXELS: u32 = 40;
 /// The largest f32 below 1: where u or v would round up to 1.
 pub const ENV_ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 /// Pi in f32.

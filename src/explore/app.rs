@@ -426,31 +426,11 @@ impl ExplorerApp {
             Command::RenderAnimation => self.start_render(),
             Command::ShowHelp => runtime.show_help = true,
             Command::ToggleHelp => runtime.show_help = !runtime.show_help,
-            Command::SetEnvironment(file) => self.set_environment(file),
+            Command::SetEnvironment(file) => match state.set_environment(file) {
+                Ok(told) => self.tell(told, false),
+                Err(told) => self.tell(told, true),
+            },
             Command::Tell(text, error) => self.tell(text, error),
-        }
-    }
-
-    /// Sets `environment.file` to `file` (empty: none) and loads the map (a relative path
-    /// against the current directory); the scene is unchanged where it cannot be loaded, and
-    /// the status line says why.
-    fn set_environment(&mut self, file: String) {
-        let mut scene = self.state.scene.clone();
-        scene.environment.file = file;
-        scene.environment.checksum = 0;
-        match scene.load_environment(&[], false) {
-            Ok(()) => {
-                let told = match &scene.loaded.environment {
-                    Some(map) => format!(
-                        "environment map {}: {} x {}, loaded in {:.3} s",
-                        map.source, map.width, map.height, map.seconds
-                    ),
-                    None => "no environment map".into(),
-                };
-                self.state.scene = scene;
-                self.tell(told, false);
-            }
-            Err((key, reason)) => self.tell(format!("error: {key}: {reason}"), true),
         }
     }
 

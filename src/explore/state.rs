@@ -90,6 +90,27 @@ impl ExplorerState {
         }
     }
 
+    /// Sets `environment.file` to `file` (empty: none) and loads the map (a relative path
+    /// against the current directory): what the status line says, or why the map cannot be
+    /// used (the scene then unchanged).
+    pub fn set_environment(&mut self, file: String) -> Result<String, String> {
+        let mut scene = self.scene.clone();
+        scene.environment.file = file;
+        scene.environment.checksum = 0;
+        scene
+            .load_environment(&[], false)
+            .map_err(|(key, reason)| format!("error: {key}: {reason}"))?;
+        let told = match &scene.loaded.environment {
+            Some(map) => format!(
+                "environment map {}: {} x {}, loaded in {:.3} s",
+                map.source, map.width, map.height, map.seconds
+            ),
+            None => "no environment map".into(),
+        };
+        self.scene = scene;
+        Ok(told)
+    }
+
     /// The state for a new scene (a preset, a file): camera home, rotation, c-loop and
     /// timeline follow it; what the view shows, the view's and the exports' settings and the
     /// last folder stay.

@@ -13,7 +13,7 @@ mod tests;
 mod values;
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use toml::Value;
 
@@ -24,6 +24,7 @@ use super::limits::{SCENE_TEXT_LIMIT, SET_LIMIT};
 use super::png::scene_from_png;
 use super::presets::Preset;
 use super::schema::{KEYS, Key, SCHEMA};
+use crate::envmap::{load_source, resolve};
 use crate::scene::animation::Animation;
 use animation::read_animation;
 use values::{check_scene, parse};
@@ -323,6 +324,41 @@ fn load_files(s: &mut Scene, r: &Reader) -> Result<(), SceneError> {
         let (v, src) = r.source_of(key);
         SceneError::value(&src, key, &v, &reason)
     })
+}
+
+impl Scene {
+    /// Loads the map `environment.file` names (none where it is empty), a relative path
+    /// resolved against each folder of `bases` in turn (the current directory where `bases` is
+    /// empty); a checksum the scene records (`environment.checksum`, not 0) must be the
+    /// file's where `verify` (else the file's is recorded). The reason, and the key at fault,
+    /// where it cannot be used.
+    pub fn load_environment(
+        &mut self,
+        bases: &[PathBuf],
+        verify: bool,
+    ) -> Result<(), (&'static str, String)> {
+        if self.environment.file.is_empty() {
+            self.loaded.environment = None;
+            self.environment.checksum = 0;
+            return Ok(());
+        }
+        let source = resolve(&self.environment.file, bases).map_err(|e| ("environment.file", e))?;
+        let data = load_source(&source).map_err(|e| ("environment.file", e))?;
+        let recorded = self.environment.checksum;
+        if verify && recorded != 0 && recorded != data.checksum {
+            return Err((
+                "environment.checksum",
+                format!(
+                    "is {recorded}, but {source}'s CRC-32 is {}: the map is not the one the \
+                     scene was rendered with",
+                    data.checksum
+                ),
+            ));
+        }
+        self.environment.checksum = data.checksum;
+        self.loaded.environment = Some(data);
+        Ok(())
+    }
 }
 
 /// How late a layer comes: defaults, presets, scene files, flags, `--set`.
