@@ -178,13 +178,48 @@ fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
     return c * (path.clamp_contribution / m);
 }
 
+// One light's sample ls seen from a vertex: nothing where it has no density or lies below the
+// surface; else its shadow ray from origin over ls.distance (visibility: the set's occlusion and
+// the fog's transmittance), and the light it brings, weighted against BSDF or phase sampling by
+// the power heuristic (a point light, delta, is not). At a surface hit (in_fog false) the BSDF
+// of m in the frame f, with wo, and the cosine; at a scattering event in the fog (in_fog true)
+// the phase function (phase_hg of fog.anisotropy) of light that travelled along d, no cosine.
+fn light_term(ls: LightSample, in_fog: bool, origin: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
+    let wi = to_local(f, ls.wi);
+    if ls.pdf <= 0.0 || !(in_fog || wi.z > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
+    if v <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    if in_fog {
+        let phase = phase_hg(f32(params.fog_anisotropy), dot(d, ls.wi));
+        if ls.delta {
+            return ls.radiance * (phase * v);
+        }
+        var w = 1.0;
+        if path.strategy == STRATEGY_BOTH {
+            w = power_heuristic(ls.pdf, phase);
+        }
+        return ls.radiance * (phase * w / ls.pdf * v);
+    }
+    let f_wi = bsdf_eval(m, wo, wi) * ls.radiance;
+    if ls.delta {
+        return f_wi * wi.z * v;
+    }
+    var w = 1.0;
+    if path.strategy == STRATEGY_BOTH {
+        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
+    }
+    return f_wi * (wi.z * w / ls.pdf) * v;
+}
+
 // Next-event estimation at a vertex: the sun, the environment map and the sphere light, each by
-// one sample toward it and a shadow ray (visibility: the set's occlusion and the fog's
-// transmittance), weighted against BSDF or phase sampling by the power heuristic. At a surface
-// hit (in_fog false) the BSDF of m in the frame f, with wo, and shadow rays from p +
-// SURFACE_OFFSET epsilon n; at a scattering event in the fog (in_fog true) the phase function
-// (phase_hg of fog.anisotropy) of light that travelled along d, no cosine, and shadow rays from
-// p itself. One function, so that the kernel holds one shadow trace per light.
+// one sample toward it (light_term: a shadow ray, weighted against BSDF or phase sampling). At a
+// surface hit (in_fog false) shadow rays leave from p + SURFACE_OFFSET epsilon n; at a
+// scattering event in the fog (in_fog true) from p itself. One function, so that the kernel
+// holds one shadow trace per light.
 fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
@@ -192,87 +227,20 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<
     if !in_fog {
         origin = p + SURFACE_OFFSET * params.epsilon * vec3<Real>(f.n);
     }
-    let g = f32(params.fog_anisotropy);
+    // Each light its own point (DIM_SUN, DIM_ENVIRONMENT, DIM_SPHERE_LIGHT).
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
-        // Each light its own point (DIM_SUN, DIM_SPHERE_LIGHT).
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
-        let ls = sample_sun(path_sun(), u);
-        let wi = to_local(f, ls.wi);
-        if in_fog || wi.z > 0.0 {
-            let v = visibility(origin, vec3<Real>(ls.wi), 3.0e38);
-            if v > 0.0 {
-                if in_fog {
-                    let phase = phase_hg(g, dot(d, ls.wi));
-                    var w = 1.0;
-                    if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(ls.pdf, phase);
-                    }
-                    sum += ls.radiance * (phase * w / ls.pdf * v);
-                } else {
-                    var w = 1.0;
-                    if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
-                    }
-                    sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
-                }
-            }
-        }
+        sum += light_term(sample_sun(path_sun(), u), in_fog, origin, f, wo, m, d);
     }
     if (!SPECIALISED || ENVIRONMENT) && environment_on() {
-        // The map's point (DIM_ENVIRONMENT), the sun's group's other two dimensions.
+        // The sun's group's other two dimensions.
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_ENVIRONMENT), path_random(i, j, sample, dim + DIM_ENVIRONMENT + 1u));
         let es = sample_environment(u);
-        let wi = to_local(f, es.wi);
-        if es.pdf > 0.0 && (in_fog || wi.z > 0.0) {
-            let v = visibility(origin, vec3<Real>(es.wi), 3.0e38);
-            if v > 0.0 {
-                if in_fog {
-                    let phase = phase_hg(g, dot(d, es.wi));
-                    var w = 1.0;
-                    if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(es.pdf, phase);
-                    }
-                    sum += es.radiance * (phase * w / es.pdf * v);
-                } else {
-                    var w = 1.0;
-                    if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(es.pdf, bsdf_pdf(m, wo, wi));
-                    }
-                    sum += bsdf_eval(m, wo, wi) * es.radiance * (wi.z * w / es.pdf) * v;
-                }
-            }
-        }
+        sum += light_term(LightSample(es.wi, es.radiance, es.pdf, 3.4e38, false), in_fog, origin, f, wo, m, d);
     }
     if any(path.light_intensity > vec3<f32>(0.0)) {
-        let light = path_sphere_light();
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
-        let ls = sample_sphere_light(light, vec3<f32>(p), u);
-        let wi = to_local(f, ls.wi);
-        if ls.pdf > 0.0 && (in_fog || wi.z > 0.0) {
-            let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
-            if v > 0.0 {
-                if in_fog {
-                    let phase = phase_hg(g, dot(d, ls.wi));
-                    if ls.delta {
-                        sum += ls.radiance * (phase * v);
-                    } else {
-                        var w = 1.0;
-                        if path.strategy == STRATEGY_BOTH {
-                            w = power_heuristic(ls.pdf, phase);
-                        }
-                        sum += ls.radiance * (phase * w / ls.pdf * v);
-                    }
-                } else if ls.delta {
-                    sum += bsdf_eval(m, wo, wi) * ls.radiance * wi.z * v;
-                } else {
-                    var w = 1.0;
-                    if path.strategy == STRATEGY_BOTH {
-                        w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
-                    }
-                    sum += bsdf_eval(m, wo, wi) * ls.radiance * (wi.z * w / ls.pdf) * v;
-                }
-            }
-        }
+        sum += light_term(sample_sphere_light(path_sphere_light(), vec3<f32>(p), u), in_fog, origin, f, wo, m, d);
     }
     return sum;
 }

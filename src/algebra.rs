@@ -118,6 +118,10 @@ impl<F: Real> Vec3<F> {
         let [x, y, z] = self.to_f64();
         Vec3::new(x as f32, y as f32, z as f32)
     }
+    /// An f32 vector in this precision (exact): the kernels' f32 radiance in the CPU's `F`.
+    pub fn from_f32(v: Vec3<f32>) -> Self {
+        Self::from_f64(v.to_f64())
+    }
     pub fn dot(self, o: Self) -> F {
         self.x * o.x + self.y * o.y + self.z * o.z
     }

@@ -307,19 +307,12 @@ const ENVIRONMENT: Twin = Twin {
     rust: "src/cpu/environment.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[
-        OnlyIn {
-            side: Side::Rust,
-            name: "env_word",
-            reason: "reads a float of the packed map, which WGSL indexes as the `environment` \
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "env_word",
+        reason: "reads a float of the packed map, which WGSL indexes as the `environment` \
                      binding directly",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "from_f32",
-            reason: "the f32 radiance in the CPU's precision `F`; WGSL's `vec3<Real>(...)`",
-        },
-    ],
+    }],
 };
 
 const LIGHT: Twin = Twin {

@@ -6,6 +6,8 @@
 
 pub use crate::envmap::{ENV_HEIGHT, ENV_IRRADIANCE, ENV_TEXELS, ENV_WIDTH};
 
+use crate::envmap::irradiance_basis;
+
 use crate::algebra::{Real, Vec2, Vec3};
 use crate::params::TraceParams;
 
@@ -110,17 +112,7 @@ impl<F: Real> TraceParams<F> {
         let x = a * c + b * s;
         let y = b * c - a * s;
         let z = n.dot(f.up);
-        let basis = [
-            1.0,
-            y,
-            z,
-            x,
-            x * y,
-            y * z,
-            3.0 * z * z - 1.0,
-            x * z,
-            x * x - y * y,
-        ];
+        let basis = irradiance_basis(x, y, z);
         let mut e = Vec3::new(0.0f32, 0.0, 0.0);
         for (k, b) in basis.iter().enumerate() {
             let at = ENV_IRRADIANCE + 4 * k as u32;
@@ -179,7 +171,7 @@ pub fn sample_environment<F: Real>(p: &TraceParams<F>, u: Vec2<F>) -> EnvSample<
     let x = env_piece_point(p, row, i, w, u.x);
     let k = ENV_TEXELS + 4 * (j * w + i);
     let f = p.env_frame();
-    let wi = from_f32(p.env_uv_direction(f, Vec2::new(x, v)));
+    let wi = Vec3::from_f32(p.env_uv_direction(f, Vec2::new(x, v)));
     let s = (ENV_PI * v).sin();
     let pdf_uv = p.env_word(k + 3);
     if s <= 0.0 || pdf_uv <= 0.0 {
@@ -192,7 +184,7 @@ pub fn sample_environment<F: Real>(p: &TraceParams<F>, u: Vec2<F>) -> EnvSample<
     let radiance = Vec3::new(p.env_word(k), p.env_word(k + 1), p.env_word(k + 2)) * f.intensity;
     EnvSample {
         wi,
-        radiance: from_f32(radiance),
+        radiance: Vec3::from_f32(radiance),
         pdf: F::lit(f64::from(pdf_uv / (2.0 * ENV_PI * ENV_PI * s))),
     }
 }
@@ -206,13 +198,4 @@ pub fn environment_pdf<F: Real>(p: &TraceParams<F>, d: Vec3<F>) -> F {
     }
     let pdf = p.env_word(ENV_TEXELS + 4 * p.env_texel(uv) + 3) / (2.0 * ENV_PI * ENV_PI * s);
     F::lit(f64::from(pdf))
-}
-
-/// An f32 vector in `F`.
-pub fn from_f32<F: Real>(v: Vec3<f32>) -> Vec3<F> {
-    Vec3::new(
-        F::lit(f64::from(v.x)),
-        F::lit(f64::from(v.y)),
-        F::lit(f64::from(v.z)),
-    )
 }

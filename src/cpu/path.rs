@@ -11,10 +11,10 @@ use super::bsdf::{
     Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, specular_probability,
     to_local, to_world,
 };
-use super::environment::{environment_pdf, from_f32, sample_environment};
+use super::environment::{environment_pdf, sample_environment};
 use super::light::{
-    Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light, sample_sun,
-    sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_one_minus_cos, sun_pdf,
+    LightSample, Sky, SphereLight, Sun, intersect_sphere, power_heuristic, sample_sphere_light,
+    sample_sun, sky_radiance, sphere_light_pdf, sphere_light_radiance, sun_one_minus_cos, sun_pdf,
     sun_radiance,
 };
 use super::medium::{fog_event, phase_hg, sample_hg};
@@ -278,14 +278,52 @@ impl<F: Real> TraceParams<F> {
         c * (path.clamp_contribution / m)
     }
 
+    /// One light's sample `ls` seen from a vertex: nothing where it has no density or lies below
+    /// the surface; else its shadow ray from `origin` over `ls.distance` ([`Self::visibility`]:
+    /// the set's occlusion and the fog's transmittance), and the light it brings, weighted
+    /// against BSDF or phase sampling by the power heuristic (a point light, delta, is not). At a
+    /// surface hit (`in_fog` false) the BSDF of m in the frame f, with wo, and the cosine; at a
+    /// scattering event in the fog (`in_fog` true) the phase function ([`phase_hg`] of
+    /// `fog.anisotropy`) of light that travelled along d, no cosine.
+    pub fn light_term(
+        &self,
+        path: &PathParams<F>,
+        ls: LightSample<F>,
+        (in_fog, origin): (bool, Vec3<F>),
+        (f, wo, m): (Basis<F>, Vec3<F>, Material<F>),
+        d: Vec3<F>,
+    ) -> Vec3<F> {
+        let wi = to_local(f, ls.wi);
+        if ls.pdf <= F::zero() || !(in_fog || wi.z > F::zero()) {
+            return Vec3::zero();
+        }
+        let v = self.visibility(path, origin, ls.wi, ls.distance);
+        if v <= F::zero() {
+            return Vec3::zero();
+        }
+        let weight = |other_pdf: F| match path.strategy {
+            Strategy::Both => power_heuristic(ls.pdf, other_pdf),
+            _ => F::one(),
+        };
+        if in_fog {
+            let phase = phase_hg(self.fog_anisotropy, d.dot(ls.wi));
+            if ls.delta {
+                return ls.radiance * (phase * v);
+            }
+            return ls.radiance * (phase * weight(phase) / ls.pdf * v);
+        }
+        let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
+        if ls.delta {
+            return f_wi * wi.z * v;
+        }
+        f_wi * (wi.z * weight(bsdf_pdf(m, wo, wi)) / ls.pdf) * v
+    }
+
     /// Next-event estimation at a vertex: the sun, the environment map and the sphere light,
-    /// each by one sample toward it and a shadow ray ([`Self::visibility`]: the set's occlusion and the fog's
-    /// transmittance), weighted against BSDF or phase sampling by the power heuristic. At a
-    /// surface hit (`in_fog` false) the BSDF of m in the frame f, with wo, and shadow rays from
-    /// p + SURFACE_OFFSET epsilon n; at a scattering event in the fog (`in_fog` true) the phase
-    /// function ([`phase_hg`] of `fog.anisotropy`) of light that travelled along d, no cosine,
-    /// and shadow rays from p itself. One function, as in the kernel, which then holds one
-    /// shadow trace per light.
+    /// each by one sample toward it ([`Self::light_term`]: a shadow ray, weighted against BSDF
+    /// or phase sampling). At a surface hit (`in_fog` false) shadow rays leave from p +
+    /// SURFACE_OFFSET epsilon n; at a scattering event in the fog (`in_fog` true) from p itself.
+    /// One function, as in the kernel, which then holds one shadow trace per light.
     #[allow(clippy::too_many_arguments)]
     pub fn direct_light(
         &self,
@@ -294,12 +332,12 @@ impl<F: Real> TraceParams<F> {
         bounce: u32,
         in_fog: bool,
         p: Vec3<F>,
-        (f, wo, m): (Basis<F>, Vec3<F>, Material<F>),
+        surface: (Basis<F>, Vec3<F>, Material<F>),
         d: Vec3<F>,
     ) -> Vec3<F> {
         let mut sum = Vec3::zero();
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
-        // Each light its own point (DIM_SUN, DIM_SPHERE_LIGHT).
+        // Each light its own point (DIM_SUN, DIM_ENVIRONMENT, DIM_SPHERE_LIGHT).
         let point = |first: u32| {
             crate::algebra::Vec2::new(
                 self.path_random(path, i, j, sample, dim + first),
@@ -308,77 +346,29 @@ impl<F: Real> TraceParams<F> {
         };
         let mut origin = p;
         if !in_fog {
-            origin = p + f.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
+            origin = p + surface.0.n * (F::lit(SURFACE_OFFSET) * self.epsilon);
         }
-        let g = self.fog_anisotropy;
-        let weight = |light_pdf: F, other_pdf: F| {
-            if path.strategy == Strategy::Both {
-                power_heuristic(light_pdf, other_pdf)
-            } else {
-                F::one()
-            }
-        };
+        let vertex = (in_fog, origin);
         if any_positive(path.sun.irradiance) {
             let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
-            let wi = to_local(f, ls.wi);
-            if in_fog || wi.z > F::zero() {
-                let v = self.visibility(path, origin, ls.wi, F::lit(3.0e38));
-                if v > F::zero() {
-                    if in_fog {
-                        let phase = phase_hg(g, d.dot(ls.wi));
-                        let w = weight(ls.pdf, phase);
-                        sum += ls.radiance * (phase * w / ls.pdf * v);
-                    } else {
-                        let w = weight(ls.pdf, bsdf_pdf(m, wo, wi));
-                        sum += bsdf_eval(m, wo, wi).mul_elem(ls.radiance) * (wi.z * w / ls.pdf) * v;
-                    }
-                }
-            }
+            sum += self.light_term(path, ls, vertex, surface, d);
         }
         if self.environment_on() {
-            // The map's point (DIM_ENVIRONMENT), the sun's group's other two dimensions.
+            // The sun's group's other two dimensions.
             let es = sample_environment(self, point(DIM_ENVIRONMENT));
-            let wi = to_local(f, es.wi);
-            if es.pdf > F::zero() && (in_fog || wi.z > F::zero()) {
-                let v = self.visibility(path, origin, es.wi, F::lit(3.0e38));
-                if v > F::zero() {
-                    if in_fog {
-                        let phase = phase_hg(g, d.dot(es.wi));
-                        let w = weight(es.pdf, phase);
-                        sum += es.radiance * (phase * w / es.pdf * v);
-                    } else {
-                        let w = weight(es.pdf, bsdf_pdf(m, wo, wi));
-                        sum += bsdf_eval(m, wo, wi).mul_elem(es.radiance) * (wi.z * w / es.pdf) * v;
-                    }
-                }
-            }
+            let ls = LightSample {
+                wi: es.wi,
+                radiance: es.radiance,
+                pdf: es.pdf,
+                distance: F::lit(3.4e38),
+                delta: false,
+            };
+            sum += self.light_term(path, ls, vertex, surface, d);
         }
         if any_positive(path.light_intensity) {
             let light = self.path_sphere_light(path);
             let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
-            let wi = to_local(f, ls.wi);
-            if ls.pdf > F::zero() && (in_fog || wi.z > F::zero()) {
-                let v = self.visibility(path, origin, ls.wi, ls.distance);
-                if v > F::zero() {
-                    if in_fog {
-                        let phase = phase_hg(g, d.dot(ls.wi));
-                        if ls.delta {
-                            sum += ls.radiance * (phase * v);
-                        } else {
-                            let w = weight(ls.pdf, phase);
-                            sum += ls.radiance * (phase * w / ls.pdf * v);
-                        }
-                    } else {
-                        let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
-                        if ls.delta {
-                            sum += f_wi * wi.z * v;
-                        } else {
-                            let w = weight(ls.pdf, bsdf_pdf(m, wo, wi));
-                            sum += f_wi * (wi.z * w / ls.pdf) * v;
-                        }
-                    }
-                }
-            }
+            sum += self.light_term(path, ls, vertex, surface, d);
         }
         sum
     }
@@ -458,7 +448,7 @@ impl<F: Real> TraceParams<F> {
                     w = power_heuristic(bsdf_pdf_prev, environment_pdf(self, dir));
                 }
             }
-            c = from_f32(self.env_radiance(dir.to_f32())) * w;
+            c = Vec3::from_f32(self.env_radiance(dir.to_f32())) * w;
         } else {
             c = sky_radiance(self.path_sky(path), dir);
         }

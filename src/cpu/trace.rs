@@ -833,9 +833,7 @@ impl<F: Real> TraceParams<F> {
         }
         let mut ambient = base * (self.ambient * a);
         if self.environment_on() && self.env_light {
-            ambient = ambient.mul_elem(super::environment::from_f32(
-                self.env_irradiance(n.to_f32()),
-            ));
+            ambient = ambient.mul_elem(Vec3::from_f32(self.env_irradiance(n.to_f32())));
         }
         let l = safe_normalize(self.light - p, n);
         let e = safe_normalize(eye - p, n);
@@ -867,7 +865,7 @@ impl<F: Real> TraceParams<F> {
     /// the scene has one (phong mode clamps it as any colour), else the flat background.
     pub fn background(&self, dir: Vec3<F>) -> Vec3<F> {
         if self.environment_on() {
-            return super::environment::from_f32(self.env_radiance(dir.to_f32()));
+            return Vec3::from_f32(self.env_radiance(dir.to_f32()));
         }
         self.background
     }

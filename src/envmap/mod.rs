@@ -19,8 +19,8 @@ use crate::memory;
 mod pack;
 
 pub use pack::{
-    Distribution1d, ENV_HEIGHT, ENV_IRRADIANCE, ENV_TEXELS, ENV_WIDTH, irradiance_coefficients,
-    pack, packed_floats,
+    Distribution1d, ENV_HEIGHT, ENV_IRRADIANCE, ENV_TEXELS, ENV_WIDTH, irradiance_basis,
+    irradiance_coefficients, pack, packed_floats,
 };
 
 /// Bytes a texel takes on the host while it loads: its RGB as decoded (12) and its five floats

@@ -4,6 +4,8 @@
 //! its irradiance, in the layout stated here ([`ENV_TEXELS`] and the rest), which both twins
 //! read (shaders/environment.wgsl keeps the same constants).
 
+use crate::algebra::Real;
+
 /// Where the packed buffer holds the map's width (a float, exact).
 pub const ENV_WIDTH: u32 = 0;
 /// Where it holds the height.
@@ -148,17 +150,7 @@ pub fn irradiance_coefficients(width: usize, height: usize, texels: &[[f32; 3]])
                 theta.sin() * phi.sin(),
                 theta.cos(),
             );
-            let basis = [
-                1.0,
-                y,
-                z,
-                x,
-                x * y,
-                y * z,
-                3.0 * z * z - 1.0,
-                x * z,
-                x * x - y * y,
-            ];
+            let basis = irradiance_basis(x, y, z);
             let t = texels[j * width + i];
             for (k, b) in basis.iter().enumerate() {
                 for c in 0..3 {
@@ -168,4 +160,22 @@ pub fn irradiance_coefficients(width: usize, height: usize, texels: &[[f32; 3]])
         }
     }
     std::array::from_fn(|k| sums[k].map(|s| s * scale[k]))
+}
+
+/// The polynomials of the real spherical harmonics of bands 0 to 2 at (x, y, z), without their
+/// constants, in the order the coefficients are packed: what the projection
+/// ([`irradiance_coefficients`]) sums and the CPU twin's `env_irradiance` weighs (as
+/// shaders/environment.wgsl does, written out), so that both take the same order.
+pub fn irradiance_basis<F: Real>(x: F, y: F, z: F) -> [F; 9] {
+    [
+        F::one(),
+        y,
+        z,
+        x,
+        x * y,
+        y * z,
+        F::lit(3.0) * z * z - F::one(),
+        x * z,
+        x * x - y * y,
+    ]
 }

@@ -278,13 +278,13 @@ impl Kernel {
 pub type InputData = Option<std::sync::Arc<crate::envmap::EnvironmentData>>;
 
 /// Where a run's input is among the buffers uploaded: the address of its data (0: none).
-pub(super) fn input_source(data: &InputData) -> usize {
+pub(crate) fn input_source(data: &InputData) -> usize {
     data.as_ref()
         .map_or(0, |d| std::sync::Arc::as_ptr(d) as usize)
 }
 
-/// Inputs kept uploaded ([`Kernel::input_buffer`]): the last few maps, each held alive so
-/// that its address stays its own.
+/// Maps kept uploaded ([`Kernel::input_buffer`]): the last few, each held alive so that its
+/// address stays its own (and the placeholder).
 const INPUTS_KEPT: usize = 2;
 
 impl Kernel {
@@ -308,9 +308,13 @@ impl Kernel {
                 contents: bytemuck::cast_slice(contents),
                 usage: wgpu::BufferUsages::STORAGE,
             });
-        if inputs.len() > INPUTS_KEPT {
-            // The oldest map goes; the placeholder, first, stays.
-            inputs.remove(1);
+        // The oldest map goes past INPUTS_KEPT of them; a placeholder costs nothing and stays.
+        let maps = inputs.iter().filter(|(d, _)| d.is_some()).count();
+        if data.is_some()
+            && maps >= INPUTS_KEPT
+            && let Some(oldest) = inputs.iter().position(|(d, _)| d.is_some())
+        {
+            inputs.remove(oldest);
         }
         inputs.push((data.clone(), buffer.clone()));
         buffer

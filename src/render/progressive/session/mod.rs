@@ -56,6 +56,7 @@ use super::{Pace, Quality, TileTimer};
 use crate::denoise::Denoiser;
 use crate::display::{Display, ToneMap};
 use crate::frame::Frame;
+use crate::gpu::kernel::input_source;
 use crate::gpu::path::GpuPathTracer;
 use crate::gpu::{GpuContext, GpuKernels, GpuReal, GpuTracer, Kernel, Readback};
 use crate::params::TraceParams;
@@ -462,10 +463,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         input: crate::gpu::kernel::InputData,
     ) {
         let slot = quality as usize;
-        let same_input = |t: &Target| match (&t.input, &input) {
-            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
-            (a, b) => a.is_none() && b.is_none(),
-        };
+        let same_input = |t: &Target| input_source(&t.input) == input_source(&input);
         if self.targets[slot]
             .as_ref()
             .is_some_and(|t| [t.width, t.height] == size && t.aovs == aovs && same_input(t))
