@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The parsers' coverage-guided fuzz (fuzz/, cargo-fuzz on nightly's libFuzzer).
 #   scripts/fuzz.sh run SECONDS [TARGET...]   each target for SECONDS from its checked-in
-#                                             corpus; one summary line per target
+#                                             corpus, one per core at a time
+#                                             (QJULIA_FUZZ_JOBS); one summary line per target
 #   scripts/fuzz.sh runs RUNS [TARGET...]     each target for RUNS executions instead
 #   scripts/fuzz.sh grow RUNS [TARGET...]     each target for RUNS executions on fuzz/corpus/
 #                                             itself, then minimise it: how the checked-in
@@ -83,8 +84,10 @@ TOML
 
 # Runs every named target (all by default) with libFuzzer's LIMITS and $1 (-max_total_time=N
 # or -runs=N) from a scratch copy of its corpus; prints "TARGET: N executions in S s, ..." each.
+# The targets run QJULIA_FUZZ_JOBS at a time (default: one per core, `nproc`): libFuzzer runs
+# one process on one core, so each target still gets its whole budget of a core to itself.
 run() {
-    local budget=$1 scratch status=0
+    local budget=$1 scratch status=0 jobs=${QJULIA_FUZZ_JOBS:-$(nproc)}
     shift
     local targets=("$@")
     [ "${#targets[@]}" -gt 0 ] || targets=("${TARGETS[@]}")
@@ -92,23 +95,37 @@ run() {
     if [ "$#" -eq 1 ]; then fuzz build -O "$1"; else fuzz build -O; fi
     scratch=$(mktemp -d)
     for target in "${targets[@]}"; do
-        cp -r "fuzz/corpus/$target" "$scratch/$target"
-        local log="$scratch/$target.log" start=$SECONDS
-        if ! fuzz run -O "$target" "$scratch/$target" -- "${LIMITS[@]}" "$budget" \
-            -print_final_stats=1 >"$log" 2>&1; then
-            status=1
-            echo "$target: FAILED (fuzz/artifacts/$target/):"
-            grep -E "ERROR|panicked|SUMMARY|Test unit written" "$log" | head -8
-        fi
-        local runs peak
-        runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-        peak=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
-        printf '%s: %s executions in %d s, peak RSS %s MB, corpus %s -> %s inputs\n' \
-            "$target" "${runs:-?}" "$((SECONDS - start))" "${peak:-?}" \
-            "$(ls "fuzz/corpus/$target" | wc -l)" "$(ls "$scratch/$target" | wc -l)"
+        while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+        run_one "$budget" "$target" "$scratch" &
+    done
+    wait
+    for target in "${targets[@]}"; do
+        cat "$scratch/$target.summary"
+        [ -e "$scratch/$target.failed" ] && status=1
     done
     rm -rf "$scratch"
     return "$status"
+}
+
+# One target of `run`: its summary in SCRATCH/TARGET.summary, SCRATCH/TARGET.failed on a
+# finding.
+run_one() {
+    local budget=$1 target=$2 scratch=$3
+    local log="$scratch/$target.log" summary="$scratch/$target.summary" start=$SECONDS
+    cp -r "fuzz/corpus/$target" "$scratch/$target"
+    : >"$summary"
+    if ! fuzz run -O "$target" "$scratch/$target" -- "${LIMITS[@]}" "$budget" \
+        -print_final_stats=1 >"$log" 2>&1; then
+        touch "$scratch/$target.failed"
+        echo "$target: FAILED (fuzz/artifacts/$target/):" >>"$summary"
+        grep -E "ERROR|panicked|SUMMARY|Test unit written" "$log" | head -8 >>"$summary"
+    fi
+    local runs peak
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    peak=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
+    printf '%s: %s executions in %d s, peak RSS %s MB, corpus %s -> %s inputs\n' \
+        "$target" "${runs:-?}" "$((SECONDS - start))" "${peak:-?}" \
+        "$(ls "fuzz/corpus/$target" | wc -l)" "$(ls "$scratch/$target" | wc -l)" >>"$summary"
 }
 
 # Runs every named target for $1 executions into its checked-in corpus, then minimises it.

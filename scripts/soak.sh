@@ -14,7 +14,7 @@
 #     (the explorer's per-frame log, QJULIA_EXPLORE_LOG=frames). CI runs a 60 s soak without
 #     --timing: on a shared machine, timing is no test.
 # --memory-reported prints the memory figures without failing on them: CI's 60 s soak, too short
-# to tell a leak from the working set (tests/repeated_renders.rs holds the leak the soak found;
+# to tell a leak from the working set (tests/render/repeated_renders.rs holds the leak the soak found;
 # docs/book/robustness.md, "The explorer, soaked").
 # QJULIA_SOAK_ONLY=drag (or wheel, key, preset, scrub, resize) repeats that one action, to find
 # which one a figure comes from. QJULIA_SOAK_KEEP=FILE keeps the explorer's log in FILE, the

@@ -3,7 +3,7 @@
 // multiple-scattering lobe for the light single scattering loses, and its sampling (the GGX lobe
 // by its visible normals, Heitz 2018; the diffuse and multiple-scattering lobes by the cosine
 // hemisphere). Needs shaders/ggx_albedo.wgsl.
-// Twin: src/cpu/bsdf.rs, same names, same order (tests/twins.rs). The book's chapter
+// Twin: src/cpu/bsdf.rs, same names, same order (tests/architecture/twins.rs). The book's chapter
 // "Materials" (docs/book/materials.md) gives every formula.
 //
 // Everything here is f32, in both the f32 and the f64 kernels: a path's geometry may need f64

@@ -1,6 +1,6 @@
 // A test kernel for shaders/bsdf.wgsl and shaders/light.wgsl: one BSDF sample and one sample of
 // each light per item, from inputs every side derives
-// the same way from the item's index, written out whole, so that tests/bsdf.rs can hold the GPU's
+// the same way from the item's index, written out whole, so that tests/render/bsdf.rs can hold the GPU's
 // BSDF to its CPU twin (src/cpu/bsdf.rs). Host side and the inputs' definition:
 // src/gpu/bsdf_probe.rs. Needs shaders/bsdf.wgsl in front of it.
 

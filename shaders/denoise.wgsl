@@ -6,7 +6,7 @@
 // weighted by how alike its normal, depth and luminance are to the centre's. The book's chapter
 // "Denoising" (docs/book/denoise.md) gives the filter exactly.
 //
-// Twin: src/cpu/denoise.rs, same names, same order (tests/twins.rs). A module of its own: it
+// Twin: src/cpu/denoise.rs, same names, same order (tests/architecture/twins.rs). A module of its own: it
 // needs no other file.
 
 // The pass's parameters (keep in sync with `GpuDenoiseParams` in src/gpu/denoise.rs; the CPU

@@ -6,7 +6,7 @@
 // trace.wgsl's `params` (env_up, env_front, env_rotation, env_intensity, env_map) and its
 // SPECIALISED and ENVIRONMENT overrides in the module.
 //
-// Twin: src/cpu/environment.rs, same names, same order (tests/twins.rs).
+// Twin: src/cpu/environment.rs, same names, same order (tests/architecture/twins.rs).
 
 // The map's buffer (src/envmap.rs packs it, src/cpu/environment.rs states it): the width and
 // height (floats, exact), the irradiance's nine coefficients (RGB, a vec4 slot each), then per

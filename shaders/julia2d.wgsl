@@ -2,14 +2,14 @@
 // complex c, grey by smooth iteration count as in Crane's Figure 3. One invocation per pixel.
 //
 // Twin: src/cpu/julia2d.rs, function by function, with the same names in the same order (checked
-// by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
+// by tests/architecture/twins.rs, which lists the functions only one side has); a change to one is a change to
 // both. Needs a prelude in front of it (shaders/real32.wgsl or shaders/real64.wgsl: the float
 // type `Real`): z and the pixel's point in `Real`, the grey in f32 (src/gpu/shaders.rs).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
 // Keep in sync with the table of `Julia2dParams` in src/params.rs, which makes the host's f32 and
-// f64 images of it, `GpuJulia2dParams` and `GpuJulia2dParams64` (tests/shaders.rs compares their
+// f64 images of it, `GpuJulia2dParams` and `GpuJulia2dParams64` (tests/architecture/shaders.rs compares their
 // layouts with this struct's). The last four are each dispatch's: its band and where it lands.
 struct Julia2dParams {
     c: vec2<Real>,

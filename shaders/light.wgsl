@@ -1,7 +1,7 @@
 // The path tracer's light: the sky (rays that leave the bounding region), the sun (a disc of a
 // given angular radius) and the sphere light, their sampling for next-event estimation, and
 // the power heuristic that weighs light samples against BSDF samples.
-// Twin: src/cpu/light.rs, same names, same order (tests/twins.rs). The book's chapter "Light"
+// Twin: src/cpu/light.rs, same names, same order (tests/architecture/twins.rs). The book's chapter "Light"
 // (docs/book/light.md) gives every formula. f32 throughout, as shaders/bsdf.wgsl, which must come
 // in front of it (its PI and its shading frame).
 //

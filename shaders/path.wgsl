@@ -4,7 +4,7 @@
 // roulette and a clamp. The book's chapters "Path tracing" and "Atmosphere" give the estimator
 // exactly.
 //
-// Twin: src/cpu/path.rs, same names, same order (tests/twins.rs). Needs a prelude, algebra.wgsl,
+// Twin: src/cpu/path.rs, same names, same order (tests/architecture/twins.rs). Needs a prelude, algebra.wgsl,
 // trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl,
 // light.wgsl, medium.wgsl and sobol.wgsl in front of it (src/gpu/shaders.rs). Geometry is in
 // `Real` (f32 or f64); the material, the light and the radiance are f32 (shaders/bsdf.wgsl says

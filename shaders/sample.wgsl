@@ -5,7 +5,7 @@
 // shares; the grid is a uniform of its own (binding 7: binding 6 is the tracer's AOV output).
 //
 // Twin: src/cpu/sample.rs, function by function, with the same names in the same order
-// (tests/twins.rs).
+// (tests/architecture/twins.rs).
 //
 // The sampled grid (keep in sync with GpuSampleGrid in src/gpu/sampler.rs; its CPU twin is
 // src/grid.rs's SampleGrid): its first point (the low corner of its box), the spacing of its

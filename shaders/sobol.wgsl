@@ -6,7 +6,7 @@
 // docs/book/sampler.md.
 //
 // Twin: src/cpu/sobol.rs, function by function, with the same names in the same order
-// (tests/twins.rs).
+// (tests/architecture/twins.rs).
 
 // The sampler `sobol` (sample_bits's `sampler`).
 const SAMPLER_SOBOL: u32 = 0u;

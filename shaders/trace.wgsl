@@ -6,7 +6,7 @@
 // function by function with src/cpu/trace.rs; a split must split both alike (issue 36 item 5).
 //
 // Twin: src/cpu/trace.rs, function by function, with the same names in the same order (checked
-// by tests/twins.rs, which lists the functions only one side has); a change to one is a change to
+// by tests/architecture/twins.rs, which lists the functions only one side has); a change to one is a change to
 // both. Needs a prelude (shaders/real32.wgsl or shaders/real64.wgsl: the float type `Real`, its
 // limits and functions) and shaders/algebra.wgsl in front of it (src/gpu/shaders.rs): one source,
 // an f32 and an f64 module.
@@ -14,7 +14,7 @@
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
 
 // Keep in sync with the table of `TraceParams` in src/params.rs, which makes the host's f32 and
-// f64 images of it, `GpuParams` and `GpuParams64` (tests/shaders.rs compares their layouts with
+// f64 images of it, `GpuParams` and `GpuParams64` (tests/architecture/shaders.rs compares their layouts with
 // this struct's). Ordered so that neither precision has padding inside: the numbers of the
 // algebra, the vec3s each followed by a scalar filling its slot, the other scalars, the
 // integers, then the integers each dispatch sets (its band, where it lands, its samples).

@@ -5,7 +5,7 @@
 //! `Vec4` with `x` the real part and `(y, z, w)` the i, j, k parts, exactly as in
 //! `shaders/algebra.wgsl`. The functions from the line "twins of shaders/algebra.wgsl" on (the
 //! quaternion, octonion and [`Hyper`] arithmetic) are that file's twins, with the same names in
-//! the same order: tests/twins.rs checks it, and lists the ones only this side has.
+//! the same order: tests/architecture/twins.rs checks it, and lists the ones only this side has.
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};

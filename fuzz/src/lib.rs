@@ -1,6 +1,6 @@
 //! The fuzz targets' bodies, one function each (fuzz_targets/NAME.rs calls NAME), and what they
 //! check of what qjulia's parsers give back: an error is one line, and a scene that loads saves
-//! to a file that loads to the same scene. tests/fuzz_findings.rs includes this file to replay
+//! to a file that loads to the same scene. tests/cli/fuzz_findings.rs includes this file to replay
 //! the corpora and every finding (fuzz/regressions/) in the test suite, with no libFuzzer.
 
 use qjulia::Scene;

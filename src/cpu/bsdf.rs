@@ -1,6 +1,6 @@
 //! The path tracer's material, Lambert plus GGX with visible-normal sampling and Kulla and
 //! Conty's multiple-scattering lobe: the twin of shaders/bsdf.wgsl (same names, same order;
-//! tests/twins.rs), generic over f32 and f64 where the shader is f32 throughout. The book's chapter "Materials" gives every formula.
+//! tests/architecture/twins.rs), generic over f32 and f64 where the shader is f32 throughout. The book's chapter "Materials" gives every formula.
 //!
 //! Directions are in the local shading frame: the normal is +z, `wo` points toward where the
 //! light goes (the eye), `wi` toward where it comes from; both unit length.

@@ -1,5 +1,5 @@
 //! The CPU twin of shaders/denoise.wgsl: one pass of the edge-avoiding a-trous filter, function
-//! by function (same names, same order; tests/twins.rs). [`crate::denoise`] runs the passes on
+//! by function (same names, same order; tests/architecture/twins.rs). [`crate::denoise`] runs the passes on
 //! either side and demodulates and remodulates the image around them.
 
 use rayon::prelude::*;

@@ -1,5 +1,5 @@
 //! The environment map (`[environment]`, docs/book/atmosphere.md) on the CPU: the twin of
-//! shaders/environment.wgsl, same names, same order (tests/twins.rs). An equirectangular HDR
+//! shaders/environment.wgsl, same names, same order (tests/architecture/twins.rs). An equirectangular HDR
 //! image about `sky.up`, turned by `rotation_degrees`, looked up texel by texel (piecewise
 //! constant), read from the same packed buffer the kernels bind (src/envmap.rs packs it), so
 //! that both draw the same texels. Its sampling is the path tracer's light (src/cpu/light.rs).

@@ -1,6 +1,6 @@
 //! GGX's directional and average albedo, the tables of multiple-scattering compensation (Kulla
 //! and Conty 2017): the twin of shaders/ggx_albedo.wgsl (same names, same order;
-//! tests/twins.rs), whose numbers it reads. src/cpu/ggx_quadrature.rs makes them.
+//! tests/architecture/twins.rs), whose numbers it reads. src/cpu/ggx_quadrature.rs makes them.
 //!
 //! E(mu, roughness) is the light a white (F = 1) single-scattering GGX lobe reflects from the
 //! direction of cosine mu, over the hemisphere; E_avg(roughness) = 2 int_0^1 E(mu) mu dmu. The

@@ -1,5 +1,5 @@
 //! The CPU twin of shaders/julia2d.wgsl (the 2D Julia view): the same functions, with the same
-//! names, in the same order, generic over the float type (tests/twins.rs checks names and order,
+//! names, in the same order, generic over the float type (tests/architecture/twins.rs checks names and order,
 //! and lists the functions only one side has). WGSL's global `params` is `self` here; a change to
 //! one file is a change to both, and the GPU-vs-CPU tests hold them together. The kernel's `main`
 //! is `julia_pixel` and `render_rows` here.

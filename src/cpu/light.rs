@@ -1,6 +1,6 @@
 //! The path tracer's light (sky, sun, sphere light), its sampling for next-event estimation and
 //! the power heuristic: the twin of shaders/light.wgsl (same names, same order;
-//! tests/twins.rs), generic over f32 and f64 where the shader is f32. The book's chapter
+//! tests/architecture/twins.rs), generic over f32 and f64 where the shader is f32. The book's chapter
 //! "Light" gives every formula.
 //!
 //! Units: a light's `intensity` is the irradiance it gives a surface facing it (the sun), or at

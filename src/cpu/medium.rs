@@ -1,5 +1,5 @@
 //! The fog's medium (`fog.density` > 0): the twin of shaders/medium.wgsl, same names, same order
-//! (tests/twins.rs). A homogeneous medium of grey extinction and coloured albedo filling the
+//! (tests/architecture/twins.rs). A homogeneous medium of grey extinction and coloured albedo filling the
 //! bounding ball: the Henyey-Greenstein phase function and its sampling, and free-flight
 //! distance sampling. The book's chapter "Atmosphere" gives every formula.
 

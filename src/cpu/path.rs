@@ -1,5 +1,5 @@
 //! The path tracer (`shading.model = "path"`): the twin of shaders/path.wgsl, same names, same
-//! order (tests/twins.rs), generic over f32 and f64 (the shader's material, light and radiance
+//! order (tests/architecture/twins.rs), generic over f32 and f64 (the shader's material, light and radiance
 //! are f32 in both of its precisions). The book's chapter "Path tracing" gives the estimator.
 //!
 //! Why it passes 600 lines: it mirrors shaders/path.wgsl function by function (Rust's

@@ -1,5 +1,5 @@
 //! The CPU twin of shaders/sample.wgsl, the voxel sampler of `qjulia mesh`: the same functions
-//! with the same names in the same order (tests/twins.rs), generic over the float type. WGSL's
+//! with the same names in the same order (tests/architecture/twins.rs), generic over the float type. WGSL's
 //! `params` is `self` (the tracer's parameters) and its grid fields are a [`SampleGrid`] here
 //! (src/grid.rs, shared with the GPU sampler); the kernel's entry point `sample` is
 //! [`sample_rows`] (rows in parallel).

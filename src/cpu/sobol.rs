@@ -1,5 +1,5 @@
 //! The sampler of the path tracer (issue 19), the CPU twin of shaders/sobol.wgsl: the same
-//! functions with the same names in the same order (tests/twins.rs), in u32 arithmetic only, so
+//! functions with the same names in the same order (tests/architecture/twins.rs), in u32 arithmetic only, so
 //! that the CPU and every GPU backend draw the same bits for a (pixel, sample, dimension). Two
 //! samplers: `sobol`, Owen-scrambled Sobol' points in Burley's hash form ("Practical Hash-based
 //! Owen Scrambling", JCGT 2020), and `random`, an integer hash of the three numbers kept for
@@ -55,7 +55,7 @@ pub const SEED_SCRAMBLE: u32 = 0x5343_524d;
 /// Dimension 0 is the van der Corput sequence (1 << (31 - k): the index's bits reversed);
 /// dimensions 1 to 3 follow from Joe and Kuo's primitive polynomials and initial numbers
 /// (new-joe-kuo-6.21201, their dimensions 2 to 4: s = 1, a = 0, m = 1; s = 2, a = 1, m = 1 3;
-/// s = 3, a = 1, m = 1 3 1) by Bratley and Fox's recurrence (tests/sobol.rs derives them again).
+/// s = 3, a = 1, m = 1 3 1) by Bratley and Fox's recurrence (tests/render/sobol.rs derives them again).
 pub const SOBOL_DIRECTIONS: [u32; 128] = [
     0x80000000, 0x40000000, 0x20000000, 0x10000000, 0x08000000, 0x04000000, 0x02000000, 0x01000000,
     0x00800000, 0x00400000, 0x00200000, 0x00100000, 0x00080000, 0x00040000, 0x00020000, 0x00010000,

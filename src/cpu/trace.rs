@@ -1,11 +1,11 @@
 //! The CPU twin of shaders/trace.wgsl: the same functions, with the same names, in the same
-//! order, generic over the float type (tests/twins.rs checks names and order, and lists the
+//! order, generic over the float type (tests/architecture/twins.rs checks names and order, and lists the
 //! functions only one side has, each with its reason). WGSL's global `params` is `self` here; a
 //! change to one file is a change to both, and the GPU-vs-CPU tests hold them together. The
 //! kernel's `main` is cpu/mod.rs's `render_rows`.
 //!
 //! Why it passes 600 lines: it mirrors shaders/trace.wgsl function by function in the same
-//! order (tests/twins.rs holds that order; issue 18 excepts the twins' bodies), so it is as long
+//! order (tests/architecture/twins.rs holds that order; issue 18 excepts the twins' bodies), so it is as long
 //! as the kernel and stays one file as the shader is; a split must split both alike.
 
 use super::light::mix3;

@@ -59,7 +59,7 @@ pub struct GpuPathParams {
 }
 
 impl GpuPathParams {
-    /// shaders/path.wgsl's `struct PathParams` as WGSL lays it out (tests/shaders.rs holds it
+    /// shaders/path.wgsl's `struct PathParams` as WGSL lays it out (tests/architecture/shaders.rs holds it
     /// against naga's reflection and against this struct's offsets; `qjulia gpu-params --json`
     /// prints it for the browser's host).
     pub const LAYOUT: Layout = Layout {

@@ -1,6 +1,12 @@
-//! Helpers shared by the integration tests: the GPU (shared, loud when missing), scenes from
-//! `--set` strings, and frame comparison that writes diff images on failure.
+//! Helpers shared by the integration tests: the GPU (shared, loud when missing), what a test
+//! needs of its adapter (`adapter`), scenes from `--set` strings, and frame comparison that
+//! writes diff images on failure.
 #![allow(dead_code)]
+
+mod adapter;
+
+#[allow(unused_imports)]
+pub use adapter::{Capability, gpu_has, has, own_process, say_skipped, under_ci};
 
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -15,17 +21,22 @@ use qjulia::{Frame, Scene};
 pub const SKIP_GPU_ENV: &str = "QJULIA_SKIP_GPU_TESTS";
 
 /// Whether the GPU tests are opted out of (`QJULIA_SKIP_GPU_TESTS=1`); if so, says that `test`
-/// skipped its GPU part.
+/// skipped its GPU part (a `skipped:` line). Under CI (`QJULIA_CI=1`) they never are.
 pub fn gpu_skipped(test: &str) -> bool {
     let skip = std::env::var(SKIP_GPU_ENV).is_ok_and(|v| v == "1");
     if skip {
-        eprintln!("{test}: GPU part skipped because {SKIP_GPU_ENV}=1");
+        assert!(
+            !under_ci(),
+            "{test}: {SKIP_GPU_ENV}=1 under CI, where no GPU test skips"
+        );
+        say_skipped(test, "its GPU part", &format!("{SKIP_GPU_ENV}=1"));
     }
     skip
 }
 
 /// The shared GPU tracer. Panics with how to get an adapter when wgpu finds none, unless
-/// `QJULIA_SKIP_GPU_TESTS=1`, in which case it returns None and the test says it skipped.
+/// `QJULIA_SKIP_GPU_TESTS=1`, in which case it returns None and the test says it skipped. On
+/// GL the calling test holds the GPU alone until it ends (`adapter::one_test_at_a_time_on_gl`).
 pub fn gpu(test: &str) -> Option<&'static GpuTracer> {
     if gpu_skipped(test) {
         return None;
@@ -39,7 +50,10 @@ pub fn gpu(test: &str) -> Option<&'static GpuTracer> {
         Ok(tracer)
     });
     match tracer {
-        Ok(t) => Some(t),
+        Ok(t) => {
+            adapter::one_test_at_a_time_on_gl(t.context());
+            Some(t)
+        }
         Err(e) => panic!(
             "{test} needs a GPU adapter and found none ({e}).\n\
              Install Mesa's software Vulkan driver: `sudo apt-get install mesa-vulkan-drivers`,\n\

@@ -67,6 +67,22 @@ fn harness_sampling(
     Some(harness)
 }
 
+/// Whether the f64 part of `test` runs: true where the adapter has f64. Where it has none (GL
+/// llvmpipe) the deep view must stay in f32 with a note that says why (the refusal a user sees
+/// on the status line), and the f64 part is said skipped.
+fn runs_f64(test: &str, precision: qjulia::Precision, note: &str) -> bool {
+    if common::gpu_has(common::Capability::F64, test, "the view in f64") {
+        return true;
+    }
+    assert_eq!(
+        precision,
+        qjulia::Precision::F32,
+        "{test}: without f64, f32"
+    );
+    assert!(note.contains("f64 unavailable"), "{test}: {note}");
+    false
+}
+
 /// Steps frames until the view shows the full-resolution image of the current scene.
 fn settle(harness: &mut Harness<'static, ExplorerApp>) {
     let start = Instant::now();

@@ -9,7 +9,7 @@ use qjulia::scene::View;
 
 use super::{
     EXACT, assert_export_is_render, changed_fraction, harness_of, harness_sampling, headless,
-    settle, shown_view,
+    runs_f64, settle, shown_view,
 };
 use crate::common;
 
@@ -239,12 +239,16 @@ fn a_path_export_writes_the_bytes_of_qjulia_render() {
 fn a_deep_path_view_runs_the_f64_path_tracer() {
     let mut deep = qjulia::scene::presets::find("deep-zoom").unwrap().scene();
     deep.shading.model = qjulia::scene::ShadingModel::Path;
-    let Some(mut harness) = harness_of("explorer deep path", deep, PATH_WINDOW) else {
+    let test = "a_deep_path_view_runs_the_f64_path_tracer";
+    let Some(mut harness) = harness_of(test, deep, PATH_WINDOW) else {
         return;
     };
     settle(&mut harness);
     let view = harness.state().slice_texture().unwrap();
     assert!(view.path_traced());
+    if !runs_f64(test, view.precision(), view.precision_note()) {
+        return;
+    }
     assert_eq!(view.precision(), qjulia::Precision::F64);
     let expected = rendered(&harness);
     // Not byte for byte: `render` traces the 3 samples in one dispatch, the view one per pass,

@@ -1,6 +1,6 @@
 // The page in headless Chromium (e2e/harness.ts) on WebGPU's SwiftShader adapter: the default
 // scene at 128x128 is the CLI's render (e2e/fixtures/render-128.json, made by `qjulia render
-// --backend cpu` and held fresh by tests/web.rs) within CONTRACT_TOLERANCE; a share link
+// --backend cpu` and held fresh by tests/architecture/web.rs) within CONTRACT_TOLERANCE; a share link
 // reopens it; a preset renders; bad scenes show the CLI's error line; a drag orbits, a right
 // drag pans and the wheel zooms; the scene saved after a drag, and a PNG exported, render to
 // the page's picture with the CLI (the release binary beside web/, or QJULIA_BIN); the 2D view

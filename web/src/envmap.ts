@@ -11,7 +11,7 @@
 export const BUILTIN_PREFIX = 'qjulia:';
 
 /// The maps built into the binary (BUILTIN_MAPS of src/envmap.rs), by name, with the CRC-32 of
-/// their bytes (tests/web.rs holds it to the library's), so that the scene loader records and
+/// their bytes (tests/architecture/web.rs holds it to the library's), so that the scene loader records and
 /// checks a built-in map's checksum before its bytes have arrived.
 export const BUILTIN_MAPS: Record<string, number> = { 'dusk.hdr': 1760195408 };
 

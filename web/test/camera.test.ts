@@ -1,7 +1,7 @@
 // The camera controller's twin (src/camera.ts) against the Rust one (src/explore/camera.rs):
 // test/fixtures/camera.json holds drags, pans and wheel turns from four cameras (the default,
 // two presets, a tilted `up`), and drags and wheel turns over the 2D view, each with the camera
-// (or 2D view) the library left after it (made by tests/web.rs, held fresh there). Replayed
+// (or 2D view) the library left after it (made by tests/architecture/web.rs, held fresh there). Replayed
 // here, every number must be the same f64, bit for bit.
 
 import { readFileSync } from 'node:fs';

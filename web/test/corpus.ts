@@ -1,5 +1,5 @@
 // The corpus of fixtures/scenes.json (made by `qjulia gpu-params --json`, held fresh by
-// tests/web.rs): each case's scene layers and what the binary made of them.
+// tests/architecture/web.rs): each case's scene layers and what the binary made of them.
 
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';

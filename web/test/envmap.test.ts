@@ -1,5 +1,5 @@
 // The environment map's reader and packer (src/envmap.ts) against the library's: each map of
-// fixtures/envmap.json (written by tests/web.rs with `qjulia::envmap`: Radiance files with new
+// fixtures/envmap.json (written by tests/architecture/web.rs with `qjulia::envmap`: Radiance files with new
 // and old RLE and flat scanlines, OpenEXR files of half and float channels, uncompressed, RLE,
 // ZIPS and ZIP, the built-in dusk.hdr, and a map halved to fit a binding) decodes and packs to
 // the library's buffer bit for bit, or is refused in the library's words. One allowance: the
@@ -39,7 +39,7 @@ interface MapCase {
 const here = import.meta.dirname;
 const FIXTURE = JSON.parse(readFileSync(join(here, 'fixtures/envmap.json'), 'utf8')) as { maps: MapCase[] };
 
-/// A packed buffer's parts as tests/web.rs cuts them: header and irradiance, texels, marginal
+/// A packed buffer's parts as tests/architecture/web.rs cuts them: header and irradiance, texels, marginal
 /// CDF, the rows' CDFs; each part's CRC-32 of its little-endian bytes.
 function partCrcs(packed: Float32Array, width: number, height: number): number[] {
   const texels = 40 + 4 * width * height;

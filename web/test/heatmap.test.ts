@@ -1,6 +1,6 @@
 // The heat maps' twin (src/heatmap.ts) against the binary's: a render's steps and samples
 // (fixtures/heatmap.json, made by `qjulia render --view steps|divergence|samples` and held
-// fresh by tests/web.rs) drawn here are the PNG's heat-map rows, byte for byte.
+// fresh by tests/architecture/web.rs) drawn here are the PNG's heat-map rows, byte for byte.
 
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';

@@ -1,5 +1,5 @@
 // The PNG scene chunk (src/png.ts): the scene the binary wrote into a PNG
-// (fixtures/rabbit.png, `qjulia render --preset rabbit`, held fresh by tests/web.rs) is read
+// (fixtures/rabbit.png, `qjulia render --preset rabbit`, held fresh by tests/architecture/web.rs) is read
 // back as the binary's TOML of that scene; a chunk the page adds reads back, replaces the old
 // one and keeps every other chunk; a corrupt PNG is refused. (That the binary reads the page's
 // chunk is the end-to-end tests' part: they export a PNG and render it with the CLI.)

@@ -1,6 +1,6 @@
 // The scene loader's twin (src/scene.ts) against the binary's own answers: every preset's TOML
 // over the defaults gives the scene `qjulia schema --json` resolved for it, value for value, and
-// each case of fixtures/scenes.json (made by `qjulia gpu-params`, held fresh by tests/web.rs)
+// each case of fixtures/scenes.json (made by `qjulia gpu-params`, held fresh by tests/architecture/web.rs)
 // gives the same scene, or the same one-line message, word for word.
 
 import { parse as parseToml } from 'smol-toml';

@@ -1,6 +1,6 @@
 // The uniform packing's twin (src/uniform.ts) against the binary: for every scene of the corpus
 // that loads (fixtures/scenes.json, made by `qjulia gpu-params --json` and held fresh by
-// tests/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
+// tests/architecture/web.rs) and every preset, the bytes of `struct Params` for the first dispatch, its
 // samples a dispatch, the path tracer's `PathParams`, the 2D view's `Julia2dParams`, and the override constants (path mode's
 // the path kernel's), byte for byte and in order; and f32's precision warnings (the 3D slice's and the 2D view's), word for word.
 

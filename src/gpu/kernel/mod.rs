@@ -18,7 +18,7 @@
 //! the driver sees them; `bake.rs`, a scene's values made constants of the module; `walk.rs`,
 //! the statement walk both read the module with. The types of the kernel's state (`cache.rs`,
 //! `buffers.rs`) use nothing of this module; the parts that add the kernel's methods use this
-//! module, which uses none of theirs (no import cycle, tests/import_cycles.rs).
+//! module, which uses none of theirs (no import cycle, tests/architecture/import_cycles.rs).
 
 mod bake;
 mod buffers;
