@@ -12,9 +12,7 @@ fn gl_filters(ci: &str) -> Vec<String> {
         .lines()
         .find(|l| l.starts_with("gl_tests=("))
         .expect(".ci/run names its GL tests in gl_tests=(...)");
-    let inside = line
-        .trim_start_matches("gl_tests=(")
-        .trim_end_matches(')');
+    let inside = line.trim_start_matches("gl_tests=(").trim_end_matches(')');
     inside.split_whitespace().map(str::to_string).collect()
 }
 
@@ -119,7 +117,10 @@ fn the_gl_pass_runs_every_test_that_depends_on_a_capability() {
         .iter()
         .filter(|f| !capability_tests.iter().any(|t| t.contains(f.as_str())))
         .collect();
-    assert!(stale.is_empty(), "gl_tests filters that match no capability test: {stale:?}");
+    assert!(
+        stale.is_empty(),
+        "gl_tests filters that match no capability test: {stale:?}"
+    );
 }
 
 #[test]
@@ -128,7 +129,10 @@ fn the_scan_finds_tests_and_the_helpers_they_call() {
                 helper();\n}\n\n#[test]\nfn does_not() {\n    other();\n}\n";
     let fns = functions(text);
     let names: Vec<(&str, bool)> = fns.iter().map(|(n, t, _)| (n.as_str(), *t)).collect();
-    assert_eq!(names, [("helper", false), ("uses_it", true), ("does_not", true)]);
+    assert_eq!(
+        names,
+        [("helper", false), ("uses_it", true), ("does_not", true)]
+    );
     assert!(fns[1].2.contains("helper("));
     assert!(!fns[2].2.contains("helper("));
     assert_eq!(
