@@ -16,8 +16,11 @@ fn gl_filters(ci: &str) -> Vec<String> {
     inside.split_whitespace().map(str::to_string).collect()
 }
 
+/// A function of a file: its name, whether it is a `#[test]`, and its body.
+type Function = (String, bool, String);
+
 /// The functions of `text`: name, whether it is a `#[test]`, and its body (to the next `fn`).
-fn functions(text: &str) -> Vec<(String, bool, String)> {
+fn functions(text: &str) -> Vec<Function> {
     let lines: Vec<&str> = text.lines().collect();
     let starts: Vec<usize> = (0..lines.len())
         .filter(|&k| {
@@ -76,7 +79,7 @@ fn the_gl_pass_runs_every_test_that_depends_on_a_capability() {
     let mut capability_tests = Vec::new();
     for krate in ["render", "cli", "explore"] {
         let crate_dir = root.join("tests").join(krate);
-        let files: Vec<(PathBuf, Vec<(String, bool, String)>)> = rust_files(&crate_dir)
+        let files: Vec<(PathBuf, Vec<Function>)> = rust_files(&crate_dir)
             .into_iter()
             .map(|f| {
                 let text = std::fs::read_to_string(&f).unwrap();

@@ -17,6 +17,10 @@ fn qjulia_env(dir: &std::path::Path, args: &[&str], env: &[(&str, &str)]) -> std
     command.output().unwrap()
 }
 
+/// A case of `--precision f64` refused on the GPU: its name, the environment that makes it and
+/// what the error line names.
+type Refusal<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
+
 /// f64 runs on the CPU always, and on the GPU where the adapter passes the start-up check of f64
 /// (lavapipe does); where it fails (a wrong division injected through the check's test hook),
 /// `--backend gpu` exits 1 with one clear line and writes nothing, and `--backend auto` renders
@@ -47,7 +51,7 @@ fn f64_on_the_gpu_where_its_check_passes_else_refused_or_on_the_cpu() {
     let gpu = [&args[..], &["--backend", "gpu", "-o", "g.png"]].concat();
     let wrong_div = [("QJULIA_F64_CHECK_INJECT", "div")];
     let no_f64 = [("WGPU_BACKEND", "gl")];
-    let refusals: &[(&str, &[(&str, &str)], &str)] =
+    let refusals: &[Refusal] =
         if crate::common::gpu_has(Capability::F64, test, "the render in f64 on the GPU") {
             let out = qjulia(dir.path(), &gpu);
             assert!(out.status.success(), "{}", stderr(&out));
