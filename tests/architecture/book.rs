@@ -3,6 +3,7 @@
 //! within docs/ (the book's source, so that the built book keeps the link), and docs/SUMMARY.md
 //! lists every page under docs/ and nothing else. No mdbook needed: plain string scanning.
 
+use super::files_under;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Component, Path, PathBuf};
 
@@ -15,28 +16,10 @@ fn book_src() -> PathBuf {
     root().join("docs")
 }
 
-/// Every `.md` file under `dir`, sorted.
-fn markdown_under(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut todo = vec![dir.to_path_buf()];
-    while let Some(dir) = todo.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let path = entry.expect("a directory entry").path();
-            if path.is_dir() {
-                todo.push(path);
-            } else if path.extension().is_some_and(|e| e == "md") {
-                out.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
 /// The pages checked: README.md and every page of the book.
 fn pages() -> Vec<PathBuf> {
     let mut pages = vec![root().join("README.md")];
-    pages.extend(markdown_under(&book_src()));
+    pages.extend(files_under(&book_src(), &["md"]));
     pages
 }
 
@@ -351,7 +334,7 @@ fn the_summary_lists_every_page_of_the_book_once() {
             ));
         }
     }
-    for page in markdown_under(&book_src()) {
+    for page in files_under(&book_src(), &["md"]) {
         if page != summary_path && !listed.contains_key(&page) {
             problems.push(format!(
                 "{} is not in docs/SUMMARY.md, so the book does not show it",

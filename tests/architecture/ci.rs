@@ -4,6 +4,7 @@
 //! filter matches such a test, so that neither a new capability test nor a stale filter goes
 //! unseen.
 
+use super::files_under;
 use std::path::{Path, PathBuf};
 
 /// The `gl_tests=(...)` filters of `.ci/run`.
@@ -45,21 +46,6 @@ fn functions(text: &str) -> Vec<Function> {
         .collect()
 }
 
-/// The `.rs` files under `dir`, recursively.
-fn rust_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            files.extend(rust_files(&path));
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            files.push(path);
-        }
-    }
-    files.sort();
-    files
-}
-
 /// The path of `name` in the test crate of `file` (its module path, then the name).
 fn test_path(crate_dir: &Path, file: &Path, name: &str) -> String {
     let relative = file.strip_prefix(crate_dir).unwrap().with_extension("");
@@ -79,7 +65,7 @@ fn the_gl_pass_runs_every_test_that_depends_on_a_capability() {
     let mut capability_tests = Vec::new();
     for krate in ["render", "cli", "explore"] {
         let crate_dir = root.join("tests").join(krate);
-        let files: Vec<(PathBuf, Vec<Function>)> = rust_files(&crate_dir)
+        let files: Vec<(PathBuf, Vec<Function>)> = files_under(&crate_dir, &["rs"])
             .into_iter()
             .map(|f| {
                 let text = std::fs::read_to_string(&f).unwrap();

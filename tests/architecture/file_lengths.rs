@@ -4,8 +4,9 @@
 //! comment). A long file is split into modules; a reason is for a file that cannot be (a twin of
 //! a shader, mirrored function by function).
 
+use super::files_under;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The most lines a file may have without a reason.
 const LIMIT: usize = 600;
@@ -13,28 +14,6 @@ const LIMIT: usize = 600;
 const HEADER_LINES: usize = 30;
 /// What the reason's line holds.
 const REASON: &str = "Why it passes 600 lines:";
-
-/// Every `.rs` and `.wgsl` file under `dir`, recursively, sorted.
-fn sources_under(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut todo = vec![dir.to_path_buf()];
-    while let Some(d) = todo.pop() {
-        let entries = fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
-        for entry in entries {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                todo.push(path);
-            } else if path
-                .extension()
-                .is_some_and(|ext| ext == "rs" || ext == "wgsl")
-            {
-                out.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
-}
 
 /// Whether `text` is too long: LIMIT lines or more, and no reason in its first lines.
 fn too_long(text: &str) -> Option<usize> {
@@ -48,7 +27,7 @@ fn no_source_file_passes_600_lines_without_a_reason() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     for dir in ["src", "shaders", "tests"] {
-        files.extend(sources_under(&root.join(dir)));
+        files.extend(files_under(&root.join(dir), &["rs", "wgsl"]));
     }
     assert!(files.len() > 50, "the walk found too little: {files:?}");
     let long: Vec<String> = files

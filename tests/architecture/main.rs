@@ -15,3 +15,27 @@ mod import_cycles;
 mod shaders;
 mod twins;
 mod web;
+
+use std::path::{Path, PathBuf};
+
+/// Every file under `dir`, recursively, whose extension is one of `extensions`, sorted (the
+/// book's pages, the sources whose lengths are held, the test files CI's GL pass is held to).
+fn files_under(dir: &Path, extensions: &[&str]) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(dir) = todo.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                todo.push(path);
+            } else if path
+                .extension()
+                .is_some_and(|e| extensions.iter().any(|x| e == *x))
+            {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}

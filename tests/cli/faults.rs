@@ -22,11 +22,7 @@ impl FullDisk {
             .output()
             .is_ok_and(|o| o.status.success());
         if !ok {
-            assert!(
-                std::env::var_os("QJULIA_CI").is_none(),
-                "{name}: cannot mount a tmpfs (needs root); CI must run it"
-            );
-            common::say_skipped(name, "a full disk", "cannot mount a tmpfs: needs root");
+            common::skip_outside_ci(name, "a full disk", "cannot mount a tmpfs: needs root");
             return None;
         }
         Some(Self { dir })

@@ -116,14 +116,10 @@ fn oiiotool_reads_the_channels_and_the_scene() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !found {
-        assert!(
-            std::env::var_os("QJULIA_CI").is_none(),
-            "oiiotool is not on PATH under CI (.ci/run installs openimageio-tools)"
-        );
-        common::say_skipped(
+        common::skip_outside_ci(
             "oiiotool_reads_the_channels_and_the_scene",
             "the reading by oiiotool",
-            "oiiotool not on PATH: apt-get install openimageio-tools",
+            "oiiotool not on PATH: apt-get install openimageio-tools (.ci/run installs it)",
         );
         return;
     }

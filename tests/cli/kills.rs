@@ -295,11 +295,7 @@ fn real_ffmpeg() -> Option<PathBuf> {
             .find(|p| p.is_file())
     });
     if found.is_none() {
-        assert!(
-            std::env::var_os("QJULIA_CI").is_none(),
-            "ffmpeg is missing; CI must have it"
-        );
-        common::say_skipped("kills: ffmpeg", "killing ffmpeg", "no ffmpeg on PATH");
+        common::skip_outside_ci("kills: ffmpeg", "killing ffmpeg", "no ffmpeg on PATH");
     }
     found
 }
