@@ -10,16 +10,23 @@
 #   - no panic in the explorer's log, and its window alive at the end;
 #   - resident memory after the first minute (or the first sixth, in a short soak) grows by at
 #     most 50 MB;
-#   - with --timing only: the 95th percentile of the frames' own work is within 2x of its median
-#     (the explorer's per-frame log, QJULIA_EXPLORE_LOG=frames). CI runs a 60 s soak without
-#     --timing: on a shared machine, timing is no test.
+#   - with --timing only (the explorer's per-frame log, QJULIA_EXPLORE_LOG=frames), over the
+#     timed part: the 95th percentile of the frames' own work is within 2x of its median, and
+#     (issue 48) no frame's own work is over 250 ms (the tour's preset switches included), the
+#     95th percentile of the interval between frames is at most 50 ms, and the 95th percentile
+#     of the input latency is at most 100 ms. The input latency of a drag's mouse move is the
+#     time from its sending (bash's EPOCHREALTIME) to the end of the first frame that shows a
+#     render begun after the first frame that took the move (the log's `at`, `shows` and
+#     `input`). CI runs a 60 s soak without --timing: on a shared machine, timing is no test.
 # --memory-reported prints the memory figures without failing on them: CI's 60 s soak, too short
 # to tell a leak from the working set (tests/render/repeated_renders.rs holds the leak the soak found;
 # docs/book/robustness.md, "The explorer, soaked").
 # QJULIA_SOAK_ONLY=drag (or wheel, key, preset, scrub, resize) repeats that one action, to find
 # which one a figure comes from. QJULIA_SOAK_KEEP=FILE keeps the explorer's log in FILE, the
 # memory samples (seconds, kB) in FILE.rss and the actions (seconds, action) in FILE.actions.
-# Before the timed part, a tour visits every preset in 3D and 2D (QJULIA_SOAK_TOUR=0: none).
+# Before the timed part, a tour visits every preset in 3D and 2D (QJULIA_SOAK_TOUR=0: none);
+# QJULIA_SOAK_PRESET=K then chooses the menu's preset K (0-based; 15 is "Path traced") for the
+# timed part to start in.
 # Exit 0 when every check passes, 1 when one fails, 2 when the soak cannot start.
 # Needs Xvfb and xdotool (Debian: xvfb, xdotool); the binary is target/release/qjulia (QJULIA).
 set -u
@@ -52,6 +59,7 @@ cleanup() {
         cp "$WORK/explore.log" "$QJULIA_SOAK_KEEP"
         cp "$WORK/rss" "$QJULIA_SOAK_KEEP.rss" 2>/dev/null
         cp "$WORK/actions" "$QJULIA_SOAK_KEEP.actions" 2>/dev/null
+        cp "$WORK/inputs" "$QJULIA_SOAK_KEEP.inputs" 2>/dev/null
     fi
     rm -rf "$WORK"
 }
@@ -95,6 +103,9 @@ drag() {
         X=$((X + RANDOM % 61 - 30))
         Y=$((Y + RANDOM % 61 - 30))
         sleep 0.05
+        # When the move was sent, in milliseconds since the epoch: the input latency's start.
+        local us=${EPOCHREALTIME/./}
+        echo "$((us / 1000)).$((us / 100 % 10))" >>"$WORK/inputs"
         xdotool mousemove --window "$WIN" "$X" "$Y"
     done
     sleep 0.05
@@ -111,14 +122,16 @@ key() {
     DETAIL=${keys[RANDOM % ${#keys[@]}]}
     xdotool key --window "$WIN" "$DETAIL"
 }
-# The Presets menu of the menu bar, and its entry K of 14 (23 pixels apart); preset: one at random.
+# The Presets menu of the menu bar, and its entry K of PRESETS (23 pixels apart); preset: one at
+# random.
+PRESETS=17
 preset_number() {
     xdotool mousemove --window "$WIN" 62 12 click 1
     sleep 0.3
     xdotool mousemove --window "$WIN" 95 $((39 + 23 * $1)) click 1
 }
 preset() {
-    DETAIL=$((RANDOM % 14))
+    DETAIL=$((RANDOM % PRESETS))
     preset_number "$DETAIL"
 }
 # The timeline's strip: the band above the status line, the window's width.
@@ -143,7 +156,7 @@ resize() {
 # before memory is measured, and a growth after the first minute is a leak rather than a
 # preset the random walk met late. QJULIA_SOAK_TOUR=0 leaves it out.
 if [ "${QJULIA_SOAK_TOUR:-1}" != 0 ]; then
-    for k in $(seq 0 13); do
+    for k in $(seq 0 $((PRESETS - 1))); do
         preset_number "$k"
         sleep 2
         xdotool windowfocus "$WIN" 2>/dev/null
@@ -152,10 +165,15 @@ if [ "${QJULIA_SOAK_TOUR:-1}" != 0 ]; then
         xdotool key --window "$WIN" m
         sleep 1
     done
-    echo "soak: toured the 14 presets in 3D and 2D, resident $(rss) kB"
+    echo "soak: toured the $PRESETS presets in 3D and 2D, resident $(rss) kB"
+fi
+if [ -n "${QJULIA_SOAK_PRESET:-}" ]; then
+    preset_number "$QJULIA_SOAK_PRESET"
+    sleep 1
 fi
 
 START=$(date +%s)
+START_MS=$(awk -v s="$START" 'BEGIN {printf "%.1f", s * 1000}')
 MINUTE=$(( SECONDS_TOTAL / 6 < 60 ? SECONDS_TOTAL / 6 : 60 ))
 RSS_BASE=""
 RSS_MAX=0
@@ -235,6 +253,26 @@ if [ "$FRAMES" -gt 0 ]; then
         awk -v n="$SUBMITS" 'NR == int((n + 1) / 2) {m = $1} NR == int(n * 0.95 + 0.999) {p = $1}
             END {printf "soak: %d of them submitted tiles: median %s ms, 95th percentile %s ms\n", n, m, p}' "$WORK/submits"
     fi
+    # The timed part's frames: the interval between them, and the input latency of the drags'
+    # moves (see the header).
+    grep "^explore frame" "$WORK/explore.log" |
+        sed -n 's/.*: \([0-9.]*\) ms work, \([0-9.]*\) ms since the last, at \([0-9.]*\), shows \([-0-9.]*\)\(, input\)\{0,1\}.*/\1 \2 \3 \4 \5/p' |
+        awk -v s="$START_MS" '$3 >= s' >"$WORK/timed"
+    percentiles() { # a sorted file: its median, 95th percentile and maximum
+        awk '{v[NR] = $1} END {if (NR == 0) {print "- - -"; exit}
+            printf "%s %s %s\n", v[int((NR + 1) / 2)], v[int(NR * 0.95 + 0.999)], v[NR]}' "$1"
+    }
+    awk 'NR > 1 {print $2}' "$WORK/timed" | sort -g >"$WORK/intervals"
+    read -r I50 I95 IMAX < <(percentiles "$WORK/intervals")
+    echo "soak: the timed part's $(wc -l <"$WORK/intervals") frame intervals: median $I50 ms, 95th percentile $I95 ms, max $IMAX ms"
+    touch "$WORK/inputs"
+    awk 'NR == FNR {at[NR] = $3; end[NR] = $3 + $1; shows[NR] = $4; input[NR] = ($5 != ""); n = NR; next}
+        {t = $1; i = 1; while (i <= n && !(input[i] && at[i] >= t)) i++
+         if (i > n) next
+         h = at[i]; j = i; while (j <= n && !(shows[j] != "-" && shows[j] + 0 >= h)) j++
+         if (j <= n) printf "%.1f\n", end[j] - t}' "$WORK/timed" "$WORK/inputs" | sort -g >"$WORK/latency"
+    read -r L50 L95 LMAX < <(percentiles "$WORK/latency")
+    echo "soak: input latency of $(wc -l <"$WORK/latency") of $(wc -l <"$WORK/inputs") drag moves: median $L50 ms, 95th percentile $L95 ms, max $LMAX ms"
     if [ "$TIMING" = 1 ]; then
         if awk -v m="$MEDIAN" -v p="$P95" 'BEGIN {exit !(p <= 2 * m)}'; then
             echo "soak: 95th percentile within 2x of the median: yes"
@@ -242,6 +280,17 @@ if [ "$FRAMES" -gt 0 ]; then
             echo "soak: 95th percentile within 2x of the median: NO"
             FAIL=1
         fi
+        check() { # name, figure, limit
+            if awk -v v="$2" -v l="$3" 'BEGIN {exit !(v != "-" && v <= l)}'; then
+                echo "soak: $1 $2 ms, at most $3 ms: yes"
+            else
+                echo "soak: $1 $2 ms, at most $3 ms: NO"
+                FAIL=1
+            fi
+        }
+        check "longest frame's own work" "$MAX" 250
+        check "frame interval's 95th percentile" "$I95" 50
+        check "input latency's 95th percentile" "$L95" 100
     fi
 else
     echo "soak: no frame logged"

@@ -13,8 +13,9 @@ use crate::picture::{Picture, Work};
 use crate::scene::Scene;
 
 /// The float type the tracer runs in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Precision {
+    #[default]
     F32,
     F64,
 }

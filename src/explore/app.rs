@@ -15,9 +15,8 @@ use std::time::Instant;
 use super::command::Command;
 use super::export::Export;
 use super::file_dialog::FileDialog;
-use super::julia2d_texture::Julia2dTexture;
 use super::persistence::{self, load_persisted, load_persisted_timeline};
-use super::slice_texture::SliceTexture;
+use super::slice_texture::{Julia2dTexture, SliceTexture};
 use super::state::ExplorerState;
 use super::status::StatusLine;
 use super::timeline::job::RenderJob;
@@ -466,7 +465,10 @@ impl ExplorerApp {
         acted |= span("commands", || self.apply_all(panels));
         let windows = span("windows", || self.windows(&ctx));
         acted |= span("commands", || self.apply_all(windows));
-        self.runtime.status.log(now, &self.runtime.viewport);
+        let mode = self.state.mode;
+        self.runtime
+            .status
+            .log(now, &mut self.runtime.viewport, mode);
         if acted || self.state.playing() || self.runtime.export.is_some() || self.rendering() {
             ctx.request_repaint();
         }

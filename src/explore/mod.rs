@@ -13,7 +13,6 @@ pub mod file_dialog;
 mod heat_texture;
 mod hypersphere;
 pub mod input;
-pub mod julia2d_texture;
 mod kernel_texture;
 mod menu;
 mod panels;

@@ -69,7 +69,7 @@ impl StatusLine {
                         "2D at {:.6} {:+.6} i, extent {:.3e}",
                         v.center[0], v.center[1], v.extent
                     ));
-                    ui.label(format!("render {:.0} ms", view2d.render_seconds * 1e3));
+                    ui.label(format!("render {:.0} ms", view2d.render_seconds() * 1e3));
                     let precision = match view2d.precision() {
                         crate::precision::Precision::F64 => "f64 (deep zoom)",
                         crate::precision::Precision::F32 => "f32",
@@ -171,30 +171,42 @@ impl StatusLine {
     /// shows (for measuring the explorer where no one watches it). With
     /// `QJULIA_EXPLORE_LOG=frames`, one line a frame instead: its number, the time the frame's
     /// own work took (from `now`, its start, to this call at its end: input, jobs polled,
-    /// panels and view) and the time since the last frame began (idle waits included), then
-    /// the frame's spans of a millisecond or more ([`crate::render::progressive::spans`]), as
-    /// `explore frame 12: 3.41 ms work, 16.70 ms since the last; controls 1.20, view 2.05`.
-    pub fn log(&mut self, now: Instant, viewport: &Viewport) {
-        let mode = std::env::var_os("QJULIA_EXPLORE_LOG");
-        if mode.as_ref().is_some_and(|v| v == "frames") {
+    /// panels and view), the time since the last frame began (idle waits included), when it
+    /// began (`at`, milliseconds since the Unix epoch), when the render of the image it shows
+    /// began (`shows`, the same clock, `-` for none), `input` where the user's input asked the
+    /// view for something new in it, then the frame's spans of a millisecond or more
+    /// ([`crate::render::progressive::spans`]), as `explore frame 12: 3.41 ms work, 16.70 ms
+    /// since the last, at 1796601600123.4, shows 1796601600080.1, input; controls 1.20, view
+    /// 2.05`. A frame that shows a render begun after an input frame began shows that input:
+    /// the soak's input latency.
+    pub fn log(&mut self, now: Instant, viewport: &mut Viewport, mode: Mode) {
+        let mode_log = std::env::var_os("QJULIA_EXPLORE_LOG");
+        let input = viewport.input_asked.take();
+        if mode_log.as_ref().is_some_and(|v| v == "frames") {
+            use crate::render::progressive::spans::{epoch_ms, keep, take};
             let work = now.elapsed().as_secs_f64() * 1e3;
             let since = self
                 .last_logged
                 .map_or(0.0, |t| now.duration_since(t).as_secs_f64() * 1e3);
             // The first frame logged turns the spans on; each frame's of a millisecond or
             // more follow its figures.
-            crate::render::progressive::spans::keep(true);
-            let spans = crate::render::progressive::spans::take(1.0);
+            keep(true);
+            let spans = take(1.0);
+            let shows = viewport
+                .shown_began(mode)
+                .map_or_else(|| "-".to_string(), |t| format!("{:.1}", epoch_ms(t)));
             eprintln!(
-                "explore frame {}: {work:.2} ms work, {since:.2} ms since the last{}{spans}",
+                "explore frame {}: {work:.2} ms work, {since:.2} ms since the last, at {:.1}, shows {shows}{}{}{spans}",
                 self.frames_logged,
+                epoch_ms(now),
+                if input.is_some() { ", input" } else { "" },
                 if spans.is_empty() { "" } else { "; " }
             );
             self.frames_logged += 1;
             self.last_logged = Some(now);
             return;
         }
-        if mode.is_none_or(|v| v != "1") {
+        if mode_log.is_none_or(|v| v != "1") {
             return;
         }
         self.log_frames += 1;

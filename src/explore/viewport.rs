@@ -6,21 +6,21 @@ use std::sync::Arc;
 
 use super::heat_texture::HeatTexture;
 use super::input;
-use super::julia2d_texture::Julia2dTexture;
-use super::slice_texture::SliceTexture;
+use super::slice_texture::{Julia2dTexture, SliceTexture, ThreadView};
 use super::state::Mode;
-use crate::gpu::{GpuContext, GpuKernels};
 use crate::heatmap::Legend;
 use crate::precision::PrecisionChoice;
 use crate::render::progressive::spans::span;
+use crate::render::progressive::view_thread::ViewThread;
 use crate::render::{Backend, Planner};
 use crate::scene::{Scene, View};
 
 /// The whole texture.
 const FULL_UV: egui::Rect = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
 
-/// How often the view looks whether the pipeline it waits for is built.
-const BUILD_POLL: std::time::Duration = std::time::Duration::from_millis(20);
+/// How often the UI draws while the view works and publishes nothing new (a new image is
+/// drawn at once: the view thread wakes the UI): a safety net, should a wake be missed.
+const HEARTBEAT: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// How the view is drawn, besides the scene.
 #[derive(Clone, Copy, Debug)]
@@ -41,13 +41,17 @@ pub struct Viewport {
     /// The 2D mode's renderer (the render2d kernel).
     pub julia2d_texture: Option<Julia2dTexture>,
     heat: Option<HeatTexture>,
-    /// The UI device's kernels: the views' and the exports' (None without a GPU).
-    kernels: Option<Arc<GpuKernels>>,
+    /// The views' thread, whose device's kernels the exports run on (None without a GPU).
+    thread: Option<Arc<ViewThread>>,
     gpu_error: Option<String>,
     pub adapter_label: String,
     /// The view's size in pixels last frame, and where it was drawn (in points).
     pub pixels: [u32; 2],
     pub rect: egui::Rect,
+    /// What the view was last asked to show, and when this frame asked for something new
+    /// because of the user's input (the input latency's start, `QJULIA_EXPLORE_LOG=frames`).
+    asked: Option<(Mode, Scene, [u32; 2])>,
+    pub input_asked: Option<std::time::Instant>,
 }
 
 impl Default for Viewport {
@@ -56,30 +60,36 @@ impl Default for Viewport {
             slice_texture: None,
             julia2d_texture: None,
             heat: None,
-            kernels: None,
+            thread: None,
             gpu_error: None,
             adapter_label: String::new(),
             pixels: [0, 0],
             rect: egui::Rect::NOTHING,
+            asked: None,
+            input_asked: None,
         }
     }
 }
 
 impl Viewport {
-    /// Puts the tracer on the UI's device and draws the view through its renderer.
+    /// Puts the views on the view thread ([`ViewThread`]: a device of their own on the
+    /// window's adapter, made on the thread; the UI's thread runs no tile, and the window's
+    /// submissions never wait behind the views' nor theirs behind the window's); their images
+    /// are drawn through the window's renderer. The exports run on the views' device too.
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
-        let ctx = GpuContext::from_device(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
-        self.adapter_label = ctx.adapter_label();
-        let kernels = Arc::new(GpuKernels::new(ctx));
-        match Julia2dTexture::on_textures(kernels.clone(), rs.renderer.clone()) {
-            Ok(view) => self.julia2d_texture = Some(view),
-            Err(e) => self.gpu_error = Some(e.to_string()),
-        }
-        match SliceTexture::on_textures(kernels.clone(), rs.renderer.clone()) {
-            Ok(view) => self.slice_texture = Some(view),
-            Err(e) => self.gpu_error = Some(e.to_string()),
-        }
-        self.kernels = Some(kernels);
+        let info = rs.adapter.get_info();
+        self.adapter_label = crate::gpu::adapter_label(&info);
+        let thread = Arc::new(ViewThread::start(info));
+        let window = (rs.device.clone(), rs.queue.clone());
+        let renderer = rs.renderer.clone();
+        self.slice_texture = Some(SliceTexture::new(
+            thread.clone(),
+            false,
+            window.clone(),
+            renderer.clone(),
+        ));
+        self.julia2d_texture = Some(Julia2dTexture::new(thread.clone(), true, window, renderer));
+        self.thread = Some(thread);
     }
 
     /// Why there is no GPU view (shown in its place).
@@ -92,7 +102,7 @@ impl Viewport {
         Self {
             slice_texture: self.slice_texture,
             julia2d_texture: self.julia2d_texture,
-            kernels: self.kernels,
+            thread: self.thread,
             gpu_error: self.gpu_error,
             adapter_label: self.adapter_label,
             ..Self::default()
@@ -104,8 +114,8 @@ impl Viewport {
     /// so an export is the bytes `qjulia render`, `animate` or `mesh` writes of its scene.
     pub fn planner(&self) -> Planner {
         let (backend, choice) = (Backend::Auto, PrecisionChoice::Auto);
-        match &self.kernels {
-            Some(kernels) => Planner::on_device(kernels.clone(), backend, choice),
+        match self.thread.as_ref().and_then(|t| t.kernels()) {
+            Some(kernels) => Planner::on_device(kernels, backend, choice),
             None => Planner::new(backend, choice),
         }
     }
@@ -127,7 +137,7 @@ impl Viewport {
             return self
                 .julia2d_texture
                 .as_ref()
-                .is_some_and(|v| v.is_refined(&view_scene));
+                .is_some_and(|v| v.is_refined(&view_scene, self.pixels) && !v.busy());
         }
         let Some(view) = &self.slice_texture else {
             return false;
@@ -144,6 +154,14 @@ impl Viewport {
                 .as_ref()
                 .is_some_and(|h| h.is_for(scene.image.view, generation));
         refined && !view.busy() && heat_made
+    }
+
+    /// When the render of the image shown in `mode` began.
+    pub fn shown_began(&self, mode: Mode) -> Option<std::time::Instant> {
+        match mode {
+            Mode::Slice3d => self.slice_texture.as_ref()?.shown_began(),
+            Mode::Julia2d => self.julia2d_texture.as_ref()?.shown_began(),
+        }
     }
 
     /// The legend of the step view `view` shown, if one is.
@@ -171,6 +189,17 @@ impl Viewport {
             (rect.width() * ppp).round().max(1.0) as u32,
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
+        let asked = (
+            options.mode,
+            self.view_scene(scene, options.preview_samples),
+            self.pixels,
+        );
+        if self.asked.as_ref() != Some(&asked) {
+            if ui.input(|i| !i.events.is_empty()) {
+                self.input_asked = Some(std::time::Instant::now());
+            }
+            self.asked = Some(asked);
+        }
         // The mode not shown gives its views' memory back.
         match options.mode {
             Mode::Slice3d => {
@@ -202,11 +231,11 @@ impl Viewport {
         let interacting =
             response.dragged() || options.playing || ui.input(|i| i.pointer.any_down());
         let view_scene = self.view_scene(scene, options.preview_samples);
-        let Some(view) = &mut self.slice_texture else {
+        let Some(view) = self.slice_texture.as_mut().filter(|v| v.error().is_none()) else {
             self.no_gpu(ui, rect);
             return;
         };
-        view.update(&view_scene, self.pixels, interacting);
+        view.update(ui.ctx(), &view_scene, self.pixels, interacting);
         let shown = scene.image.view;
         if shown == View::Shaded {
             if let Some((texture, _)) = view.texture() {
@@ -230,12 +259,11 @@ impl Viewport {
                 heat.paint(ui.painter(), rect);
             }
         }
-        // Waiting for a pipeline alone is no work: look again soon, rather than spin frames
-        // beside the build on the same cores.
-        if view.building_pipeline() {
-            ui.ctx().request_repaint_after(BUILD_POLL);
-        } else if view.busy() {
-            ui.ctx().request_repaint();
+        // The view thread wakes the UI when it publishes something new; until then the UI
+        // draws nothing more for it (on a CPU adapter a frame of the window costs the view's
+        // tracer the cores it paints on).
+        if view.busy() {
+            ui.ctx().request_repaint_after(HEARTBEAT);
         }
     }
 
@@ -248,25 +276,33 @@ impl Viewport {
         options: ViewOptions,
     ) {
         let scene = self.view_scene(scene, options.preview_samples);
-        let Some(view2d) = &mut self.julia2d_texture else {
+        let Some(view2d) = self
+            .julia2d_texture
+            .as_mut()
+            .filter(|v| v.error().is_none())
+        else {
             self.no_gpu(ui, rect);
             return;
         };
-        view2d.update(&scene);
+        view2d.update_2d(ui.ctx(), &scene);
         if let Some((texture, _)) = view2d.texture() {
             ui.painter()
                 .image(texture, rect, FULL_UV, egui::Color32::WHITE);
         }
-        if view2d.busy() || !view2d.is_refined(&scene) {
-            ui.ctx().request_repaint();
+        if view2d.busy() {
+            ui.ctx().request_repaint_after(HEARTBEAT);
         }
     }
 
     /// In place of the view when there is no GPU renderer: why, and what to install.
     fn no_gpu(&self, ui: &mut egui::Ui, rect: egui::Rect) {
+        let thread_error = self.slice_texture.as_ref().and_then(ThreadView::error);
         let text = format!(
             "No GPU renderer: {}\n{}",
-            self.gpu_error.as_deref().unwrap_or("unknown error"),
+            self.gpu_error
+                .as_deref()
+                .or(thread_error)
+                .unwrap_or("unknown error"),
             crate::error::INSTALL_ADAPTER_HINT
         );
         ui.put(rect, egui::Label::new(text));

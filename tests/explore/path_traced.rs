@@ -82,8 +82,8 @@ fn path_mode_shows_the_render_and_exposure_and_tone_map_need_no_new_trace() {
     harness
         .get_by_role_and_label(egui::Role::Slider, "exposure (stops)")
         .set_value_accesskit(1.25);
-    harness.step();
-    harness.step();
+    // The view thread encodes the mean again while the UI draws on: wait for it.
+    settle(&mut harness);
     assert_eq!(harness.state().scene.image.exposure, 1.25);
     let view = harness.state().slice_texture().unwrap();
     assert_eq!(
@@ -116,6 +116,7 @@ fn path_mode_shows_the_render_and_exposure_and_tone_map_need_no_new_trace() {
     harness.run_steps(2);
     harness.get_by_label("reinhard").click_accesskit();
     harness.run_steps(2);
+    settle(&mut harness);
     assert_eq!(
         harness.state().scene.image.tone_map,
         qjulia::display::ToneMap::Reinhard
@@ -429,8 +430,7 @@ fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
     // Exposure on a denoised view: encoded again, neither traced nor denoised again.
     let encodes = harness.state().slice_texture().unwrap().encodes();
     harness.state_mut().scene.image.exposure = 1.0;
-    harness.step();
-    harness.step();
+    settle(&mut harness);
     assert!(harness.state().view_refined());
     let view = harness.state().slice_texture().unwrap();
     assert_eq!(view.dispatches(), dispatches);

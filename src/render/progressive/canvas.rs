@@ -22,7 +22,7 @@ pub trait Canvas {
     );
     /// Writes the whole texture of `quality`, `size` pixels, from `colour` (packed RGBA8, row
     /// after row).
-    fn write(&self, quality: Quality, queue: &wgpu::Queue, colour: &[u32], size: [u32; 2]);
+    fn write(&mut self, quality: Quality, queue: &wgpu::Queue, colour: &[u32], size: [u32; 2]);
     /// Gives back the textures (the session is no longer shown).
     fn release(&mut self);
 }

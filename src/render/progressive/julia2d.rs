@@ -31,6 +31,8 @@ pub struct Julia2dView<F: GpuReal, C: Canvas> {
     submitted: Option<Julia2dParams<F>>,
     in_flight: Arc<AtomicBool>,
     started: Instant,
+    /// When the render of the image shown began (a scene asked for before then is in it).
+    shown_began: Option<Instant>,
     /// Seconds the last finished render took (submission to completion).
     pub render_seconds: f64,
     done_at: Arc<Mutex<Option<Instant>>>,
@@ -47,6 +49,7 @@ impl<F: GpuReal, C: Canvas> Julia2dView<F, C> {
             submitted: None,
             in_flight: Arc::new(AtomicBool::new(false)),
             started: Instant::now(),
+            shown_began: None,
             render_seconds: 0.0,
             done_at: Arc::new(Mutex::new(None)),
         }
@@ -56,6 +59,19 @@ impl<F: GpuReal, C: Canvas> Julia2dView<F, C> {
     pub fn shown(&self) -> Option<[u32; 2]> {
         let t = self.target.as_ref()?;
         self.submitted.as_ref().map(|_| [t.width, t.height])
+    }
+
+    /// When the render of the image shown began (a render done and not yet taken by
+    /// [`Self::update`] is shown).
+    pub fn shown_began(&self) -> Option<Instant> {
+        if self.done_at.lock().unwrap().is_some() {
+            return Some(self.started);
+        }
+        self.shown_began
+    }
+
+    pub fn canvas_mut(&mut self) -> &mut C {
+        &mut self.canvas
     }
 
     /// The canvas the view shows its image on.
@@ -78,6 +94,7 @@ impl<F: GpuReal, C: Canvas> Julia2dView<F, C> {
         self.julia.context().device.poll(wgpu::PollType::Poll).ok();
         if let Some(done) = self.done_at.lock().unwrap().take() {
             self.render_seconds = done.duration_since(self.started).as_secs_f64();
+            self.shown_began = Some(self.started);
         }
         let params = Julia2dParams::<F>::new(scene);
         if self.busy() || self.submitted.as_ref() == Some(&params) {
@@ -125,6 +142,7 @@ impl<F: GpuReal, C: Canvas> Julia2dView<F, C> {
             self.canvas.release();
         }
         self.submitted = None;
+        self.shown_began = None;
     }
 
     /// Makes sure the target has this size, re-creating it if not.
@@ -216,6 +234,22 @@ impl<C: Canvas> Live2d<C> {
         match self.views.shown() {
             Either::F32(view) => view.shown().map(|size| (view.canvas(), size)),
             Either::F64(view) => view.shown().map(|size| (view.canvas(), size)),
+        }
+    }
+
+    /// When the render of the image shown began ([`Julia2dView::shown_began`]).
+    pub fn shown_began(&self) -> Option<Instant> {
+        match self.views.shown() {
+            Either::F32(view) => view.shown_began(),
+            Either::F64(view) => view.shown_began(),
+        }
+    }
+
+    /// The canvas of the view shown, to change.
+    pub fn shown_canvas_mut(&mut self) -> &mut C {
+        match self.views.shown_mut() {
+            Either::F32(view) => view.canvas_mut(),
+            Either::F64(view) => view.canvas_mut(),
         }
     }
 

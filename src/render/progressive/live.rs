@@ -136,6 +136,18 @@ impl<C: Canvas> LiveView<C> {
         }
     }
 
+    /// The canvas of the view shown, to change.
+    pub fn shown_canvas_mut(&mut self) -> &mut C {
+        let views = match (&mut self.path_views, self.path_shown) {
+            (Some(Ok(views)), true) => views,
+            _ => &mut self.views,
+        };
+        match views.shown_mut() {
+            Either::F32(view) => view.canvas_mut(),
+            Either::F64(view) => view.canvas_mut(),
+        }
+    }
+
     /// Whether the view shown is path traced.
     pub fn path_traced(&self) -> bool {
         self.path_shown
@@ -169,6 +181,11 @@ impl<C: Canvas> LiveView<C> {
     /// canvas's textures) and its size in pixels.
     pub fn shown_image(&self) -> Option<(&C, Quality, [u32; 2])> {
         on_shown!(self.shown(), view => view.shown().map(|(q, size)| (view.canvas(), q, size)))
+    }
+
+    /// When the render of the image shown began ([`Session::shown_began`]).
+    pub fn shown_began(&self) -> Option<std::time::Instant> {
+        on_shown!(self.shown(), view => view.shown_began())
     }
 
     pub fn busy(&self) -> bool {

@@ -10,6 +10,7 @@
 
 pub mod canvas;
 pub mod denoise_worker;
+pub mod host_canvas;
 pub mod julia2d;
 pub mod live;
 pub mod pipeline_builder;
@@ -17,6 +18,7 @@ pub mod readback;
 pub mod session;
 pub mod spans;
 pub mod switch;
+pub mod view_thread;
 
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
@@ -36,8 +38,11 @@ const TILE_SECONDS: f64 = 0.015;
 /// figure for both keeps the frames even, and the UI as quick to answer while the view refines
 /// as while it moves. (A refining frame once took 80 ms and more: the soak's 95th percentile.)
 pub const FRAME_SECONDS: f64 = 0.03;
-/// Submissions in flight at most.
-pub const MAX_IN_FLIGHT: u32 = 4;
+/// Submissions in flight at most: one. The view runs on a thread of its own, which waits for
+/// its device (`ViewThread`), so more in flight buys no speed, and a new picture waited behind
+/// every tile in flight: in the soak on lavapipe, 4 in flight gave a drag's image 835 ms at the
+/// 95th percentile, 1 gave 404 ms (docs/book/robustness.md).
+pub const MAX_IN_FLIGHT: u32 = 1;
 /// How long the scene must stay unchanged before the full-resolution render starts.
 pub const IDLE_DELAY: Duration = Duration::from_millis(150);
 

@@ -8,6 +8,24 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+/// The clock's anchor: an instant and the wall-clock time at it, taken once.
+static ANCHOR: std::sync::OnceLock<(Instant, std::time::SystemTime)> = std::sync::OnceLock::new();
+
+/// Milliseconds since the Unix epoch at `t`, on one anchor for the process, so that the frames
+/// log and a script's `date +%s%3N` read the same clock.
+pub fn epoch_ms(t: Instant) -> f64 {
+    let (at, wall) = *ANCHOR.get_or_init(|| (Instant::now(), std::time::SystemTime::now()));
+    let since_epoch = wall
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default()
+        .as_secs_f64();
+    let offset = match t.checked_duration_since(at) {
+        Some(after) => after.as_secs_f64(),
+        None => -at.duration_since(t).as_secs_f64(),
+    };
+    (since_epoch + offset) * 1e3
+}
+
 /// Whether spans are kept (the frames log is on).
 static ON: AtomicBool = AtomicBool::new(false);
 

@@ -100,6 +100,14 @@ impl<A, B> PrecisionSwitch<A, B> {
         }
     }
 
+    /// The view shown now, to change.
+    pub fn shown_mut(&mut self) -> Either<&mut A, &mut B> {
+        match (&self.active, &mut self.f64_view) {
+            (Precision::F64, Some(Ok(view))) => Either::F64(view),
+            _ => Either::F32(&mut self.f32_view),
+        }
+    }
+
     /// The precision of the view shown.
     pub fn precision(&self) -> Precision {
         self.active

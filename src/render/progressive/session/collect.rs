@@ -50,6 +50,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
                 size: rb.size,
                 samples: rb.samples,
                 quality: rb.quality,
+                began: rb.began,
                 generation: self.generation,
                 encoded: None,
             });
@@ -134,6 +135,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         kept.encoded = Some(encoding);
         self.encodes += 1;
         self.shown = Some(kept.quality);
+        self.shown_began = Some(kept.began);
         self.stats.samples = self.stats.samples.max(kept.samples);
     }
 

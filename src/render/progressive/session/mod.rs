@@ -183,7 +183,10 @@ struct Job<F: GpuReal> {
     /// mode's always does) for the samples each pixel took.
     adaptive: bool,
     next_row: u32,
+    /// When this pass started, and when the render's first pass did (the scene it shows was
+    /// asked for before then).
     started: Instant,
+    began: Instant,
     /// Completion times of its tiles, filled in by the queue's callbacks.
     pending: Arc<AtomicU32>,
     last_done: Arc<Mutex<Option<Instant>>>,
@@ -213,11 +216,14 @@ struct RadianceReadback {
     /// Whether its pixels sample adaptively (the accumulator's fourth float says which are
     /// done, after how many samples).
     adaptive: bool,
+    /// When its render began.
+    began: Instant,
     mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
 }
 
 /// The running mean of the image shown (path mode, or with a denoiser), kept to encode again
 /// when the display transform changes and to denoise again when the `[denoise]` keys do.
+#[derive(Clone)]
 pub struct KeptRadiance {
     /// Path mode: the mean linear radiance, row after row (empty in phong mode).
     pub radiance: Vec<[f32; 3]>,
@@ -229,10 +235,23 @@ pub struct KeptRadiance {
     /// Samples in the mean.
     pub samples: u32,
     quality: Quality,
+    /// When its render began.
+    began: Instant,
     /// Counts the means read back: the denoiser's results say which they are of.
     generation: u64,
     /// How the texture holds it (None: not written yet).
     encoded: Option<Encoding>,
+}
+
+impl KeptRadiance {
+    /// Whether `other` is this mean as it was: the same read back, denoised and shown alike.
+    pub fn same_as(&self, other: &KeptRadiance) -> bool {
+        let keys = |k: &KeptRadiance| k.denoised.as_ref().map(|(d, _)| d.clone());
+        self.generation == other.generation
+            && self.quality == other.quality
+            && self.encoded == other.encoded
+            && keys(self) == keys(other)
+    }
 }
 
 /// How a kept mean is in the texture: through which display transform, denoised with which
@@ -276,8 +295,9 @@ pub struct Session<F: GpuReal, C: Canvas> {
     uniform: wgpu::Buffer,
     targets: [Option<Target>; 2],
     job: Option<Job<F>>,
-    /// The target shown now.
+    /// The target shown now, and when its render began.
     shown: Option<Quality>,
+    shown_began: Option<Instant>,
     /// The scene (display transform left out: [`traced_scene`]) and full size last asked for,
     /// and when it last changed.
     wanted: Option<(Scene, [u32; 2])>,
@@ -323,6 +343,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             targets: [None, None],
             job: None,
             shown: None,
+            shown_began: None,
             wanted: None,
             last_start: None,
             changed_at: Instant::now(),
@@ -374,6 +395,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         self.worker.drop_queued();
         self.job = None;
         self.shown = None;
+        self.shown_began = None;
         self.wanted = None;
         self.last_start = None;
         self.readback = None;
@@ -405,9 +427,19 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         Some((quality, [target.width, target.height]))
     }
 
+    /// When the render of the image shown began: a scene asked for before then is in it (the
+    /// explorer's input latency, `QJULIA_EXPLORE_LOG=frames`).
+    pub fn shown_began(&self) -> Option<Instant> {
+        self.shown.and(self.shown_began)
+    }
+
     /// The canvas the session shows its images on.
     pub fn canvas(&self) -> &C {
         &self.canvas
+    }
+
+    pub fn canvas_mut(&mut self) -> &mut C {
+        &mut self.canvas
     }
 
     /// Whether the view still has work to do (the caller should keep repainting).

@@ -140,6 +140,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             adaptive,
             next_row: 0,
             started: Instant::now(),
+            began: Instant::now(),
             pending: Arc::new(AtomicU32::new(0)),
             last_done: Arc::new(Mutex::new(None)),
         });
@@ -275,6 +276,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
                     row_stride: target.row_stride,
                     samples: job.sample + 1,
                     adaptive: job.adaptive,
+                    began: job.began,
                     mapped,
                 });
             }
@@ -312,6 +314,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
         // A denoised pass is shown once the denoiser has it (show_kept).
         if !job.aovs {
             self.shown = Some(job.quality);
+            self.shown_began = Some(job.began);
         }
         self.stats.samples = job.sample + 1;
         // More samples for the same scene: the next pass adds one to the running mean.
