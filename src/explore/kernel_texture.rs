@@ -1,38 +1,6 @@
-//! The textures egui draws that the explorer's views render into: made (or remade behind the
-//! same egui id), a kernel's colour rows copied into one on the device, or one written whole
-//! from the host. The 3D view's and the 2D view's canvases ([`super::slice_texture::ViewTextures`])
-//! draw through them.
-
-/// Records the copy of the colour rows `[row, row + rows)` of `colour` (packed RGBA8, rows
-/// `stride` pixels apart, `stride` a multiple of 64) into `texture`.
-pub fn copy_rows(
-    encoder: &mut wgpu::CommandEncoder,
-    (colour, stride): (&wgpu::Buffer, u32),
-    texture: &wgpu::Texture,
-    (row, rows): (u32, u32),
-) {
-    encoder.copy_buffer_to_texture(
-        wgpu::TexelCopyBufferInfo {
-            buffer: colour,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: row as u64 * stride as u64 * 4,
-                bytes_per_row: Some(stride * 4),
-                rows_per_image: Some(rows),
-            },
-        },
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d { x: 0, y: row, z: 0 },
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::Extent3d {
-            width: texture.width(),
-            height: rows,
-            depth_or_array_layers: 1,
-        },
-    );
-}
+//! The textures egui draws that the explorer's views show: made (or remade behind the same egui
+//! id), or written whole from the host. The 3D view's and the 2D view's
+//! ([`super::slice_texture::Slot`]) are.
 
 /// Writes the whole of `texture`, `size` pixels, from the host: `colour` is packed RGBA8
 /// (0xAABBGGRR, the frames' colour), row after row.

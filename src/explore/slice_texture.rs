@@ -1,18 +1,19 @@
 //! The view's textures, which the explorer's viewport shows: the images the view thread
 //! ([`ViewThread`]: the render module's live 3D and 2D views on a thread and a device of their
-//! own) publishes in host memory, written into textures on the window's device that egui draws
-//! ([`ViewTextures`]), and the view's figures as of that image ([`ThreadView`]: the 3D view,
-//! [`SliceTexture`], and the 2D view, [`Julia2dTexture`]). The UI's thread never runs a tile:
-//! it asks for a picture, and draws what has arrived.
+//! own) makes in host memory, written by its presenter into textures on the window's device that
+//! egui draws ([`Slot`], [`presenter`]), and the view's figures as of that image
+//! ([`ThreadView`]: the 3D view, [`SliceTexture`], and the 2D view, [`Julia2dTexture`]). The
+//! UI's thread never runs a tile nor copies an image: it asks for a picture, and draws what has
+//! arrived.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use crate::precision::Precision;
-use crate::render::progressive::Quality;
-use crate::render::progressive::canvas::Canvas;
+use crate::render::progressive::host_canvas::HostFrame;
 use crate::render::progressive::session::{KeptRadiance, TextureStats};
-use crate::render::progressive::view_thread::{Ask, Shown, ViewThread};
+use crate::render::progressive::spans::span;
+use crate::render::progressive::view_thread::{Ask, Presenter, Shown, ViewThread};
 use crate::scene::Scene;
 
 pub use crate::render::progressive::INTERACTIVE_FPS;
@@ -20,64 +21,33 @@ pub use crate::render::progressive::INTERACTIVE_FPS;
 /// The renderer egui draws with, shared by the explorer's textures.
 pub type EguiRenderer = Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>;
 
-/// A view's two textures (the preview's and the full image's) that egui shows.
-pub struct ViewTextures {
-    device: wgpu::Device,
-    renderer: EguiRenderer,
-    textures: [Option<(wgpu::Texture, egui::TextureId)>; 2],
+/// A view's texture on the window's device, which egui draws, shared with the view thread's
+/// presenter ([`presenter`]): the presenter writes each new image into it on the view thread,
+/// and the UI's thread makes it anew only when the size changes (egui's renderer registers it).
+#[derive(Default)]
+pub struct Slot {
+    texture: Option<(wgpu::Texture, egui::TextureId, [u32; 2])>,
+    /// The number of the image in the texture.
+    generation: Option<u64>,
+    /// An image of another size than the texture's, for the UI's thread to make the texture.
+    pending: Option<HostFrame>,
 }
 
-impl ViewTextures {
-    pub fn new(device: wgpu::Device, renderer: EguiRenderer) -> Self {
-        Self {
-            device,
-            renderer,
-            textures: [None, None],
+/// The presenter of the view thread ([`ViewThread::set_presenter`]): each new image written
+/// into its view's texture (`slots`: the 3D view's, the 2D view's) on the window's `queue`, or
+/// left for the UI's thread where the size changed.
+pub fn presenter(queue: wgpu::Queue, slots: [Arc<Mutex<Slot>>; 2]) -> Presenter {
+    Box::new(move |julia2d, image: &HostFrame| {
+        let mut slot = slots[julia2d as usize].lock().unwrap();
+        match &slot.texture {
+            Some((texture, _, size)) if *size == image.size => {
+                super::kernel_texture::write_colour(&queue, texture, &image.colour, image.size);
+                slot.generation = Some(image.generation);
+                slot.pending = None;
+            }
+            _ => slot.pending = Some(image.clone()),
         }
-    }
-
-    /// The egui texture of `quality`, once made.
-    pub fn texture_id(&self, quality: Quality) -> Option<egui::TextureId> {
-        self.textures[quality as usize].as_ref().map(|(_, id)| *id)
-    }
-}
-
-impl Canvas for ViewTextures {
-    fn resize(&mut self, quality: Quality, size: [u32; 2]) {
-        let slot = &mut self.textures[quality as usize];
-        let old = slot.take().map(|(_, id)| id);
-        let made =
-            super::kernel_texture::native_texture(&self.device, &self.renderer, "view", size, old);
-        *slot = Some(made);
-    }
-
-    fn copy_rows(
-        &self,
-        quality: Quality,
-        encoder: &mut wgpu::CommandEncoder,
-        (colour, stride): (&wgpu::Buffer, u32),
-        (row, rows): (u32, u32),
-    ) {
-        if let Some((texture, _)) = &self.textures[quality as usize] {
-            super::kernel_texture::copy_rows(encoder, (colour, stride), texture, (row, rows));
-        }
-    }
-
-    fn write(&mut self, quality: Quality, queue: &wgpu::Queue, colour: &[u32], size: [u32; 2]) {
-        if let Some((texture, _)) = &self.textures[quality as usize] {
-            super::kernel_texture::write_colour(queue, texture, colour, size);
-        }
-    }
-
-    fn release(&mut self) {
-        if self.textures.iter().all(Option::is_none) {
-            return;
-        }
-        let mut renderer = self.renderer.write();
-        for (_, id) in self.textures.iter_mut().filter_map(Option::take) {
-            renderer.free_texture(&id);
-        }
-    }
+    })
 }
 
 /// One of the thread's views as the UI sees it: what it asked last, what the thread published
@@ -86,10 +56,11 @@ pub struct ThreadView {
     thread: Arc<ViewThread>,
     /// Whether this is the 2D view.
     julia2d: bool,
-    textures: ViewTextures,
+    /// Its texture, and what makes one on the window's device.
+    slot: Arc<Mutex<Slot>>,
+    device: wgpu::Device,
     queue: wgpu::Queue,
-    /// The number and size of the image in the texture.
-    uploaded: Option<(u64, [u32; 2])>,
+    renderer: EguiRenderer,
     /// What the thread published, as of the image in the texture.
     shown: Arc<Shown>,
     /// The last ask: its number and picture.
@@ -103,20 +74,21 @@ pub type SliceTexture = ThreadView;
 pub type Julia2dTexture = ThreadView;
 
 impl ThreadView {
-    /// The 3D view (`julia2d`: the 2D view) of `thread`, drawn on the window's `device` and
-    /// `queue` through `renderer`.
+    /// The 3D view (`julia2d`: the 2D view) of `thread`, its images in `slot`'s texture on the
+    /// window's `device` and `queue`, drawn through `renderer`.
     pub fn new(
         thread: Arc<ViewThread>,
-        julia2d: bool,
+        (julia2d, slot): (bool, Arc<Mutex<Slot>>),
         (device, queue): (wgpu::Device, wgpu::Queue),
         renderer: EguiRenderer,
     ) -> Self {
         Self {
             thread,
             julia2d,
-            textures: ViewTextures::new(device, renderer),
+            slot,
+            device,
             queue,
-            uploaded: None,
+            renderer,
             shown: Arc::default(),
             asked: None,
             waker_set: false,
@@ -163,36 +135,43 @@ impl ThreadView {
         self.refresh();
     }
 
-    /// Takes what the thread published last, if it is this view's: its image into the texture.
+    /// Takes what the thread published last, if it is this view's, and makes the texture
+    /// anew for an image of a new size (the presenter writes the rest on the view thread).
     fn refresh(&mut self) {
         let shown = self.thread.shown();
         if shown.julia2d != self.julia2d {
             return;
         }
-        if let Some(image) = &shown.image
-            && self.uploaded != Some((image.generation, image.size))
-        {
-            if self.uploaded.is_none_or(|(_, size)| size != image.size) {
-                self.textures.resize(Quality::Full, image.size);
-            }
-            let queue = &self.queue;
-            self.textures
-                .write(Quality::Full, queue, &image.colour, image.size);
-            self.uploaded = Some((image.generation, image.size));
+        let mut slot = self.slot.lock().unwrap();
+        if let Some(image) = slot.pending.take() {
+            let old = slot.texture.take().map(|(_, id, _)| id);
+            let renderer = &self.renderer;
+            let (texture, id) = span("view texture", || {
+                super::kernel_texture::native_texture(&self.device, renderer, "view", image.size, old)
+            });
+            super::kernel_texture::write_colour(&self.queue, &texture, &image.colour, image.size);
+            slot.texture = Some((texture, id, image.size));
+            slot.generation = Some(image.generation);
         }
+        drop(slot);
         self.shown = shown;
     }
 
     /// Gives back the texture (the view is not shown).
     pub fn release(&mut self) {
-        self.textures.release();
-        self.uploaded = None;
+        let mut slot = self.slot.lock().unwrap();
+        slot.pending = None;
+        slot.generation = None;
+        if let Some((_, id, _)) = slot.texture.take() {
+            self.renderer.write().free_texture(&id);
+        }
     }
 
     /// The texture to draw and its size in pixels, once there is one.
     pub fn texture(&self) -> Option<(egui::TextureId, [u32; 2])> {
-        let (_, size) = self.uploaded?;
-        Some((self.textures.texture_id(Quality::Full)?, size))
+        let slot = self.slot.lock().unwrap();
+        slot.generation?;
+        slot.texture.as_ref().map(|(_, id, size)| (*id, *size))
     }
 
     /// Whether what the thread published is of the last ask.
@@ -220,8 +199,8 @@ impl ThreadView {
             Some((_, Ask::Julia2d { scene: s })) => s == scene,
             None => false,
         };
-        let uploaded =
-            self.shown.image.as_ref().map(|i| i.generation) == self.uploaded.map(|(g, _)| g);
+        let generation = self.slot.lock().unwrap().generation;
+        let uploaded = self.shown.image.as_ref().map(|i| i.generation) == generation;
         asked && self.current() && self.shown.refined && uploaded
     }
 

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::heat_texture::HeatTexture;
 use super::input;
-use super::slice_texture::{Julia2dTexture, SliceTexture, ThreadView};
+use super::slice_texture::{Julia2dTexture, Slot, SliceTexture, ThreadView, presenter};
 use super::state::Mode;
 use crate::heatmap::Legend;
 use crate::precision::PrecisionChoice;
@@ -80,15 +80,23 @@ impl Viewport {
         let info = rs.adapter.get_info();
         self.adapter_label = crate::gpu::adapter_label(&info);
         let thread = Arc::new(ViewThread::start(info));
+        let slots: [Arc<std::sync::Mutex<Slot>>; 2] = Default::default();
+        thread.set_presenter(presenter(rs.queue.clone(), slots.clone()));
         let window = (rs.device.clone(), rs.queue.clone());
         let renderer = rs.renderer.clone();
+        let [slice, julia2d] = slots;
         self.slice_texture = Some(SliceTexture::new(
             thread.clone(),
-            false,
+            (false, slice),
             window.clone(),
             renderer.clone(),
         ));
-        self.julia2d_texture = Some(Julia2dTexture::new(thread.clone(), true, window, renderer));
+        self.julia2d_texture = Some(Julia2dTexture::new(
+            thread.clone(),
+            (true, julia2d),
+            window,
+            renderer,
+        ));
         self.thread = Some(thread);
     }
 

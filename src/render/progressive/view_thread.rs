@@ -13,7 +13,9 @@
 //! even but made a drag's image trail by twice as long (docs/book/robustness.md). The UI asks for what to show
 //! ([`ViewThread::ask`], the newest ask wins) and reads what the thread published last
 //! ([`ViewThread::shown`]: the image shown, in host memory, and the view's figures); the
-//! thread wakes the UI when it publishes something new.
+//! thread hands each new image to the UI's presenter first (the explorer's writes it into its
+//! texture on the window's device, so that the UI's frame only draws it), and wakes the UI when
+//! it publishes something new.
 
 use std::sync::{Arc, Condvar, Mutex, OnceLock};
 use std::time::{Duration, Instant};
@@ -108,11 +110,20 @@ struct Inbox {
     closed: bool,
 }
 
-/// What the UI holds: the mailbox, what was published, and the waker.
+/// What the UI and the thread share: the mailbox, what was published, the waker and the
+/// presenter.
+#[derive(Default)]
+struct Shared {
+    inbox: (Mutex<Inbox>, Condvar),
+    shown: Mutex<Arc<Shown>>,
+    waker: Mutex<Option<Waker>>,
+    presenter: Mutex<Option<Presenter>>,
+}
+
+/// What the UI holds: what it shares with the thread, the views' kernels once made, and its
+/// last ask.
 pub struct ViewThread {
-    inbox: Arc<(Mutex<Inbox>, Condvar)>,
-    shown: Arc<Mutex<Arc<Shown>>>,
-    waker: Arc<Mutex<Option<Waker>>>,
+    shared: Arc<Shared>,
     kernels: Arc<OnceLock<Arc<GpuKernels>>>,
     asks: Mutex<(u64, Option<Ask>)>,
 }
@@ -120,36 +131,41 @@ pub struct ViewThread {
 /// Tells the UI that something new was published (the explorer's: a repaint).
 pub type Waker = Box<dyn Fn() + Send + Sync>;
 
+/// Puts a new image where the UI draws it, on the view thread, before it is published
+/// (`true`: the 2D view's). The explorer's writes it into its texture on the window's device.
+pub type Presenter = Box<dyn FnMut(bool, &HostFrame) + Send>;
+
 impl ViewThread {
     /// Starts the thread of the views, on a device it makes on the adapter `on` describes
     /// (the window's). The device and the views are made on the thread; where they cannot
     /// be, [`Shown::error`] says why.
     pub fn start(on: wgpu::AdapterInfo) -> Self {
-        let inbox = Arc::new((Mutex::new(Inbox::default()), Condvar::new()));
-        let shown = Arc::new(Mutex::new(Arc::new(Shown::default())));
-        let waker: Arc<Mutex<Option<Waker>>> = Arc::default();
+        let shared: Arc<Shared> = Arc::default();
         let kernels: Arc<OnceLock<Arc<GpuKernels>>> = Arc::default();
-        let (i, s, w, k) = (inbox.clone(), shown.clone(), waker.clone(), kernels.clone());
+        let (s, k) = (shared.clone(), kernels.clone());
         let spawned = std::thread::Builder::new()
             .name("qjulia view".into())
             .spawn(move || {
                 let made = device_like(&on).map(|ctx| Arc::new(GpuKernels::new(ctx)));
                 let made = made.map(|kernels| k.get_or_init(|| kernels).clone());
-                run(made, &i, &s, &w)
+                run(made, &s)
             });
         if let Err(e) = spawned {
-            *shown.lock().unwrap() = Arc::new(Shown {
+            *shared.shown.lock().unwrap() = Arc::new(Shown {
                 error: Some(format!("the view's thread did not start: {e}")),
                 ..Shown::default()
             });
         }
         Self {
-            inbox,
-            shown,
-            waker,
+            shared,
             kernels,
             asks: Mutex::new((0, None)),
         }
+    }
+
+    /// Sets what puts each new image where the UI draws it.
+    pub fn set_presenter(&self, presenter: Presenter) {
+        *self.shared.presenter.lock().unwrap() = Some(presenter);
     }
 
     /// The views' device's kernels, once the thread has made them (the explorer's exports run
@@ -160,7 +176,7 @@ impl ViewThread {
 
     /// Sets what the thread calls when it publishes something new.
     pub fn set_waker(&self, waker: Waker) {
-        *self.waker.lock().unwrap() = Some(waker);
+        *self.shared.waker.lock().unwrap() = Some(waker);
     }
 
     /// Asks the views for `ask`, and returns its number: the same picture as the last ask
@@ -176,7 +192,7 @@ impl ViewThread {
         asks.1 = Some(ask.clone());
         let number = asks.0;
         drop(asks);
-        let (inbox, wake) = &*self.inbox;
+        let (inbox, wake) = &self.shared.inbox;
         inbox.lock().unwrap().ask = Some((number, ask));
         wake.notify_one();
         number
@@ -189,14 +205,14 @@ impl ViewThread {
 
     /// What the thread published last.
     pub fn shown(&self) -> Arc<Shown> {
-        self.shown.lock().unwrap().clone()
+        self.shared.shown.lock().unwrap().clone()
     }
 }
 
 impl Drop for ViewThread {
     /// Tells the thread to end (it ends after its step in progress; not waited for).
     fn drop(&mut self) {
-        let (inbox, wake) = &*self.inbox;
+        let (inbox, wake) = &self.shared.inbox;
         inbox.lock().unwrap().closed = true;
         wake.notify_one();
     }
@@ -308,14 +324,10 @@ impl Views {
 
 /// The thread: waits for an ask, steps the view it shows while it is busy, publishes what it
 /// shows after each step that changed it.
-fn run(
-    kernels: crate::Result<Arc<GpuKernels>>,
-    inbox: &(Mutex<Inbox>, Condvar),
-    shown: &Mutex<Arc<Shown>>,
-    waker: &Mutex<Option<Waker>>,
-) {
+fn run(kernels: crate::Result<Arc<GpuKernels>>, shared: &Shared) {
+    let (inbox, shown) = (&shared.inbox, &shared.shown);
     let wake = || {
-        if let Some(w) = waker.lock().unwrap().as_ref() {
+        if let Some(w) = shared.waker.lock().unwrap().as_ref() {
             w()
         }
     };
@@ -396,6 +408,12 @@ fn run(
             || now.path_traced != last.path_traced;
         let busy = now.busy;
         let building = now.building_pipeline;
+        if let Some(image) = &now.image
+            && last.image.as_ref().map(|i| i.generation) != Some(image.generation)
+            && let Some(present) = shared.presenter.lock().unwrap().as_mut()
+        {
+            super::spans::span("present", || present(now.julia2d, image));
+        }
         if changed {
             *shown.lock().unwrap() = Arc::new(now);
             wake();
