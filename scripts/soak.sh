@@ -244,15 +244,6 @@ if [ "$FRAMES" -gt 0 ]; then
     P95=$(awk -v n="$FRAMES" 'NR == int(n * 0.95 + 0.999) {print; exit}' "$WORK/work")
     MAX=$(tail -1 "$WORK/work")
     echo "soak: $FRAMES frames; their own work: median $MEDIAN ms, 95th percentile $P95 ms, max $MAX ms"
-    # Reported, not checked: the frames that submitted the view's tiles (a submit span in the
-    # log), which on a CPU adapter do the render's share on the UI's thread.
-    grep "^explore frame" "$WORK/explore.log" | grep "submit [0-9]" |
-        sed 's/.*: \([0-9.]*\) ms work.*/\1/' | sort -g >"$WORK/submits"
-    SUBMITS=$(wc -l <"$WORK/submits")
-    if [ "$SUBMITS" -gt 0 ]; then
-        awk -v n="$SUBMITS" 'NR == int((n + 1) / 2) {m = $1} NR == int(n * 0.95 + 0.999) {p = $1}
-            END {printf "soak: %d of them submitted tiles: median %s ms, 95th percentile %s ms\n", n, m, p}' "$WORK/submits"
-    fi
     # The timed part's frames: the interval between them, and the input latency of the drags'
     # moves (see the header).
     grep "^explore frame" "$WORK/explore.log" |

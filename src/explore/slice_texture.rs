@@ -147,7 +147,13 @@ impl ThreadView {
             let old = slot.texture.take().map(|(_, id, _)| id);
             let renderer = &self.renderer;
             let (texture, id) = span("view texture", || {
-                super::kernel_texture::native_texture(&self.device, renderer, "view", image.size, old)
+                super::kernel_texture::native_texture(
+                    &self.device,
+                    renderer,
+                    "view",
+                    image.size,
+                    old,
+                )
             });
             super::kernel_texture::write_colour(&self.queue, &texture, &image.colour, image.size);
             slot.texture = Some((texture, id, image.size));

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::heat_texture::HeatTexture;
 use super::input;
-use super::slice_texture::{Julia2dTexture, Slot, SliceTexture, ThreadView, presenter};
+use super::slice_texture::{Julia2dTexture, SliceTexture, Slot, ThreadView, presenter};
 use super::state::Mode;
 use crate::heatmap::Legend;
 use crate::precision::PrecisionChoice;
