@@ -197,29 +197,31 @@ impl Viewport {
             (rect.width() * ppp).round().max(1.0) as u32,
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
-        let asked = (
-            options.mode,
-            self.view_scene(scene, options.preview_samples),
-            self.pixels,
-        );
-        if self.asked.as_ref() != Some(&asked) {
+        // The mode not shown gives its views' memory back. The mouse moves the camera (the
+        // 2D view) first, so that the view is asked for this frame's picture.
+        match options.mode {
+            Mode::Slice3d => input::mouse_3d(ui, rect, &response, &mut scene.camera),
+            Mode::Julia2d => input::mouse_2d(ui, rect, &response, &mut scene.view2d),
+        }
+        let view_scene = &self.view_scene(scene, options.preview_samples);
+        let same = |(mode, scene, pixels): &(Mode, Scene, [u32; 2])| {
+            *mode == options.mode && scene == view_scene && *pixels == self.pixels
+        };
+        if !self.asked.as_ref().is_some_and(same) {
             if ui.input(|i| !i.events.is_empty()) {
                 self.input_asked = Some(std::time::Instant::now());
             }
-            self.asked = Some(asked);
+            self.asked = Some((options.mode, view_scene.clone(), self.pixels));
         }
-        // The mode not shown gives its views' memory back.
         match options.mode {
             Mode::Slice3d => {
-                input::mouse_3d(ui, rect, &response, &mut scene.camera);
-                self.view_3d(ui, rect, &response, scene, options);
+                self.view_3d(ui, rect, &response, view_scene, options);
                 if let Some(view2d) = &mut self.julia2d_texture {
                     view2d.release();
                 }
             }
             Mode::Julia2d => {
-                input::mouse_2d(ui, rect, &response, &mut scene.view2d);
-                self.view_2d(ui, rect, scene, options);
+                self.view_2d(ui, rect, view_scene);
                 if let Some(view) = &mut self.slice_texture {
                     view.release();
                 }
@@ -227,24 +229,24 @@ impl Viewport {
         }
     }
 
-    /// The 3D view: the shaded picture, or a step view's heat map with its legend.
+    /// The 3D view of `view_scene` (the scene at the view's size and samples): the shaded
+    /// picture, or a step view's heat map with its legend.
     fn view_3d(
         &mut self,
         ui: &mut egui::Ui,
         rect: egui::Rect,
         response: &egui::Response,
-        scene: &Scene,
+        view_scene: &Scene,
         options: ViewOptions,
     ) {
         let interacting =
             response.dragged() || options.playing || ui.input(|i| i.pointer.any_down());
-        let view_scene = self.view_scene(scene, options.preview_samples);
         let Some(view) = self.slice_texture.as_mut().filter(|v| v.error().is_none()) else {
             self.no_gpu(ui, rect);
             return;
         };
-        view.update(ui.ctx(), &view_scene, self.pixels, interacting);
-        let shown = scene.image.view;
+        view.update(ui.ctx(), view_scene, self.pixels, interacting);
+        let shown = view_scene.image.view;
         if shown == View::Shaded {
             if let Some((texture, _)) = view.texture() {
                 ui.painter()
@@ -275,15 +277,8 @@ impl Viewport {
         }
     }
 
-    /// The 2D mode: the 2D Julia set of c.
-    fn view_2d(
-        &mut self,
-        ui: &mut egui::Ui,
-        rect: egui::Rect,
-        scene: &Scene,
-        options: ViewOptions,
-    ) {
-        let scene = self.view_scene(scene, options.preview_samples);
+    /// The 2D mode: the 2D Julia set of c in `view_scene` (the scene at the view's size).
+    fn view_2d(&mut self, ui: &mut egui::Ui, rect: egui::Rect, view_scene: &Scene) {
         let Some(view2d) = self
             .julia2d_texture
             .as_mut()
@@ -292,7 +287,7 @@ impl Viewport {
             self.no_gpu(ui, rect);
             return;
         };
-        view2d.update_2d(ui.ctx(), &scene);
+        view2d.update_2d(ui.ctx(), view_scene);
         if let Some((texture, _)) = view2d.texture() {
             ui.painter()
                 .image(texture, rect, FULL_UV, egui::Color32::WHITE);

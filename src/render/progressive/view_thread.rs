@@ -198,11 +198,6 @@ impl ViewThread {
         number
     }
 
-    /// The number of the last ask.
-    pub fn last_ask(&self) -> u64 {
-        self.asks.lock().unwrap().0
-    }
-
     /// What the thread published last.
     pub fn shown(&self) -> Arc<Shown> {
         self.shared.shown.lock().unwrap().clone()
