@@ -11,11 +11,16 @@
 //!   (samples swept up), both, path regularisation (`path.regularize` = 0.5, samples swept up)
 //!   and regularisation denoised; each rung with its bias, the image's mean radiance against the
 //!   reference's.
+//! - `mse REF_A.exr REF_B.exr RUN.exr...`: each run's mean squared error (linear R, G and B, over
+//!   every channel and pixel) against the mean of two references of independent seeds, less
+//!   that mean's own, a quarter of the squared difference of the two
+//!   (scripts/adaptive_efficiency.sh, issue 49's efficiency).
 //!
 //! Run as:
 //!
 //!     cargo run --release --example adaptive_study -- lanes 128 256 0.05
 //!     cargo run --release --example adaptive_study -- rmse 128 4096
+//!     cargo run --release --example adaptive_study -- mse ref-a.exr ref-b.exr run.exr
 
 use std::sync::Arc;
 
@@ -29,6 +34,9 @@ use qjulia::{Backend, Frame, Picture, Planner, PrecisionChoice, Readback, Render
 
 fn main() -> qjulia::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("mse") && args.len() >= 3 {
+        return excess_mse(&args[1], &args[2], &args[3..]);
+    }
     let arg = |k: usize, d: f64| args.get(k).and_then(|a| a.parse().ok()).unwrap_or(d);
     let kernels = Arc::new(GpuKernels::new(GpuContext::new()?));
     let renderer = Planner::on_device(kernels, Backend::Gpu, PrecisionChoice::F32)
@@ -43,10 +51,63 @@ fn main() -> qjulia::Result<()> {
         ),
         Some("rmse") => time_to_rmse(&renderer, arg(1, 128.0) as u32, arg(2, 4096.0) as u32),
         _ => {
-            eprintln!("usage: adaptive_study lanes [SIZE] [SAMPLES] [TARGET] | rmse [SIZE] [REF]");
+            eprintln!(
+                "usage: adaptive_study lanes [SIZE] [SAMPLES] [TARGET] | rmse [SIZE] [REF] | \
+                 mse REF_A.exr REF_B.exr RUN.exr..."
+            );
             Ok(())
         }
     }
+}
+
+/// An EXR's linear R, G and B, row by row.
+fn read_rgb(path: &str) -> qjulia::Result<Vec<[f32; 3]>> {
+    use exr::prelude::{ReadChannels, ReadLayers};
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| {
+                let (w, h) = (resolution.width(), resolution.height());
+                (w, vec![[0.0f32; 3]; w * h])
+            },
+            |(width, texels), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+                texels[position.y() * *width + position.x()] = [r, g, b];
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| qjulia::Error::Unsupported(format!("{path}: {e}")))?;
+    Ok(image.layer_data.channel_data.pixels.1)
+}
+
+/// Prints each run's excess mean squared error (the module's `mse`), one line each: the file and
+/// the figure.
+fn excess_mse(reference_a: &str, reference_b: &str, runs: &[String]) -> qjulia::Result<()> {
+    let (a, b) = (read_rgb(reference_a)?, read_rgb(reference_b)?);
+    let n = (a.len() * 3) as f64;
+    let channels = |p: &[[f32; 3]]| p.iter().flatten().map(|&v| v as f64).collect::<Vec<_>>();
+    let (a, b) = (channels(&a), channels(&b));
+    let reference: Vec<f64> = a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect();
+    let own = a.iter().zip(&b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / n / 4.0;
+    println!("reference {reference_a} {reference_b}: its own mse {own:.6e}");
+    for run in runs {
+        let values = channels(&read_rgb(run)?);
+        assert_eq!(
+            values.len(),
+            reference.len(),
+            "{run}: not the references' size"
+        );
+        let mse = values
+            .iter()
+            .zip(&reference)
+            .map(|(v, r)| (v - r).powi(2))
+            .sum::<f64>()
+            / n;
+        println!("{run} {:.6e}", mse - own);
+    }
+    Ok(())
 }
 
 /// The path-traced preset at `size` x `size` and `samples`.

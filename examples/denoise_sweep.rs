@@ -99,7 +99,7 @@ fn main() -> qjulia::Result<()> {
     if std::env::var("SWEEP").is_err() {
         return Ok(());
     }
-    let prepared = denoise::prepare(&noisy, samples, false);
+    let prepared = denoise::prepare(&noisy, samples);
     for iterations in [3, 5] {
         for sigma_luminance in [1.0, 2.0, 4.0] {
             for sigma_normal in [0.0, 4.0, 16.0, 32.0] {

@@ -262,13 +262,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 /// The process's resident memory in MB (Linux: /proc/self/statm).
 fn resident_mb() -> f64 {
-    let statm = std::fs::read_to_string("/proc/self/statm").unwrap_or_default();
-    let pages: f64 = statm
-        .split_whitespace()
-        .nth(1)
-        .and_then(|p| p.parse().ok())
-        .unwrap_or(0.0);
-    pages * 4096.0 / 1e6
+    qjulia::memory::resident_bytes().unwrap_or(0) as f64 / 1e6
 }
 
 fn main() {

@@ -535,10 +535,10 @@ fn sample_valid(c: vec3<f32>) -> bool {
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
 // samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's
-// `adaptive`) the mean and the AOVs are stream 1's alone and stream 0 decides (sample_stream,
-// add_to_streams); a pixel stops after the sample that leaves it done (sampling_done), and a
-// later dispatch leaves it at once, or with COMPACT gives its invocation to a live pixel of its
-// block (compacted_pixel).
+// `adaptive`) the samples go to the pixel's two streams instead (add_to_streams), the AOVs take
+// the samples that join the streams' colours, and the pixel stops after the sample that leaves
+// it done (sampling_done), showing streams_mean; a later dispatch leaves it at once, or with
+// COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
 fn path_main(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -559,10 +559,8 @@ fn path_main(
     var mean = vec3<f32>(0.0);
     var made = vec4<u32>(0u);
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
-    // The accumulator's fourth float: adaptive sampling's state (trace.wgsl's `adaptive`), and
-    // the pixel's streams (add_to_streams).
-    var state = 0.0;
-    var streams = vec4<f32>(0.0);
+    // Adaptively (trace.wgsl's `adaptive`), the pixel's streams (add_to_streams).
+    var streams = Streams(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     // The samples dropped so far, and the counter word's exhausted rays of earlier dispatches.
     var dropped = 0u;
     var exhausted_before = 0u;
@@ -578,13 +576,12 @@ fn path_main(
             return;
         }
         mean = held.xyz;
-        state = held.w;
         made = out_work[index];
         let counters = out_colour[index];
         dropped = counters & COUNTER_DROPPED_MASK;
         exhausted_before = counters >> COUNTER_DROPPED_BITS;
         if adaptive() {
-            streams = accumulated[streams_index(index)];
+            streams = load_streams(index);
         }
         if AOVS {
             aovs = load_aovs(index);
@@ -596,6 +593,7 @@ fn path_main(
     // kernel 17% slower on lavapipe).
     var second = Trace(0.0, 0u, false, NO_APPROACH);
     var paired = false;
+    var taken = 0u;
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let camera = path_camera_ray(i, j, k);
         var first = second;
@@ -614,35 +612,43 @@ fn path_main(
             out_depth[index] = select(-1.0, r.depth, r.hit);
             out_steps[index] = r.steps;
         }
-        if sample_valid(r.radiance) {
-            // The samples the mean holds, this one with them: the samples kept, or adaptively
-            // stream 1's.
-            var n = k + 1u - dropped;
-            var shown = true;
-            if adaptive() {
-                let stream = sample_stream(k).x;
-                streams = add_to_streams(streams, stream, sample_luminance(r.radiance));
-                n = u32(streams.w);
-                shown = stream == 1u;
-            }
-            if shown {
-                mean += (r.radiance - mean) / f32(n);
-                if AOVS {
-                    aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
-                }
-            }
-        } else {
+        let valid = sample_valid(r.radiance);
+        if !valid {
             dropped += 1u;
         }
-        if adaptive() && sampling_done(streams, k + 1u) {
-            state = -f32(k + 1u);
-            break;
+        if adaptive() {
+            // The samples the pixel's colours hold, and whether this one joined them.
+            let before = streams.rule_a.w + streams.b.w;
+            streams = add_to_streams(streams, k, valid, r.radiance);
+            let n = streams.rule_a.w + streams.b.w;
+            if AOVS && n > before {
+                aovs = add_aovs(aovs, u32(n) - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
+            }
+            if sampling_done(streams, k + 1u) {
+                taken = k + 1u;
+                break;
+            }
+        } else if valid {
+            // The samples the mean holds, this one with them: the samples kept.
+            let n = k + 1u - dropped;
+            mean += (r.radiance - mean) / f32(n);
+            if AOVS {
+                aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
+            }
         }
     }
     if adaptive() {
-        accumulated[streams_index(index)] = streams;
+        if taken > 0u {
+            if AOVS {
+                aovs = finish_aovs(aovs, streams, taken);
+            }
+            accumulated[index] = vec4<f32>(streams_mean(streams), -f32(taken));
+        } else {
+            store_streams(index, streams);
+        }
+    } else {
+        accumulated[index] = vec4<f32>(mean, 0.0);
     }
-    accumulated[index] = vec4<f32>(mean, state);
     if AOVS {
         store_aovs(index, aovs);
     }

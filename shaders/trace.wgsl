@@ -1224,9 +1224,9 @@ fn lens_position(k: u32) -> vec2<f32> {
 }
 
 // Adaptive sampling's two streams (docs/book/adaptive.md): sample k of an adaptive pixel is
-// sample k / 2 of stream k % 2, as (stream, index). Stream 0 decides when the pixel is done
-// and stream 1 is what it shows, so that the decision does not depend on the estimate it stops.
-// Without adaptive sampling every sample is stream 0's: (0, k).
+// sample k / 2 of stream k % 2, as (stream, index). Each stream's stop is decided by its own
+// samples and applied to the other's mean (add_to_streams), so that no half of what the pixel
+// shows depends on its own stop. Without adaptive sampling every sample is stream 0's: (0, k).
 fn sample_stream(k: u32) -> vec2<u32> {
     if adaptive() {
         return vec2<u32>(k & 1u, k >> 1u);
@@ -1339,14 +1339,14 @@ fn store_aovs(index: u32, a: Aovs) {
     out_aovs[3u * index + 2u] = vec4<f32>(a.normal, a.depth);
 }
 
-// Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"). Each
-// pixel decides alone, after each of its samples, whether it is done: no neighbour counts, so
-// any split of the image into bands, tiles or dispatches gives the same pixels. Its samples
-// alternate between two streams (sample_stream): stream 0's luminances (phong mode's clamped
-// colours, path mode's radiance) decide when it is done, kept in the accumulator's second
-// plane (add_to_streams), and the accumulator's rgb is the mean of stream 1's alone. The
-// accumulator's fourth float is 0 while the pixel samples, and once it is done minus the
-// samples it took. A later dispatch leaves a done pixel at once.
+// Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"), by
+// cross-fitting. Each pixel decides alone, after each of its samples, so any split of the image
+// into bands, tiles or dispatches gives the same pixels. Its samples alternate between two
+// streams (sample_stream), A (stream 0) and B (stream 1). Each stream's own rule (stream_fires)
+// sees that stream's samples alone and stops it after its draw tau_A, tau_B. The pixel shows
+// half the mean of B's first tau_A samples plus half the mean of A's first tau_B (streams_mean),
+// so that neither half depends on its own stream's stop, and it samples both streams until both
+// rules have fired and each stream has the draws the other's stop asks of it (sampling_done).
 override ADAPTIVE: bool = true;
 
 // A pixel's noise is taken relative to its mean luminance or to this, whichever is larger (the
@@ -1369,39 +1369,150 @@ fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
     return sqrt(variance) / max(abs(mean_luminance), NOISE_LUMINANCE_FLOOR);
 }
 
-// A pixel's streams (sample_stream) with one more sample, of luminance l, in stream `stream`:
-// (stream 0's mean luminance, its M2 by Welford's rule (add_m2, at least 0), the samples kept
-// in stream 0, in stream 1), the counts exact in f32. The accumulator's second plane holds it.
-fn add_to_streams(d: vec4<f32>, stream: u32, l: f32) -> vec4<f32> {
-    var out = d;
-    if stream == 0u {
-        out.z = d.z + 1.0;
-        out.x = d.x + (l - d.x) / out.z;
-        out.y = max(add_m2(d.y, l, d.x, out.x), 0.0);
+// A pixel's adaptive state, the accumulator's four planes (load_streams):
+//   a      = (A's mean colour, tau_A: 0 until A's rule fires),
+//   b      = (B's mean colour, the samples in it),
+//   rule_a = (A's mean luminance, its M2 (add_m2), its samples kept, the samples in A's colour),
+//   rule_b = (B's mean luminance, its M2, its samples kept, tau_B: 0 until B's rule fires).
+// A's mean colour takes A's draws while B's rule has not fired, which are A's first tau_B; B's
+// takes B's first tau_A. Each stream's luminances are counted until its own rule fires. The
+// counts are exact in f32. A sample that is not valid (path mode's sample_valid) is a draw of its
+// stream but joins nothing. Once the pixel is done the first plane holds what it shows
+// (streams_mean) and minus the samples it took.
+struct Streams {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    rule_a: vec4<f32>,
+    rule_b: vec4<f32>,
+}
+
+// A stream's luminance statistics (rule: mean, M2, samples kept) with one more luminance l, by
+// Welford's rule (add_m2, at least 0); the fourth float is kept.
+fn add_luminance(rule: vec4<f32>, l: f32) -> vec4<f32> {
+    var out = rule;
+    out.z = rule.z + 1.0;
+    out.x = rule.x + (l - rule.x) / out.z;
+    out.y = max(add_m2(rule.y, l, rule.x, out.x), 0.0);
+    return out;
+}
+
+// Whether a stream's rule fires after its draw `draws` (from 1), its luminances' statistics being
+// `rule` (add_luminance): at its cap of samples / 2 draws, or from half the floor
+// max(min(min_samples, samples), 4) (rounded up) on, with at least 2 samples kept and a noise
+// (pixel_noise) at most the target.
+fn stream_fires(rule: vec4<f32>, draws: u32) -> bool {
+    if draws >= params.samples / 2u {
+        return true;
+    }
+    let floor = (max(min(params.min_samples, params.samples), 4u) + 1u) / 2u;
+    if draws < floor || rule.z < 2.0 {
+        return false;
+    }
+    return pixel_noise(rule.y, u32(rule.z), rule.x) <= f32(params.noise_target);
+}
+
+// A pixel's streams with its sample k taken (draw k / 2 + 1 of stream k % 2), of colour `colour`
+// where it is valid.
+fn add_to_streams(s: Streams, k: u32, valid: bool, colour: vec3<f32>) -> Streams {
+    var out = s;
+    let draws = k / 2u + 1u;
+    let l = sample_luminance(colour);
+    if k % 2u == 0u {
+        // A's draw joins A's colour while B's rule has not fired.
+        if valid && s.rule_b.w == 0.0 {
+            out.rule_a.w = s.rule_a.w + 1.0;
+            out.a = vec4<f32>(s.a.xyz + (colour - s.a.xyz) / out.rule_a.w, s.a.w);
+        }
+        if s.a.w == 0.0 {
+            if valid {
+                out.rule_a = vec4<f32>(add_luminance(s.rule_a, l).xyz, out.rule_a.w);
+            }
+            if stream_fires(out.rule_a, draws) {
+                out.a.w = f32(draws);
+            }
+        }
     } else {
-        out.w = d.w + 1.0;
+        // B's draw joins B's colour while A's rule has not fired, or up to A's stop.
+        if valid && (s.a.w == 0.0 || f32(draws) <= s.a.w) {
+            out.b.w = s.b.w + 1.0;
+            out.b = vec4<f32>(s.b.xyz + (colour - s.b.xyz) / out.b.w, out.b.w);
+        }
+        if s.rule_b.w == 0.0 {
+            if valid {
+                out.rule_b = vec4<f32>(add_luminance(s.rule_b, l).xyz, 0.0);
+            }
+            if stream_fires(out.rule_b, draws) {
+                out.rule_b.w = f32(draws);
+            }
+        }
     }
     return out;
 }
 
-// Whether a pixel whose streams are d (add_to_streams) is done once it has taken `taken`
-// samples: all of them, or at least max(min(min_samples, samples), 4) with stream 1 as long as
-// stream 0, which has at least 2 samples and a noise (pixel_noise) at most the target.
-fn sampling_done(d: vec4<f32>, taken: u32) -> bool {
+// Whether a pixel whose streams are s is done once it has taken `taken` samples: both rules have
+// fired and B has its first tau_A draws (A has its first tau_B whenever B's rule has fired), or
+// it has taken every sample.
+fn sampling_done(s: Streams, taken: u32) -> bool {
     if taken >= params.samples {
         return true;
     }
-    let floor = max(min(params.min_samples, params.samples), 4u);
-    if taken < floor || d.z < 2.0 || d.w < d.z {
-        return false;
-    }
-    return pixel_noise(d.y, u32(d.z), d.x) <= f32(params.noise_target);
+    return s.a.w > 0.0 && s.rule_b.w > 0.0 && f32(taken / 2u) >= s.a.w;
 }
 
-// Where a pixel's streams (add_to_streams) are kept: the accumulator's second plane, as long as
-// its first (the host allocates accumulated twice the pixels).
-fn streams_index(index: u32) -> u32 {
-    return arrayLength(&accumulated) / 2u + index;
+// What a pixel whose streams are s shows: half A's mean colour plus half B's, or the one stream's
+// where the other has no sample in it (black where neither has).
+fn streams_mean(s: Streams) -> vec3<f32> {
+    if s.rule_a.w == 0.0 {
+        return s.b.xyz;
+    }
+    if s.b.w == 0.0 {
+        return s.a.xyz;
+    }
+    return 0.5 * (s.a.xyz + s.b.xyz);
+}
+
+// A done pixel's AOVs with their hits and M2 taken to the `taken` samples it took, which the host
+// divides by (denoise::mean_variance, denoise::hit_fraction): hits / taken is then the fraction of the n = n_A + n_B
+// samples in its colours that hit, and M2 / (taken (taken - 1)) the variance of what it shows,
+// M2 / (n - 1) (1 / n_A + 1 / n_B) / 4 (1 / n with one stream empty).
+fn finish_aovs(a: Aovs, s: Streams, taken: u32) -> Aovs {
+    var out = a;
+    let n = s.rule_a.w + s.b.w;
+    let t = f32(taken);
+    if n == 0.0 {
+        return out;
+    }
+    out.hits = a.hits * t / n;
+    var spread = 1.0 / n;
+    if s.rule_a.w > 0.0 && s.b.w > 0.0 {
+        spread = 0.25 * (1.0 / s.rule_a.w + 1.0 / s.b.w);
+    }
+    out.m2 = 0.0;
+    if n >= 2.0 && t >= 2.0 {
+        out.m2 = a.m2 / (n - 1.0) * spread * (t * (t - 1.0));
+    }
+    return out;
+}
+
+// A pixel's streams (Streams), from the accumulator's four planes: plane p of pixel `index` is
+// element p arrayLength / 4 + index (the host allocates accumulated four times the pixels).
+fn load_streams(index: u32) -> Streams {
+    let plane = arrayLength(&accumulated) / 4u;
+    return Streams(
+        accumulated[index],
+        accumulated[plane + index],
+        accumulated[2u * plane + index],
+        accumulated[3u * plane + index],
+    );
+}
+
+// Keeps a pixel's streams in the accumulator's four planes (load_streams).
+fn store_streams(index: u32, s: Streams) {
+    let plane = arrayLength(&accumulated) / 4u;
+    accumulated[index] = s.a;
+    accumulated[plane + index] = s.b;
+    accumulated[2u * plane + index] = s.rule_a;
+    accumulated[3u * plane + index] = s.rule_b;
 }
 
 // A pixel's work counts `held` (out_work) with this dispatch's estimates and iterations added,
@@ -1499,25 +1610,21 @@ fn main(
     }
     // This dispatch adds the samples [sample_start, sample_end) to the running mean of their
     // clamped colours, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), exact where every sample
-    // has the same colour (adaptively, of stream 1's alone: sample_stream); sample 0 gives the
-    // depth and the steps (where the lens is open, the pinhole ray's, traced above).
+    // has the same colour (adaptively, to the pixel's streams instead: add_to_streams); sample 0
+    // gives the depth and the steps (where the lens is open, the pinhole ray's, traced above).
     var mean = vec3<Real>(0.0);
     var made = vec4<u32>(0u);
     var aovs = no_aovs;
-    // The accumulator's fourth float: adaptive sampling's state (0 without it), and the
-    // pixel's streams (add_to_streams).
-    var state = 0.0;
-    var streams = vec4<f32>(0.0);
+    var streams = Streams(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     if params.sample_start > 0u {
         let held = accumulated[index];
         if adaptive() && held.w < 0.0 {
             return;
         }
         mean = vec3<Real>(held.xyz);
-        state = held.w;
         made = out_work[index];
         if adaptive() {
-            streams = accumulated[streams_index(index)];
+            streams = load_streams(index);
         }
         if AOVS {
             aovs = load_aovs(index);
@@ -1527,6 +1634,7 @@ fn main(
     // k + 1's trace kept for it; an odd sample left over is traced alone.
     var second = Trace(0.0, 0u, false, NO_APPROACH);
     var paired = false;
+    var taken = 0u;
     for (var k = params.sample_start; k < params.sample_end; k++) {
         let ray = primary_ray(i, j, k, t_min);
         var trace: Trace;
@@ -1547,30 +1655,38 @@ fn main(
             out_depth[index] = select(-1.0, pixel.depth, pixel.hit);
             out_steps[index] = pixel.steps;
         }
-        // The samples the mean holds, this one with them.
-        var n = k + 1u;
-        var shown = true;
         if adaptive() {
-            let stream = sample_stream(k).x;
-            streams = add_to_streams(streams, stream, sample_luminance(vec3<f32>(c)));
-            n = u32(streams.w);
-            shown = stream == 1u;
-        }
-        if shown {
-            mean += (c - mean) / Real(n);
-            if AOVS {
-                aovs = add_pixel_aovs(aovs, n - 1u, pixel);
+            // The samples the pixel's colours hold, and whether this one joined them.
+            let before = streams.rule_a.w + streams.b.w;
+            streams = add_to_streams(streams, k, true, vec3<f32>(c));
+            let n = streams.rule_a.w + streams.b.w;
+            if AOVS && n > before {
+                aovs = add_pixel_aovs(aovs, u32(n) - 1u, pixel);
             }
-        }
-        if adaptive() && sampling_done(streams, k + 1u) {
-            state = -f32(k + 1u);
-            break;
+            if sampling_done(streams, k + 1u) {
+                taken = k + 1u;
+                break;
+            }
+        } else {
+            mean += (c - mean) / Real(k + 1u);
+            if AOVS {
+                aovs = add_pixel_aovs(aovs, k, pixel);
+            }
         }
     }
     if adaptive() {
-        accumulated[streams_index(index)] = streams;
+        if taken > 0u {
+            if AOVS {
+                aovs = finish_aovs(aovs, streams, taken);
+            }
+            accumulated[index] = vec4<f32>(streams_mean(streams), -f32(taken));
+        } else {
+            store_streams(index, streams);
+        }
+        mean = vec3<Real>(streams_mean(streams));
+    } else {
+        accumulated[index] = vec4<f32>(vec3<f32>(mean), 0.0);
     }
-    accumulated[index] = vec4<f32>(vec3<f32>(mean), state);
     if AOVS {
         store_aovs(index, aovs);
     }

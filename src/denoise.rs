@@ -64,8 +64,8 @@ pub fn demodulation(albedo: [f32; 3], hit_fraction: f32) -> [f32; 3] {
     albedo.map(|a| h * a.max(ALBEDO_FLOOR) + (1.0 - h))
 }
 
-/// The fraction of the samples a pixel's mean holds (`samples`, [`mean_samples`]) whose
-/// primary ray hit, from the AOVs' count of them; in [0, 1], 0 without samples.
+/// The fraction of the samples a pixel took (`samples`; adaptively, its AOVs' hits are taken to
+/// those: trace.wgsl's `finish_aovs`) whose primary ray hit, from the AOVs' count of them; in [0, 1], 0 without samples.
 pub fn hit_fraction(hits: f32, samples: u32) -> f32 {
     match samples {
         0 => 0.0,
@@ -92,16 +92,6 @@ pub fn mean_variance(m2: f32, samples: u32) -> f32 {
 
 pub use crate::cpu::trace::NOISE_LUMINANCE_FLOOR;
 
-/// The samples a pixel's mean holds, of the `taken` it took: all, or with adaptive sampling
-/// stream 1's, half of them rounded down (trace.wgsl's `sample_stream`: the pixel's mean is
-/// stream 1's alone; a sample dropped as not finite aside).
-pub fn mean_samples(taken: u32, adaptive: bool) -> u32 {
-    match adaptive {
-        true => taken / 2,
-        false => taken,
-    }
-}
-
 /// A pixel's noise: the standard error of its mean luminance, `sqrt(M2 / (n (n - 1)))` at `n`
 /// samples ([`mean_variance`]), relative to that mean, the mean taken as at least
 /// [`NOISE_LUMINANCE_FLOOR`]: the tracers' own measure ([`crate::cpu::trace::pixel_noise`],
@@ -112,10 +102,10 @@ pub fn relative_noise(m2: f32, samples: u32, mean_luminance: f32) -> Option<f32>
 }
 
 /// A frame's estimated noise: the mean of [`relative_noise`] over the pixels whose sample 0
-/// hit, of a frame of `samples` samples a pixel (or [`Frame::samples`]; `adaptive`: whether
-/// they were sampled adaptively, [`mean_samples`]) with its AOVs (the M2). None below 2
+/// hit, of a frame of `samples` samples a pixel (or [`Frame::samples`] where adaptive sampling
+/// took fewer) with its AOVs (the M2). None below 2
 /// samples, without the AOVs, or where no pixel hit.
-pub fn frame_noise(frame: &Frame, samples: u32, adaptive: bool) -> Option<f64> {
+pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
     let linear = frame.linear();
     let pixels = frame.pixel_count();
     if samples < 2 || frame.luminance_m2.len() != pixels || linear.len() != pixels {
@@ -126,7 +116,7 @@ pub fn frame_noise(frame: &Frame, samples: u32, adaptive: bool) -> Option<f64> {
         .filter(|&k| frame.depth.get(k).is_some_and(|d| !d.is_nan()))
         .map(|k| {
             let l = luminance(vec3(linear[k]));
-            let n = mean_samples(frame.samples_of(k, samples), adaptive);
+            let n = frame.samples_of(k, samples);
             let noise = relative_noise(frame.luminance_m2[k], n, l).unwrap_or(0.0);
             (noise as f64, 1u64)
         })
@@ -163,9 +153,9 @@ fn spatial_variance(luma: &[f32], hit: &[bool], (w, h): (usize, usize), i: usize
 }
 
 /// A whole frame (rendered with its AOVs, [`crate::Readback::Hdr`]) of `samples` samples a
-/// pixel (`image.samples`; [`Frame::samples`] where adaptive sampling, `adaptive`, took fewer),
+/// pixel (`image.samples`; [`Frame::samples`] where adaptive sampling took fewer),
 /// ready for the passes.
-pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
+pub fn prepare(frame: &Frame, samples: u32) -> Prepared {
     let pixels = frame.pixel_count();
     let linear = frame.linear();
     assert!(
@@ -178,13 +168,11 @@ pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
         "the denoiser needs the AOVs (Readback::Hdr)"
     );
     let (w, h) = (frame.width as usize, frame.height as usize);
-    // Each pixel's hit fraction, of the samples its mean holds.
+    // Each pixel's hit fraction, of the samples it took (an adaptive pixel's hits are taken to
+    // those: trace.wgsl's `finish_aovs`).
     let fraction: Vec<f32> = (0..pixels)
         .into_par_iter()
-        .map(|k| {
-            let n = mean_samples(frame.samples_of(k, samples), adaptive);
-            hit_fraction(frame.hits[k], n)
-        })
+        .map(|k| hit_fraction(frame.hits[k], frame.samples_of(k, samples)))
         .collect();
     let albedo: Vec<[f32; 3]> = (0..pixels)
         .into_par_iter()
@@ -192,13 +180,13 @@ pub fn prepare(frame: &Frame, samples: u32, adaptive: bool) -> Prepared {
         .collect();
     let hit: Vec<bool> = fraction.par_iter().map(|&f| guide_hit(f)).collect();
     let variance: Vec<f32> = if samples >= 2 {
-        // Each pixel's own count: adaptive sampling stops pixels at different ones, and its
-        // mean holds half of them ([`mean_samples`]).
+        // Each pixel's own count: adaptive sampling stops pixels at different ones (and takes
+        // its M2 to the count it took: trace.wgsl's `finish_aovs`).
         frame
             .luminance_m2
             .par_iter()
             .enumerate()
-            .map(|(k, &m2)| mean_variance(m2, mean_samples(frame.samples_of(k, samples), adaptive)))
+            .map(|(k, &m2)| mean_variance(m2, frame.samples_of(k, samples)))
             .collect()
     } else {
         let luma: Vec<f32> = linear.par_iter().map(|&c| luminance(vec3(c))).collect();
@@ -299,7 +287,7 @@ pub fn denoise(
     gpu: Option<&GpuKernels>,
 ) -> crate::error::Result<Denoised> {
     let start = std::time::Instant::now();
-    let prepared = prepare(frame, scene.image.samples, scene.adaptive());
+    let prepared = prepare(frame, scene.image.samples);
     let passes = passes(scene, frame.width, frame.height);
     let (image, gpu_seconds, backend) = match gpu {
         Some(kernels) => {
@@ -354,8 +342,6 @@ mod tests {
         assert_eq!(demodulation([0.0; 3], 0.0), [1.0; 3]);
         assert_eq!(hit_fraction(3.0, 4), 0.75);
         assert_eq!(hit_fraction(0.0, 0), 0.0);
-        // Adaptively, the mean holds stream 1's half: 3 hits of 8 taken is 3 of 4.
-        assert_eq!(hit_fraction(3.0, mean_samples(8, true)), 0.75);
     }
 
     #[test]
@@ -370,7 +356,7 @@ mod tests {
         frame.depth = vec![2.0, f32::NAN, 3.0];
         frame.hits = vec![4.0, 2.0, 1.0];
         frame.hit_depth = vec![2.5, 3.0, 3.5];
-        let prepared = prepare(&frame, 4, false);
+        let prepared = prepare(&frame, 4);
         let depths: Vec<f32> = prepared.guide.iter().map(|g| g[3]).collect();
         assert_eq!(depths, [2.5, 3.0, -1.0]);
         assert_eq!(prepared.albedo[1], [0.75; 3]);
@@ -385,10 +371,10 @@ mod tests {
         frame.luminance_m2 = vec![0.02, 0.0, 100.0];
         // The third pixel missed: left out.
         frame.depth = vec![1.0, 2.0, f32::NAN];
-        let noise = frame_noise(&frame, 2, false).unwrap();
+        let noise = frame_noise(&frame, 2).unwrap();
         assert!((noise - 0.1).abs() < 1e-6, "{noise}");
-        assert_eq!(frame_noise(&frame, 1, false), None);
+        assert_eq!(frame_noise(&frame, 1), None);
         frame.depth = vec![f32::NAN; 3];
-        assert_eq!(frame_noise(&frame, 2, false), None);
+        assert_eq!(frame_noise(&frame, 2), None);
     }
 }

@@ -43,7 +43,8 @@ pub struct Frame {
     /// were not asked for.
     pub luminance_m2: Vec<f32>,
     /// The AOVs: how many of the samples the pixel's mean holds hit (its hit fraction, times
-    /// those samples: all it kept, or with adaptive sampling stream 1's); the denoiser's
+    /// those samples: all it kept; with adaptive sampling, taken to the samples it took:
+    /// trace.wgsl's `finish_aovs`); the denoiser's
     /// demodulation and guide. Empty where the AOVs were not asked for.
     pub hits: Vec<f32>,
     /// The AOVs: the depth of the hits (the primary ray's t, through the lens where it is

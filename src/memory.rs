@@ -23,6 +23,14 @@ pub const HDR_BYTES_PER_PIXEL: u64 = 13 * 4;
 /// each), and the colour made of it (4).
 pub const DENOISE_BYTES_PER_PIXEL: u64 = 3 * 16 + 2 * 12 + 4;
 
+/// The process's resident memory in bytes (Linux: /proc/self/statm, in 4 KiB pages; None
+/// elsewhere).
+pub fn resident_bytes() -> Option<u64> {
+    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
+    Some(pages * 4096)
+}
+
 /// The bytes a whole-image job may hold: `QJULIA_MEMORY_LIMIT` where set, else the host's
 /// available memory (Linux's `MemAvailable`), else None (not known: nothing is refused).
 pub fn available() -> Option<u64> {

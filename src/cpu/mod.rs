@@ -126,7 +126,7 @@ pub fn render_rows<F: Real>(
             let mut mean = Vec3::zero();
             // Adaptive sampling's state, as the kernel keeps it: the pixel's streams
             // (`add_to_streams`), and the samples taken.
-            let (mut streams, mut taken) = ([0.0f32; 4], samples);
+            let (mut streams, mut taken) = (trace::Streams::default(), samples);
             // As the kernel's `main` with INTERLEAVE 2: samples k and k + 1 traced as a pair at
             // k (`trace_primary_pair`), k + 1's trace kept for it; an odd one left traced alone.
             let mut second = None;
@@ -145,29 +145,37 @@ pub fn render_rows<F: Real>(
                 let pixel = params.shade_pixel(&ray, trace, shade);
                 non_finite += non_finite_values(&pixel);
                 let c = clamp(pixel.colour);
-                // The samples the mean holds, this one with them: all, or adaptively stream 1's.
-                let (mut n, mut shown) = (k + 1, true);
                 if params.adaptive() {
-                    let stream = params.sample_stream(k).0;
-                    let l = trace::sample_luminance(c.to_f32());
-                    streams = trace::add_to_streams(streams, stream, l);
-                    (n, shown) = (streams[3] as u32, stream == 1);
-                }
-                if shown {
-                    // The running mean, as the kernel keeps it: exact where all samples agree.
-                    mean = match n {
-                        1 => c,
-                        _ => mean + (c - mean) / F::lit(n as f64),
-                    };
-                    if aovs {
-                        made = params.add_pixel_aovs(made, n - 1, &pixel);
+                    // The samples the pixel's colours hold, and whether this one joined them.
+                    let before = streams.rule_a[3] + streams.b[3];
+                    streams = params.add_to_streams(streams, k, true, c.to_f32());
+                    let n = streams.rule_a[3] + streams.b[3];
+                    if aovs && n > before {
+                        made = params.add_pixel_aovs(made, n as u32 - 1, &pixel);
                     }
+                    first.get_or_insert(pixel);
+                    if params.sampling_done(&streams, k + 1) {
+                        taken = k + 1;
+                        break;
+                    }
+                    continue;
+                }
+                // The running mean, as the kernel keeps it: exact where all samples agree.
+                mean = match k {
+                    0 => c,
+                    _ => mean + (c - mean) / F::lit((k + 1) as f64),
+                };
+                if aovs {
+                    made = params.add_pixel_aovs(made, k, &pixel);
                 }
                 first.get_or_insert(pixel);
-                if params.adaptive() && params.sampling_done(streams, k + 1) {
-                    taken = k + 1;
-                    break;
+            }
+            if params.adaptive() {
+                // Every pixel is done by its last sample (`sampling_done`).
+                if aovs {
+                    made = trace::finish_aovs(made, &streams, taken);
                 }
+                mean = Vec3::from_f32(trace::streams_mean(&streams));
             }
             let first = first.expect("at least one sample");
             let colour = if params.samples <= 1 {

@@ -22,7 +22,7 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_ENVIRONMENT, DIM_FOG, DIM_LENS, DIM_PIXEL,
     DIM_ROULETTE, DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, Primary, Trace, add_aovs, add_to_streams, sample_luminance};
+use super::trace::{Aovs, Primary, Streams, Trace, add_aovs, finish_aovs, streams_mean};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -788,7 +788,7 @@ pub fn render_path_rows<F: Real>(
             let samples = params.samples.max(1);
             // Adaptive sampling's state, as `path_main` keeps it: the pixel's streams
             // (`add_to_streams`), and the samples taken.
-            let (mut streams, mut taken) = ([0.0f32; 4], samples);
+            let (mut streams, mut taken) = (Streams::default(), samples);
             let mut second = None;
             for k in 0..samples {
                 let camera = params.path_camera_ray(path, i, j, k);
@@ -804,31 +804,42 @@ pub fn render_path_rows<F: Real>(
                 };
                 let r = params.trace_path_from(path, (i, j, k), &camera, traced);
                 first.get_or_insert(r);
-                if sample_valid(r.radiance) {
-                    // The samples the mean holds, this one with them: the samples kept, or
-                    // adaptively stream 1's.
-                    let (mut n, mut shown) = (k + 1 - dropped, true);
-                    if params.adaptive() {
-                        let stream = params.sample_stream(k).0;
-                        let l = sample_luminance(r.radiance.to_f32());
-                        streams = add_to_streams(streams, stream, l);
-                        (n, shown) = (streams[3] as u32, stream == 1);
-                    }
-                    if shown {
-                        mean += (r.radiance - mean) / F::lit(n as f64);
-                        if aovs {
-                            let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
-                            let (normal, depth) = (r.normal.to_f32(), r.depth.to_f64() as f32);
-                            made = add_aovs(made, n - 1, radiance, r.hit, albedo, normal, depth);
-                        }
-                    }
-                } else {
+                let valid = sample_valid(r.radiance);
+                if !valid {
                     dropped += 1;
                 }
-                if params.adaptive() && params.sampling_done(streams, k + 1) {
-                    taken = k + 1;
-                    break;
+                let add = |made: Aovs, n: u32| {
+                    let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
+                    let (normal, depth) = (r.normal.to_f32(), r.depth.to_f64() as f32);
+                    add_aovs(made, n - 1, radiance, r.hit, albedo, normal, depth)
+                };
+                if params.adaptive() {
+                    // The samples the pixel's colours hold, and whether this one joined them.
+                    let before = streams.rule_a[3] + streams.b[3];
+                    streams = params.add_to_streams(streams, k, valid, r.radiance.to_f32());
+                    let n = streams.rule_a[3] + streams.b[3];
+                    if aovs && n > before {
+                        made = add(made, n as u32);
+                    }
+                    if params.sampling_done(&streams, k + 1) {
+                        taken = k + 1;
+                        break;
+                    }
+                } else if valid {
+                    // The samples the mean holds, this one with them: the samples kept.
+                    let n = k + 1 - dropped;
+                    mean += (r.radiance - mean) / F::lit(n as f64);
+                    if aovs {
+                        made = add(made, n);
+                    }
                 }
+            }
+            if params.adaptive() {
+                // Every pixel is done by its last sample (`sampling_done`).
+                if aovs {
+                    made = finish_aovs(made, &streams, taken);
+                }
+                mean = Vec3::from_f32(streams_mean(&streams));
             }
             let first = first.expect("at least one sample");
             let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);

@@ -1201,9 +1201,10 @@ pub fn lens_position(k: u32) -> (f32, f32) {
 
 impl<F: Real> TraceParams<F> {
     /// Adaptive sampling's two streams (docs/book/adaptive.md): sample k of an adaptive pixel
-    /// is sample k / 2 of stream k % 2, as (stream, index). Stream 0 decides when the pixel is
-    /// done and stream 1 is what it shows, so that the decision does not depend on the estimate
-    /// it stops. Without adaptive sampling every sample is stream 0's: (0, k).
+    /// is sample k / 2 of stream k % 2, as (stream, index). Each stream's stop is decided by its
+    /// own samples and applied to the other's mean ([`TraceParams::add_to_streams`]), so that no
+    /// half of what the pixel shows depends on its own stop. Without adaptive sampling every
+    /// sample is stream 0's: (0, k).
     pub fn sample_stream(&self, k: u32) -> (u32, u32) {
         if self.adaptive() {
             return (k & 1, k >> 1);
@@ -1336,37 +1337,137 @@ pub fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
     variance.sqrt() / mean_luminance.abs().max(NOISE_LUMINANCE_FLOOR)
 }
 
-/// A pixel's streams ([`TraceParams::sample_stream`]) with one more sample, of luminance `l`,
-/// in stream `stream`: (stream 0's mean luminance, its M2 by Welford's rule ([`add_m2`], at
-/// least 0), the samples kept in stream 0, in stream 1), the counts exact in f32. The
-/// accumulator's second plane holds it.
-pub fn add_to_streams(d: [f32; 4], stream: u32, l: f32) -> [f32; 4] {
-    let mut out = d;
-    if stream == 0 {
-        out[2] = d[2] + 1.0;
-        out[0] = d[0] + (l - d[0]) / out[2];
-        out[1] = add_m2(d[1], l, d[0], out[0]).max(0.0);
-    } else {
-        out[3] = d[3] + 1.0;
-    }
+/// A pixel's adaptive state (the kernels' `Streams`, kept on the GPU in the accumulator's four
+/// planes): `a` = (A's mean colour, tau_A: 0 until A's rule fires), `b` = (B's mean colour, the
+/// samples in it), `rule_a` = (A's mean luminance, its M2 ([`add_m2`]), its samples kept, the
+/// samples in A's colour), `rule_b` = (B's mean luminance, its M2, its samples kept, tau_B: 0
+/// until B's rule fires). Streams A and B are stream 0 and 1 of
+/// [`TraceParams::sample_stream`]. A's colour takes A's draws while B's rule has not fired (A's
+/// first tau_B), B's takes B's first tau_A; each stream's luminances are counted until its own
+/// rule fires. The counts are exact in f32. All in f32 in both precisions, as the accumulator is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Streams {
+    pub a: [f32; 4],
+    pub b: [f32; 4],
+    pub rule_a: [f32; 4],
+    pub rule_b: [f32; 4],
+}
+
+/// A stream's luminance statistics (`rule`: mean, M2, samples kept) with one more luminance `l`,
+/// by Welford's rule ([`add_m2`], at least 0); the fourth float is kept.
+pub fn add_luminance(rule: [f32; 4], l: f32) -> [f32; 4] {
+    let mut out = rule;
+    out[2] = rule[2] + 1.0;
+    out[0] = rule[0] + (l - rule[0]) / out[2];
+    out[1] = add_m2(rule[1], l, rule[0], out[0]).max(0.0);
     out
 }
 
 impl<F: Real> TraceParams<F> {
-    /// Whether a pixel whose streams are `d` ([`add_to_streams`]) is done once it has taken
-    /// `taken` samples: all of them, or at least max(min(min_samples, samples), 4) with stream 1
-    /// as long as stream 0, which has at least 2 samples and a noise ([`pixel_noise`]) at most
-    /// the target.
-    pub fn sampling_done(&self, d: [f32; 4], taken: u32) -> bool {
+    /// Whether a stream's rule fires after its draw `draws` (from 1), its luminances' statistics
+    /// being `rule` ([`add_luminance`]): at its cap of samples / 2 draws, or from half the floor
+    /// max(min(min_samples, samples), 4) (rounded up) on, with at least 2 samples kept and a
+    /// noise ([`pixel_noise`]) at most the target.
+    pub fn stream_fires(&self, rule: [f32; 4], draws: u32) -> bool {
+        if draws >= self.samples / 2 {
+            return true;
+        }
+        let floor = (self.min_samples.min(self.samples).max(4) + 1) / 2;
+        if draws < floor || rule[2] < 2.0 {
+            return false;
+        }
+        pixel_noise(rule[1], rule[2] as u32, rule[0]) <= self.noise_target.to_f64() as f32
+    }
+
+    /// A pixel's streams with its sample `k` taken (draw k / 2 + 1 of stream k % 2), of colour
+    /// `colour` where it is `valid`.
+    pub fn add_to_streams(&self, s: Streams, k: u32, valid: bool, colour: Vec3<f32>) -> Streams {
+        let mut out = s;
+        let draws = k / 2 + 1;
+        let l = sample_luminance(colour);
+        let c = [colour.x, colour.y, colour.z];
+        let joined = |mean: [f32; 4], n: f32| [0, 1, 2].map(|k| mean[k] + (c[k] - mean[k]) / n);
+        if k % 2 == 0 {
+            // A's draw joins A's colour while B's rule has not fired.
+            if valid && s.rule_b[3] == 0.0 {
+                out.rule_a[3] = s.rule_a[3] + 1.0;
+                let [r, g, b] = joined(s.a, out.rule_a[3]);
+                out.a = [r, g, b, s.a[3]];
+            }
+            if s.a[3] == 0.0 {
+                if valid {
+                    let [m, m2, kept, _] = add_luminance(s.rule_a, l);
+                    out.rule_a = [m, m2, kept, out.rule_a[3]];
+                }
+                if self.stream_fires(out.rule_a, draws) {
+                    out.a[3] = draws as f32;
+                }
+            }
+        } else {
+            // B's draw joins B's colour while A's rule has not fired, or up to A's stop.
+            if valid && (s.a[3] == 0.0 || draws as f32 <= s.a[3]) {
+                let n = s.b[3] + 1.0;
+                let [r, g, b] = joined(s.b, n);
+                out.b = [r, g, b, n];
+            }
+            if s.rule_b[3] == 0.0 {
+                if valid {
+                    let [m, m2, kept, _] = add_luminance(s.rule_b, l);
+                    out.rule_b = [m, m2, kept, 0.0];
+                }
+                if self.stream_fires(out.rule_b, draws) {
+                    out.rule_b[3] = draws as f32;
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether a pixel whose streams are `s` is done once it has taken `taken` samples: both
+    /// rules have fired and B has its first tau_A draws (A has its first tau_B whenever B's rule
+    /// has fired), or it has taken every sample.
+    pub fn sampling_done(&self, s: &Streams, taken: u32) -> bool {
         if taken >= self.samples {
             return true;
         }
-        let floor = self.min_samples.min(self.samples).max(4);
-        if taken < floor || d[2] < 2.0 || d[3] < d[2] {
-            return false;
-        }
-        pixel_noise(d[1], d[2] as u32, d[0]) <= self.noise_target.to_f64() as f32
+        s.a[3] > 0.0 && s.rule_b[3] > 0.0 && (taken / 2) as f32 >= s.a[3]
     }
+}
+
+/// What a pixel whose streams are `s` shows: half A's mean colour plus half B's, or the one
+/// stream's where the other has no sample in it (black where neither has).
+pub fn streams_mean(s: &Streams) -> Vec3<f32> {
+    let [a, b] = [s.a, s.b].map(|m| Vec3::new(m[0], m[1], m[2]));
+    if s.rule_a[3] == 0.0 {
+        return b;
+    }
+    if s.b[3] == 0.0 {
+        return a;
+    }
+    (a + b) * 0.5
+}
+
+/// A done pixel's AOVs with their hits and M2 taken to the `taken` samples it took, which the
+/// host divides by ([`crate::denoise::mean_variance`], [`crate::denoise::hit_fraction`]): hits / taken is then the fraction of the
+/// n = n_A + n_B samples in its colours that hit, and M2 / (taken (taken - 1)) the variance of
+/// what it shows, M2 / (n - 1) (1 / n_A + 1 / n_B) / 4 (1 / n with one stream empty).
+pub fn finish_aovs(a: Aovs, s: &Streams, taken: u32) -> Aovs {
+    let mut out = a;
+    let n = s.rule_a[3] + s.b[3];
+    let t = taken as f32;
+    if n == 0.0 {
+        return out;
+    }
+    out.hits = a.hits * t / n;
+    let mut spread = 1.0 / n;
+    if s.rule_a[3] > 0.0 && s.b[3] > 0.0 {
+        spread = 0.25 * (1.0 / s.rule_a[3] + 1.0 / s.b[3]);
+    }
+    out.m2 = 0.0;
+    if n >= 2.0 && t >= 2.0 {
+        out.m2 = a.m2 / (n - 1.0) * spread * (t * (t - 1.0));
+    }
+    out
 }
 
 /// Adds to one of the work counters (see `cpu::count_work`); not part of the twin.

@@ -105,8 +105,8 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
 
 /// The tracer's outputs: the image's three, the work made per pixel (trace.wgsl's `out_work`:
 /// the distance estimates and the quaternion iterations, each a u64 as two u32s), the running
-/// mean of the samples' colours (`vec4<f32>`, then a second plane for adaptive sampling's
-/// streams, trace.wgsl's `add_to_streams`, which stays on the device), and on demand the AOVs
+/// mean of the samples' colours (`vec4<f32>`, then three more planes for adaptive sampling's
+/// streams, trace.wgsl's `Streams`, which stay on the device), and on demand the AOVs
 /// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
 /// WebGPU's default of eight a stage.
 pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
@@ -123,7 +123,7 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
         name: "accumulated",
         bytes_per_item: 16,
         on_demand: false,
-        planes: 2,
+        planes: 4,
     },
     OutputSpec {
         name: "aovs",

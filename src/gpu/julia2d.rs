@@ -63,6 +63,11 @@ impl GpuJulia2d<f64> {
 }
 
 impl<F: GpuReal> GpuJulia2d<F> {
+    /// How many pipelines the 2D view holds: at most [`super::kernel::MAX_PIPELINES`].
+    pub fn pipelines_held(&self) -> usize {
+        self.kernel.pipelines_held()
+    }
+
     /// Builds this precision's kernel on `ctx` (`GpuKernels` keeps one of each).
     pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;

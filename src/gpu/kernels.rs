@@ -123,6 +123,39 @@ impl GpuKernels {
         built(&self.denoiser, || GpuDenoiser::new(self.ctx.clone()))
     }
 
+    /// The pipelines each built kernel holds, as `tracer 3, path64 1, …` (each at most
+    /// [`super::kernel::MAX_PIPELINES`]; a kernel not built yet is left out): what the device
+    /// holds of compiled code, which the explorer's memory is bounded by.
+    pub fn pipelines_held(&self) -> String {
+        fn count<T>(slot: &Slot<T>, held: impl Fn(&T) -> usize) -> Option<usize> {
+            slot.lock().expect("kernel slot").as_deref().map(held)
+        }
+        [
+            ("tracer", count(&self.f32.tracer, GpuTracer::pipelines_held)),
+            (
+                "tracer64",
+                count(&self.f64.tracer, GpuTracer::pipelines_held),
+            ),
+            ("path", count(&self.f32.path, GpuPathTracer::pipelines_held)),
+            (
+                "path64",
+                count(&self.f64.path, GpuPathTracer::pipelines_held),
+            ),
+            (
+                "julia2d",
+                count(&self.f32.julia2d, GpuJulia2d::pipelines_held),
+            ),
+            (
+                "julia2d64",
+                count(&self.f64.julia2d, GpuJulia2d::pipelines_held),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(name, n)| n.map(|n| format!("{name} {n}")))
+        .collect::<Vec<_>>()
+        .join(", ")
+    }
+
     /// Whether f64 runs on this device: SHADER_F64 and the start-up check
     /// ([`GpuContext::f64_support`], run once per device).
     pub fn has_f64(&self) -> bool {

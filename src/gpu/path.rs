@@ -345,6 +345,12 @@ impl GpuPathTracer<f64> {
 }
 
 impl<F: GpuReal> GpuPathTracer<F> {
+    /// How many pipelines (variants) the path tracer holds: at most
+    /// [`super::kernel::MAX_PIPELINES`].
+    pub fn pipelines_held(&self) -> usize {
+        self.kernel.pipelines_held()
+    }
+
     /// Builds this precision's kernel on `ctx` (`GpuKernels` keeps one of each).
     pub(super) fn build(ctx: GpuContext) -> Result<Self> {
         let device_constants = F::device_constants(&ctx)?;

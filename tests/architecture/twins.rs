@@ -56,9 +56,14 @@ const TRACE: Twin = Twin {
         },
         OnlyIn {
             side: Side::Wgsl,
-            name: "streams_index",
-            reason: "where the accumulator's second plane starts in the storage array \
-                     (arrayLength); the CPU keeps a pixel's streams in a local",
+            name: "load_streams",
+            reason: "reads a pixel's streams from the accumulator's four planes in the storage \
+                     array (arrayLength); the CPU keeps a pixel's streams in a local",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_streams",
+            reason: "as load_streams, writing them back",
         },
         OnlyIn {
             side: Side::Wgsl,

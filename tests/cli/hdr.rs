@@ -475,12 +475,13 @@ fn the_aov_buffer_is_allocated_only_when_read() {
         let buffers = kernel.output_buffers(1000, "test", read);
         buffers.iter().map(|b| b.size()).collect()
     };
-    // The work counts are 16 bytes a pixel (two 64-bit counts), the accumulator two planes of
-    // 16 bytes a pixel (the running mean, then adaptive sampling's streams).
-    assert_eq!(sizes(&[]), [4000, 4000, 4000, 16000, 32000, 48]);
+    // The work counts are 16 bytes a pixel (two 64-bit counts), the accumulator four planes of
+    // 16 bytes a pixel (the running mean or stream A's, then the rest of adaptive sampling's
+    // streams: trace.wgsl's `Streams`).
+    assert_eq!(sizes(&[]), [4000, 4000, 4000, 16000, 64000, 48]);
     let mut read = vec![false; names.len()];
     *read.last_mut().unwrap() = true;
-    assert_eq!(sizes(&read), [4000, 4000, 4000, 16000, 32000, 48000]);
+    assert_eq!(sizes(&read), [4000, 4000, 4000, 16000, 64000, 48000]);
 }
 
 /// Where both tracers hit with sample 0, the albedo within 1e-3 and the normal within 1e-2 on

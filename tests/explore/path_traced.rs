@@ -378,7 +378,7 @@ fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
     assert_eq!(stats.denoise_error, None);
     let noise = stats.noise.expect("a noise figure");
     assert!(noise > 0.0 && noise.is_finite(), "noise {noise}");
-    let noise_again = qjulia::denoise::frame_noise(frame, 3, false).unwrap();
+    let noise_again = qjulia::denoise::frame_noise(frame, 3).unwrap();
     assert_eq!(noise, noise_again);
     let expected = rendered_any(&harness);
     assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");

@@ -99,7 +99,7 @@ fn a_flat_noise_free_image_is_unchanged() {
             (linear, albedo, [0.0, 0.6, 0.8], 3.0 + 0.01 * i as f32, 0.0)
         }
     });
-    let prepared = denoise::prepare(&input, 16, false);
+    let prepared = denoise::prepare(&input, 16);
     let (cpu, gpu) = both("a flat image", &scene, &prepared);
     for (name, out) in [("cpu", Some(cpu)), ("gpu", gpu)] {
         let Some(out) = out else { continue };
@@ -182,7 +182,7 @@ fn edges_in_the_albedo_and_the_normal_survive() {
         ("albedo edge", albedo_edge, 0.8 - 0.2),
         ("normal edge", normal_edge, 0.5 * (0.9 - 0.3)),
     ] {
-        let prepared = denoise::prepare(&input, 16, false);
+        let prepared = denoise::prepare(&input, 16);
         let (cpu, gpu) = both(name, &scene, &prepared);
         let before = half_deviation(&input.unclamped, w as usize, 2);
         for (side, out) in [("cpu", Some(cpu)), ("gpu", gpu)] {
@@ -302,7 +302,7 @@ fn gpu_and_cpu_passes_agree() {
                 Ok(())
             })
             .expect("a render");
-        let prepared = denoise::prepare(&noisy, scene.image.samples, scene.adaptive());
+        let prepared = denoise::prepare(&noisy, scene.image.samples);
         let (cpu, gpu) = both(name, &scene, &prepared);
         let gpu = gpu.expect("a GPU");
         let pack = |linear: &[[f32; 3]]| match name {

@@ -342,6 +342,7 @@ fn run(kernels: crate::Result<Arc<GpuKernels>>, shared: &Shared) {
     // With `QJULIA_EXPLORE_LOG=frames`, a line a step: its time and its spans.
     let log = std::env::var_os("QJULIA_EXPLORE_LOG").is_some_and(|v| v == "frames");
     let mut steps = 0u64;
+    let mut pipelines = String::new();
     loop {
         {
             let (lock, ready) = inbox;
@@ -384,6 +385,17 @@ fn run(kernels: crate::Result<Arc<GpuKernels>>, shared: &Shared) {
                 started.elapsed().as_secs_f64() * 1e3,
                 if spans.is_empty() { "" } else { "; " }
             );
+            // What the device holds of compiled code, when it changed: the explorer's memory
+            // is bounded by it (docs/book/robustness.md, "The explorer without a GPU").
+            let held = views.kernels.pipelines_held();
+            if held != pipelines {
+                let resident = crate::memory::resident_bytes().unwrap_or(0) as f64 / 1e6;
+                let at = super::spans::epoch_ms(Instant::now());
+                eprintln!(
+                    "explore view pipelines held: {held}; resident {resident:.0} MB; at {at:.1}"
+                );
+                pipelines = held;
+            }
         }
         let last = shown.lock().unwrap().clone();
         let now = views.shown(*number, ask, &last);

@@ -41,7 +41,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             self.spare_readback = Some(rb.buffer);
             self.stats.noise = frame
                 .as_ref()
-                .and_then(|f| crate::denoise::frame_noise(f, rb.samples, rb.adaptive));
+                .and_then(|f| crate::denoise::frame_noise(f, rb.samples));
             self.generation += 1;
             self.kept = Some(KeptRadiance {
                 radiance,
