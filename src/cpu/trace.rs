@@ -1372,7 +1372,7 @@ impl<F: Real> TraceParams<F> {
         if draws >= self.samples / 2 {
             return true;
         }
-        let floor = (self.min_samples.min(self.samples).max(4) + 1) / 2;
+        let floor = self.min_samples.min(self.samples).max(4).div_ceil(2);
         if draws < floor || rule[2] < 2.0 {
             return false;
         }
@@ -1387,7 +1387,7 @@ impl<F: Real> TraceParams<F> {
         let l = sample_luminance(colour);
         let c = [colour.x, colour.y, colour.z];
         let joined = |mean: [f32; 4], n: f32| [0, 1, 2].map(|k| mean[k] + (c[k] - mean[k]) / n);
-        if k % 2 == 0 {
+        if k.is_multiple_of(2) {
             // A's draw joins A's colour while B's rule has not fired.
             if valid && s.rule_b[3] == 0.0 {
                 out.rule_a[3] = s.rule_a[3] + 1.0;
