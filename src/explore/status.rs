@@ -114,8 +114,8 @@ impl StatusLine {
                         samples.push_str(&format!(" ({mean:.1} a pixel)"));
                     }
                     ui.label(samples).on_hover_text(
-                        "with adaptive sampling, a pixel stops once its noise is at most \
-                         path.noise_target: the mean of what each has taken",
+                        "with adaptive sampling, a pixel stops once each of its two streams' \
+                         noise is at most path.noise_target: the mean of what each has taken",
                     );
                 }
                 if let Some(noise) = s.noise.filter(|_| s.refined) {
