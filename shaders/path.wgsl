@@ -638,14 +638,10 @@ fn path_main(
         }
     }
     if adaptive() {
-        if taken > 0u {
-            if AOVS {
-                aovs = finish_aovs(aovs, streams, taken);
-            }
-            accumulated[index] = vec4<f32>(streams_mean(streams), -f32(taken));
-        } else {
-            store_streams(index, streams);
+        if AOVS && taken > 0u {
+            aovs = finish_aovs(aovs, streams, taken);
         }
+        store_streams(index, streams, taken);
     } else {
         accumulated[index] = vec4<f32>(mean, 0.0);
     }

@@ -1506,8 +1506,14 @@ fn load_streams(index: u32) -> Streams {
     );
 }
 
-// Keeps a pixel's streams in the accumulator's four planes (load_streams).
-fn store_streams(index: u32, s: Streams) {
+// Keeps a pixel's streams after a dispatch: once it is done (after `taken` samples; 0 while it
+// samples), what it shows and minus its samples in the first plane alone; else all four planes
+// (load_streams).
+fn store_streams(index: u32, s: Streams, taken: u32) {
+    if taken > 0u {
+        accumulated[index] = vec4<f32>(streams_mean(s), -f32(taken));
+        return;
+    }
     let plane = arrayLength(&accumulated) / 4u;
     accumulated[index] = s.a;
     accumulated[plane + index] = s.b;
@@ -1675,14 +1681,10 @@ fn main(
         }
     }
     if adaptive() {
-        if taken > 0u {
-            if AOVS {
-                aovs = finish_aovs(aovs, streams, taken);
-            }
-            accumulated[index] = vec4<f32>(streams_mean(streams), -f32(taken));
-        } else {
-            store_streams(index, streams);
+        if AOVS && taken > 0u {
+            aovs = finish_aovs(aovs, streams, taken);
         }
+        store_streams(index, streams, taken);
         mean = vec3<Real>(streams_mean(streams));
     } else {
         accumulated[index] = vec4<f32>(vec3<f32>(mean), 0.0);

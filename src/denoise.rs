@@ -65,7 +65,8 @@ pub fn demodulation(albedo: [f32; 3], hit_fraction: f32) -> [f32; 3] {
 }
 
 /// The fraction of the samples a pixel took (`samples`; adaptively, its AOVs' hits are taken to
-/// those: trace.wgsl's `finish_aovs`) whose primary ray hit, from the AOVs' count of them; in [0, 1], 0 without samples.
+/// those: trace.wgsl's `finish_aovs`) whose primary ray hit, from the AOVs' count of them; in
+/// [0, 1], 0 without samples.
 pub fn hit_fraction(hits: f32, samples: u32) -> f32 {
     match samples {
         0 => 0.0,
@@ -103,8 +104,8 @@ pub fn relative_noise(m2: f32, samples: u32, mean_luminance: f32) -> Option<f32>
 
 /// A frame's estimated noise: the mean of [`relative_noise`] over the pixels whose sample 0
 /// hit, of a frame of `samples` samples a pixel (or [`Frame::samples`] where adaptive sampling
-/// took fewer) with its AOVs (the M2). None below 2
-/// samples, without the AOVs, or where no pixel hit.
+/// took fewer) with its AOVs (the M2). None below 2 samples, without the AOVs, or where no
+/// pixel hit.
 pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
     let linear = frame.linear();
     let pixels = frame.pixel_count();

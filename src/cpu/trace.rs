@@ -1448,9 +1448,10 @@ pub fn streams_mean(s: &Streams) -> Vec3<f32> {
 }
 
 /// A done pixel's AOVs with their hits and M2 taken to the `taken` samples it took, which the
-/// host divides by ([`crate::denoise::mean_variance`], [`crate::denoise::hit_fraction`]): hits / taken is then the fraction of the
-/// n = n_A + n_B samples in its colours that hit, and M2 / (taken (taken - 1)) the variance of
-/// what it shows, M2 / (n - 1) (1 / n_A + 1 / n_B) / 4 (1 / n with one stream empty).
+/// host divides by ([`crate::denoise::mean_variance`], [`crate::denoise::hit_fraction`]):
+/// hits / taken is then the fraction of the n = n_A + n_B samples in its colours that hit, and
+/// M2 / (taken (taken - 1)) the variance of what it shows, M2 / (n - 1) (1 / n_A + 1 / n_B) / 4
+/// (1 / n with one stream empty).
 pub fn finish_aovs(a: Aovs, s: &Streams, taken: u32) -> Aovs {
     let mut out = a;
     let n = s.rule_a[3] + s.b[3];

@@ -63,7 +63,7 @@ const TRACE: Twin = Twin {
         OnlyIn {
             side: Side::Wgsl,
             name: "store_streams",
-            reason: "as load_streams, writing them back",
+            reason: "as load_streams, writing them back (a done pixel's first plane alone)",
         },
         OnlyIn {
             side: Side::Wgsl,

@@ -450,8 +450,3 @@ pub fn sampled_albedo(
         ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
     )
 }
-
-/// The process's resident memory in bytes (Linux: /proc/self/statm; None elsewhere).
-pub fn resident_bytes() -> Option<u64> {
-    qjulia::memory::resident_bytes()
-}

@@ -33,7 +33,7 @@ fn renders_of_changing_values_are_held_by_the_pipeline_cap() {
     for k in 0..MAX_PIPELINES as u32 + 8 {
         render(k);
     }
-    let Some(before) = common::resident_bytes() else {
+    let Some(before) = qjulia::memory::resident_bytes() else {
         common::say_skipped(name, "the memory check", "no /proc/self/statm here");
         return;
     };
@@ -41,7 +41,7 @@ fn renders_of_changing_values_are_held_by_the_pipeline_cap() {
     for k in 0..more {
         render(1000 + k);
     }
-    let after = common::resident_bytes().expect("statm read once");
+    let after = qjulia::memory::resident_bytes().expect("statm read once");
     let growth_mb = (after as f64 - before as f64) / 1e6;
     eprintln!(
         "baked pipelines: resident {:.1} MB -> {:.1} MB over {more} new pipelines, {} held",

@@ -38,12 +38,12 @@ fn three_hundred_renders_grow_resident_memory_by_under_24_mb() {
         }
     };
     render_all(30);
-    let Some(before) = common::resident_bytes() else {
+    let Some(before) = qjulia::memory::resident_bytes() else {
         common::say_skipped(name, "the memory check", "no /proc/self/statm here");
         return;
     };
     render_all(300);
-    let after = common::resident_bytes().expect("statm read once");
+    let after = qjulia::memory::resident_bytes().expect("statm read once");
     let growth_mb = (after as f64 - before as f64) / 1e6;
     eprintln!(
         "repeated renders: resident {:.1} MB -> {:.1} MB over 600 renders",
