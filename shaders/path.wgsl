@@ -82,13 +82,23 @@ struct PathResult {
     normal: vec3<f32>,
 }
 
+// A path sample's stream and its index in it, as (stream, index): wherever a pixel takes two
+// samples or more, adaptively or not, sample k is sample k / 2 of stream k % 2 (trace.wgsl's
+// sample_stream when adaptive), so that the pixel's two halves (Halves) are drawn independently
+// and their disagreement is its error estimate; a single sample is stream 0's.
+fn path_stream(k: u32) -> vec2<u32> {
+    if params.samples > 1u {
+        return vec2<u32>(k & 1u, k >> 1u);
+    }
+    return vec2<u32>(0u, k);
+}
+
 // The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the scene's
 // sampler (shaders/sobol.wgsl: the dimensions' order is stated there): the point of the
-// sample's index in its stream (trace.wgsl's sample_stream), stream 1 drawn as if its pixel's
-// number had bit 31 set (no pixel's has), so that its points are scrambled independently of
-// stream 0's.
+// sample's index in its stream (path_stream), stream 1 drawn as if its pixel's number had bit 31
+// set (no pixel's has), so that its points are scrambled independently of stream 0's.
 fn path_random(i: u32, j: u32, sample: u32, dim: u32) -> f32 {
-    let s = sample_stream(sample);
+    let s = path_stream(sample);
     let pixel = ((j * params.width + i) | (s.x << 31u)) ^ seed_mask();
     return to_unit(sample_bits(path.sampler, pixel, s.y, dim));
 }
@@ -529,16 +539,17 @@ fn sample_valid(c: vec3<f32>) -> bool {
 }
 
 // One workgroup is 8 x 8 pixels. This dispatch adds the samples [sample_start, sample_end) to
-// the running mean of the pixel's linear radiance in `accumulated` (m_k = m_(k-1) + (x_k -
-// m_(k-1)) / (k + 1)), and with AOVS to the AOVs (add_aovs: the first hits' albedo, normal and depth);
+// the pixel's halves (add_to_halves: sample k to the running mean of its stream, path_stream)
+// in the accumulator's second and third planes, and what the pixel shows (halves_mean) to its
+// first; with AOVS it adds them to the AOVs (add_aovs: the first hits' albedo, normal and depth);
 // sample 0 gives the depth and the steps (where the lens is open, the pinhole ray's through the
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
-// dropped: counted in out_colour's word, and left out of the pixel's n (the k + 1 above is the
-// samples kept), its mean, its M2, its AOVs and its adaptive state. Adaptively (trace.wgsl's
-// `adaptive`) the samples go to the pixel's two streams instead (add_to_streams), the AOVs take
-// the samples that join the streams' colours, and the pixel stops after the sample that leaves
-// it done (sampling_done), showing streams_mean; a later dispatch leaves it at once, or with
-// COMPACT gives its invocation to a live pixel of its block (compacted_pixel).
+// dropped: counted in out_colour's word, and left out of the pixel's halves, its M2, its AOVs and
+// its adaptive state. Adaptively (trace.wgsl's `adaptive`) the samples go to the pixel's two
+// streams instead (add_to_streams), the AOVs take the samples that join the streams' colours,
+// and the pixel stops after the sample that leaves it done (sampling_done), showing
+// streams_mean; a later dispatch leaves it at once, or with COMPACT gives its invocation to a
+// live pixel of its block (compacted_pixel).
 @compute @workgroup_size(8, 8, 1)
 fn path_main(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -556,7 +567,8 @@ fn path_main(
     let index = (params.out_row + row) * params.row_stride + i;
     estimates = 0u;
     iterations = 0u;
-    var mean = vec3<f32>(0.0);
+    // Without adaptive sampling, the pixel's halves (add_to_halves).
+    var halves = Halves(vec4<f32>(0.0), vec4<f32>(0.0));
     var made = vec4<u32>(0u);
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
     // Adaptively (trace.wgsl's `adaptive`), the pixel's streams (add_to_streams).
@@ -575,13 +587,14 @@ fn path_main(
         if adaptive() && held.w < 0.0 {
             return;
         }
-        mean = held.xyz;
         made = out_work[index];
         let counters = out_colour[index];
         dropped = counters & COUNTER_DROPPED_MASK;
         exhausted_before = counters >> COUNTER_DROPPED_BITS;
         if adaptive() {
             streams = load_streams(index);
+        } else {
+            halves = load_halves(index);
         }
         if AOVS {
             aovs = load_aovs(index);
@@ -629,9 +642,9 @@ fn path_main(
                 break;
             }
         } else if valid {
-            // The samples the mean holds, this one with them: the samples kept.
+            // The samples the halves hold, this one with them: the samples kept.
             let n = k + 1u - dropped;
-            mean += (r.radiance - mean) / f32(n);
+            halves = add_to_halves(halves, k, r.radiance);
             if AOVS {
                 aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
             }
@@ -643,7 +656,8 @@ fn path_main(
         }
         store_streams(index, streams, taken);
     } else {
-        accumulated[index] = vec4<f32>(mean, 0.0);
+        accumulated[index] = vec4<f32>(halves_mean(halves), 0.0);
+        store_halves(index, halves);
     }
     if AOVS {
         store_aovs(index, aovs);

@@ -1226,7 +1226,8 @@ fn lens_position(k: u32) -> vec2<f32> {
 // Adaptive sampling's two streams (docs/book/adaptive.md): sample k of an adaptive pixel is
 // sample k / 2 of stream k % 2, as (stream, index). Each stream's stop is decided by its own
 // samples and applied to the other's mean (add_to_streams), so that no half of what the pixel
-// shows depends on its own stop. Without adaptive sampling every sample is stream 0's: (0, k).
+// shows depends on its own stop. Without adaptive sampling every sample is stream 0's: (0, k)
+// (phong mode; path mode has both streams anyway: path.wgsl's path_stream).
 fn sample_stream(k: u32) -> vec2<u32> {
     if adaptive() {
         return vec2<u32>(k & 1u, k >> 1u);
@@ -1378,7 +1379,7 @@ fn pixel_noise(m2: f32, n: u32, mean_luminance: f32) -> f32 {
 // takes B's first tau_A. Each stream's luminances are counted until its own rule fires. The
 // counts are exact in f32. A sample that is not valid (path mode's sample_valid) is a draw of its
 // stream but joins nothing. Once the pixel is done the first plane holds what it shows
-// (streams_mean) and minus the samples it took.
+// (streams_mean) and minus the samples it took, and the next two its halves (store_streams).
 struct Streams {
     a: vec4<f32>,
     b: vec4<f32>,
@@ -1459,16 +1460,49 @@ fn sampling_done(s: Streams, taken: u32) -> bool {
     return s.a.w > 0.0 && s.rule_b.w > 0.0 && f32(taken / 2u) >= s.a.w;
 }
 
-// What a pixel whose streams are s shows: half A's mean colour plus half B's, or the one stream's
+// A pixel's two halves (path mode, and an adaptive pixel once it is done): each stream's mean
+// colour and the samples in it, a = (A's mean colour, n_A), b = (B's mean colour, n_B). The
+// streams are drawn independently, so the halves' disagreement estimates the error of what the
+// pixel shows (docs/CONTRACT.md's `estimated_rmse`): E[(a - b)^2] / 4 = Var((a + b) / 2).
+struct Halves {
+    a: vec4<f32>,
+    b: vec4<f32>,
+}
+
+// A pixel's halves with its valid sample k (of stream k % 2) of colour `colour` joined to its
+// stream's running mean, m_n = m_(n-1) + (c - m_(n-1)) / n.
+fn add_to_halves(h: Halves, k: u32, colour: vec3<f32>) -> Halves {
+    var out = h;
+    if k % 2u == 0u {
+        let n = h.a.w + 1.0;
+        out.a = vec4<f32>(h.a.xyz + (colour - h.a.xyz) / n, n);
+    } else {
+        let n = h.b.w + 1.0;
+        out.b = vec4<f32>(h.b.xyz + (colour - h.b.xyz) / n, n);
+    }
+    return out;
+}
+
+// What a pixel whose halves are h shows: half A's mean colour plus half B's, or the one half's
 // where the other has no sample in it (black where neither has).
+fn halves_mean(h: Halves) -> vec3<f32> {
+    if h.a.w == 0.0 {
+        return h.b.xyz;
+    }
+    if h.b.w == 0.0 {
+        return h.a.xyz;
+    }
+    return 0.5 * (h.a.xyz + h.b.xyz);
+}
+
+// An adaptive pixel's halves: A's mean of its first tau_B draws, B's of its first tau_A.
+fn streams_halves(s: Streams) -> Halves {
+    return Halves(vec4<f32>(s.a.xyz, s.rule_a.w), s.b);
+}
+
+// What a pixel whose streams are s shows: its halves' mean (halves_mean).
 fn streams_mean(s: Streams) -> vec3<f32> {
-    if s.rule_a.w == 0.0 {
-        return s.b.xyz;
-    }
-    if s.b.w == 0.0 {
-        return s.a.xyz;
-    }
-    return 0.5 * (s.a.xyz + s.b.xyz);
+    return halves_mean(streams_halves(s));
 }
 
 // A done pixel's AOVs with their hits and M2 taken to the `taken` samples it took, which the host
@@ -1507,11 +1541,12 @@ fn load_streams(index: u32) -> Streams {
 }
 
 // Keeps a pixel's streams after a dispatch: once it is done (after `taken` samples; 0 while it
-// samples), what it shows and minus its samples in the first plane alone; else all four planes
-// (load_streams).
+// samples), what it shows and minus its samples in the first plane and its halves in the next
+// two (store_halves); else all four planes (load_streams).
 fn store_streams(index: u32, s: Streams, taken: u32) {
     if taken > 0u {
         accumulated[index] = vec4<f32>(streams_mean(s), -f32(taken));
+        store_halves(index, streams_halves(s));
         return;
     }
     let plane = arrayLength(&accumulated) / 4u;
@@ -1519,6 +1554,19 @@ fn store_streams(index: u32, s: Streams, taken: u32) {
     accumulated[plane + index] = s.b;
     accumulated[2u * plane + index] = s.rule_a;
     accumulated[3u * plane + index] = s.rule_b;
+}
+
+// A pixel's halves (Halves) from the accumulator's second and third planes, where path mode
+// keeps them (and an adaptive pixel once done: store_streams).
+fn load_halves(index: u32) -> Halves {
+    let plane = arrayLength(&accumulated) / 4u;
+    return Halves(accumulated[plane + index], accumulated[2u * plane + index]);
+}
+
+fn store_halves(index: u32, h: Halves) {
+    let plane = arrayLength(&accumulated) / 4u;
+    accumulated[plane + index] = h.a;
+    accumulated[2u * plane + index] = h.b;
 }
 
 // A pixel's work counts `held` (out_work) with this dispatch's estimates and iterations added,

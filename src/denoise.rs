@@ -93,38 +93,6 @@ pub fn mean_variance(m2: f32, samples: u32) -> f32 {
 
 pub use crate::cpu::trace::NOISE_LUMINANCE_FLOOR;
 
-/// A pixel's noise: the standard error of its mean luminance, `sqrt(M2 / (n (n - 1)))` at `n`
-/// samples ([`mean_variance`]), relative to that mean, the mean taken as at least
-/// [`NOISE_LUMINANCE_FLOOR`]: the tracers' own measure ([`crate::cpu::trace::pixel_noise`],
-/// adaptive sampling's). None below 2 samples (there is no M2). The explorer's status line
-/// shows its mean over a frame ([`frame_noise`]).
-pub fn relative_noise(m2: f32, samples: u32, mean_luminance: f32) -> Option<f32> {
-    (samples >= 2).then(|| crate::cpu::trace::pixel_noise(m2, samples, mean_luminance))
-}
-
-/// A frame's estimated noise: the mean of [`relative_noise`] over the pixels whose sample 0
-/// hit, of a frame of `samples` samples a pixel (or [`Frame::samples`] where adaptive sampling
-/// took fewer) with its AOVs (the M2). None below 2 samples, without the AOVs, or where no
-/// pixel hit.
-pub fn frame_noise(frame: &Frame, samples: u32) -> Option<f64> {
-    let linear = frame.linear();
-    let pixels = frame.pixel_count();
-    if samples < 2 || frame.luminance_m2.len() != pixels || linear.len() != pixels {
-        return None;
-    }
-    let (sum, hits) = (0..pixels)
-        .into_par_iter()
-        .filter(|&k| frame.depth.get(k).is_some_and(|d| !d.is_nan()))
-        .map(|k| {
-            let l = luminance(vec3(linear[k]));
-            let n = frame.samples_of(k, samples);
-            let noise = relative_noise(frame.luminance_m2[k], n, l).unwrap_or(0.0);
-            (noise as f64, 1u64)
-        })
-        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    (hits > 0).then(|| sum / hits as f64)
-}
-
 /// Where a pixel has one sample, its variance is estimated from its neighbours: the variance of
 /// the luminances of the pixels within 2 of it (itself included) that the guide takes as it
 /// takes it (hit or missed, [`guide_hit`]: with one sample, whether that sample hit).
@@ -324,17 +292,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_noise_is_the_standard_error_relative_to_the_mean_with_a_floor() {
-        // Luminances 0.4 and 0.6: mean 0.5, M2 0.02, the mean's variance 0.02 / 2 = 0.01.
-        let noise = relative_noise(0.02, 2, 0.5).unwrap();
-        assert!((noise - 0.2).abs() < 1e-6, "{noise}");
-        // A black pixel: relative to the floor.
-        let dark = relative_noise(0.02, 2, 0.0).unwrap();
-        assert!((dark - 0.1 / NOISE_LUMINANCE_FLOOR).abs() < 1e-3, "{dark}");
-        assert_eq!(relative_noise(0.02, 1, 0.5), None);
-    }
-
-    #[test]
     fn the_demodulation_is_the_mean_albedo_of_the_samples_a_miss_counting_1() {
         // Half the samples hit an orange surface: the sky's half is not divided by its colour.
         let d = demodulation([0.9, 0.3, 0.0], 0.5);
@@ -362,20 +319,5 @@ mod tests {
         assert_eq!(depths, [2.5, 3.0, -1.0]);
         assert_eq!(prepared.albedo[1], [0.75; 3]);
         assert_eq!(prepared.albedo[2], [0.875; 3]);
-    }
-
-    #[test]
-    fn a_frames_noise_is_the_mean_over_its_hits() {
-        let mut frame = Frame::empty(3);
-        frame.height = 1;
-        frame.radiance = vec![[0.5; 3], [0.5; 3], [1.0; 3]];
-        frame.luminance_m2 = vec![0.02, 0.0, 100.0];
-        // The third pixel missed: left out.
-        frame.depth = vec![1.0, 2.0, f32::NAN];
-        let noise = frame_noise(&frame, 2).unwrap();
-        assert!((noise - 0.1).abs() < 1e-6, "{noise}");
-        assert_eq!(frame_noise(&frame, 1), None);
-        frame.depth = vec![f32::NAN; 3];
-        assert_eq!(frame_noise(&frame, 2), None);
     }
 }

@@ -54,6 +54,12 @@ pub struct Frame {
     /// Where the frame was denoised (`image.denoise`): the linear mean before the denoiser
     /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
     pub noisy: Vec<[f32; 3]>,
+    /// Path mode: each pixel's two halves, the mean colours of its two independently drawn
+    /// streams (shaders/trace.wgsl's `Halves`), whose disagreement is its error estimate
+    /// ([`crate::estimate::half_variance`]); NaN in a half that holds no sample. What the pixel
+    /// shows (before a denoiser) is their mean, or the one half where the other is empty. Empty
+    /// in phong mode and where the accumulator was not read back.
+    pub halves: Vec<[[f32; 3]; 2]>,
     /// The samples each pixel took: `image.samples`, or fewer where adaptive sampling
     /// (`path.noise_target`) stopped it. The renderer fills it for every slice it renders
     /// ([`crate::Renderer::render_rows`]); empty elsewhere (the 2D view), and in a frame a
@@ -95,6 +101,7 @@ impl Frame {
             hits: Vec::new(),
             hit_depth: Vec::new(),
             noisy: Vec::new(),
+            halves: Vec::new(),
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,
@@ -124,6 +131,7 @@ impl Frame {
         self.hits.extend_from_slice(&band.hits);
         self.hit_depth.extend_from_slice(&band.hit_depth);
         self.noisy.extend_from_slice(&band.noisy);
+        self.halves.extend_from_slice(&band.halves);
         self.samples.extend_from_slice(&band.samples);
         self.non_finite += band.non_finite;
         self.estimates += band.estimates;

@@ -440,6 +440,7 @@ mod tests {
             hits: Vec::new(),
             hit_depth: Vec::new(),
             noisy: Vec::new(),
+            halves: Vec::new(),
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,

@@ -14,6 +14,7 @@ pub mod denoise;
 pub mod display;
 pub mod envmap;
 pub mod error;
+pub mod estimate;
 #[cfg(feature = "gpu")]
 pub mod explore;
 pub mod frame;

@@ -282,6 +282,57 @@ fn npy_header(w: &mut dyn Write, descr: &str, width: u32, height: u32) -> std::i
     w.write_all(header.as_bytes())
 }
 
+/// The PNG's text chunk that records a render's estimated error (docs/CONTRACT.md, "The error
+/// on request"), after the image data.
+pub const ERROR_PNG_KEYWORD: &str = "qjulia-error";
+
+/// What the PNG records of `stats`' estimated error, as TOML (`estimated_rmse`,
+/// `estimated_relative_rmse`, and with `image.target_error` `stopped_by` and the last pass's
+/// `samples`); None where the render has no estimate.
+pub fn error_text(stats: &RenderStats) -> Option<String> {
+    let (rmse, relative) = (
+        stats.summary.estimated_rmse?,
+        stats.summary.estimated_relative_rmse?,
+    );
+    let mut text = format!("estimated_rmse = {rmse}\nestimated_relative_rmse = {relative}\n");
+    if let Some(target) = &stats.target {
+        let samples = target.target_passes.last().map_or(0, |p| p.samples);
+        text += &format!(
+            "stopped_by = \"{}\"\nsamples = {samples}\n",
+            target.stopped_by
+        );
+    }
+    Some(text)
+}
+
+/// Appends a tEXt chunk `keyword: text` (Latin-1) to the finished PNG at `path`, before its
+/// IEND chunk (the last 12 bytes): the stream writer cannot add a chunk after the image data.
+fn append_png_text(path: &Path, keyword: &str, text: &str) -> std::io::Result<()> {
+    use std::io::{Seek, SeekFrom};
+    let mut file = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)?;
+    let end = file.seek(SeekFrom::End(-12))?;
+    let mut data = keyword.as_bytes().to_vec();
+    data.push(0);
+    data.extend_from_slice(text.as_bytes());
+    let chunk = |kind: &[u8; 4], data: &[u8]| {
+        let mut out = (data.len() as u32).to_be_bytes().to_vec();
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+        let mut crc = crc32fast::Hasher::new();
+        crc.update(kind);
+        crc.update(data);
+        out.extend_from_slice(&crc.finalize().to_be_bytes());
+        out
+    };
+    file.set_len(end)?;
+    file.write_all(&chunk(b"tEXt", &data))?;
+    file.write_all(&chunk(b"IEND", &[]))?;
+    file.flush()
+}
+
 impl StreamingOutputs {
     /// Opens temporary files for every requested output and writes their headers.
     pub fn create(paths: &OutputPaths, scene: &Scene) -> Result<Self> {
@@ -413,6 +464,10 @@ impl StreamingOutputs {
             // The encoder has dropped its writer, whose last flush may have failed.
             if let Some(e) = error.lock().expect("the error slot").take() {
                 return Err(io_error(&path, e));
+            }
+            if let Some(text) = stats.and_then(error_text) {
+                append_png_text(temp.path(), ERROR_PNG_KEYWORD, &text)
+                    .map_err(|e| io_error(&path, e))?;
             }
             staged.push((temp, path));
         }

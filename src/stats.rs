@@ -39,6 +39,12 @@ pub struct Summary {
     /// Path mode: rays that ran out of `fractal.max_steps` without a hit or an escape, every
     /// ray of every sample ([`Frame::exhausted_rays`]); null in phong mode.
     pub exhausted_rays: Option<u64>,
+    /// Path mode: the image's estimated RMSE, from its pixels' halves ([`crate::estimate`]),
+    /// of the denoised image where a denoiser ran; null where there is none (phong mode, one
+    /// sample a pixel).
+    pub estimated_rmse: Option<f64>,
+    /// [`Self::estimated_rmse`] over the mean of the image's linear channels.
+    pub estimated_relative_rmse: Option<f64>,
 }
 
 impl Summary {
@@ -75,8 +81,28 @@ pub struct RenderStats {
     /// The denoiser's figures, where it ran (`image.denoise`); nothing where it did not.
     #[serde(flatten)]
     pub denoise: Option<DenoiseStats>,
+    /// How a render to `image.target_error` went (src/render/target.rs), where it did.
+    #[serde(flatten)]
+    pub target: Option<TargetStats>,
     #[serde(flatten)]
     pub summary: Summary,
+}
+
+/// What `--stats` says of a render to a target.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TargetStats {
+    /// "target_error" where the last pass's estimate met the target, "samples" where the
+    /// passes reached `image.samples` without it.
+    pub stopped_by: &'static str,
+    /// Every pass, in order: its samples and its estimate.
+    pub target_passes: Vec<TargetPass>,
+}
+
+/// One pass of a render to a target.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TargetPass {
+    pub samples: u32,
+    pub estimated_relative_rmse: Option<f64>,
 }
 
 /// What the denoiser cost (`--stats`' `denoise_*` keys).
@@ -110,6 +136,8 @@ pub struct SummaryBuilder {
     samples: u64,
     /// Path mode's counts, where a band was path-traced.
     path_counts: Option<(u64, u64)>,
+    /// The raw error estimate's sums ([`crate::estimate::HalvesSums`]).
+    halves: crate::estimate::HalvesSums,
     blocks: BlockWork,
 }
 
@@ -124,6 +152,7 @@ impl SummaryBuilder {
             iterations: 0,
             samples: 0,
             path_counts: None,
+            halves: Default::default(),
             blocks: BlockWork::new(width, DIVERGENCE_BLOCK),
         }
     }
@@ -141,6 +170,7 @@ impl SummaryBuilder {
             );
             self.path_counts = Some(counts);
         }
+        self.halves.add(band);
         self.samples += match band.samples.is_empty() {
             true => band.pixel_count() as u64,
             false => band.samples.par_iter().map(|&n| n as u64).sum::<u64>(),
@@ -161,6 +191,7 @@ impl SummaryBuilder {
     pub fn finish(self) -> Summary {
         let n = self.pixels.max(1) as f64;
         let (tile_efficiency, wasted_steps_mean) = self.blocks.finish();
+        let estimate = self.halves.finish();
         Summary {
             hit_fraction: self.hits as f64 / n,
             steps_mean: self.steps as f64 / n,
@@ -172,6 +203,8 @@ impl SummaryBuilder {
             samples_total: self.samples,
             nonfinite_samples: self.path_counts.map(|c| c.0),
             exhausted_rays: self.path_counts.map(|c| c.1),
+            estimated_rmse: estimate.map(|e| e.rmse),
+            estimated_relative_rmse: estimate.map(|e| e.relative),
         }
     }
 }
@@ -316,6 +349,7 @@ mod tests {
             hits: Vec::new(),
             hit_depth: Vec::new(),
             noisy: Vec::new(),
+            halves: Vec::new(),
             samples: Vec::new(),
             non_finite: 0,
             estimates: 0,

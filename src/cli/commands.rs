@@ -116,6 +116,11 @@ fn render_tile(args: &RenderArgs, scene: &qjulia::Scene, text: &str) -> anyhow::
     let Some(hdr) = &args.hdr else {
         return Err(flag("writes a partial EXR: give --hdr FILE.exr").into());
     };
+    if scene.targets_error() {
+        let why = "renders a part of the image, and image.target_error stops on the whole \
+                   image's estimate: render it whole, or set image.target_error = 0";
+        return Err(flag(why).into());
+    }
     let rows = tile.rows(scene.image.height);
     // The tile's rows are held whole, then written as one EXR.
     qjulia::memory::check(
@@ -187,10 +192,23 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One line on stderr about a finished render.
+/// One line on stderr about a finished render: its figures, its estimated error where it has
+/// one, and how a render to `image.target_error` stopped.
 fn report_render(stats: &qjulia::RenderStats) {
+    let mut error = String::new();
+    if let Some(e) = stats.summary.estimated_relative_rmse {
+        error = format!(", estimated error {:.2}% of the mean", 100.0 * e);
+    }
+    if let Some(t) = &stats.target {
+        let samples = t.target_passes.last().map_or(0, |p| p.samples);
+        error += &format!(
+            " after {} passes to {samples} samples (stopped by {})",
+            t.target_passes.len(),
+            t.stopped_by
+        );
+    }
     eprintln!(
-        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel, 8x8 tile efficiency {:.1}%",
+        "qjulia: {}x{} on {} ({}) in {:.3} s, {:.1}% hit, {:.1} steps/pixel, 8x8 tile efficiency {:.1}%{error}",
         stats.width,
         stats.height,
         stats.adapter,

@@ -111,6 +111,7 @@ pub fn render_rows<F: Real>(params: &Julia2dParams<F>, rows: std::ops::Range<u32
                 estimates: n as u64,
                 iterations: n as u64,
                 radiance: [0.0; 3],
+                halves: Default::default(),
                 aovs: Default::default(),
                 samples: 1,
             }

@@ -195,6 +195,7 @@ pub fn render_rows<F: Real>(
                 estimates: ESTIMATES.get() - before.0,
                 iterations: ITERATIONS.get() - before.1,
                 radiance: [0.0; 3],
+                halves: Default::default(),
                 aovs: made,
                 samples: taken,
             }
@@ -225,6 +226,8 @@ pub struct PixelOut {
     pub iterations: u64,
     /// Path mode: the mean linear radiance (kept where [`fill_rows`] is asked to).
     pub radiance: [f32; 3],
+    /// Path mode: the pixel's halves ([`Frame::halves`]; kept with the radiance).
+    pub halves: [[f32; 3]; 2],
     /// The AOVs (kept where [`fill_rows`] is asked to).
     pub aovs: trace::Aovs,
     /// The samples the pixel took (kept where [`fill_rows`] is asked to).
@@ -264,6 +267,7 @@ where
     let mut depth = vec![0f64; w * h];
     let mut steps = vec![0u32; w * h];
     let mut radiance = vec![[0f32; 3]; if keep.radiance { w * h } else { 0 }];
+    let mut halves = vec![[[0f32; 3]; 2]; if keep.radiance { w * h } else { 0 }];
     let mut aovs = vec![trace::Aovs::default(); if keep.aovs { w * h } else { 0 }];
     let mut samples = vec![0u32; if keep.samples { w * h } else { 0 }];
     let non_finite = AtomicU64::new(0);
@@ -277,6 +281,7 @@ where
         }
     }
     let mut radiance_rows = rows_of(&mut radiance, keep.radiance, (w, h));
+    let mut halves_rows = rows_of(&mut halves, keep.radiance, (w, h));
     let mut aov_rows = rows_of(&mut aovs, keep.aovs, (w, h));
     let mut sample_rows = rows_of(&mut samples, keep.samples, (w, h));
     colour
@@ -284,10 +289,11 @@ where
         .zip(depth.par_chunks_mut(w))
         .zip(steps.par_chunks_mut(w))
         .zip(radiance_rows.par_iter_mut().zip(aov_rows.par_iter_mut()))
-        .zip(sample_rows.par_iter_mut())
+        .zip(sample_rows.par_iter_mut().zip(halves_rows.par_iter_mut()))
         .enumerate()
         .for_each(
-            |(r, ((((colour_row, depth_row), steps_row), (radiance_row, aov_row)), sample_row))| {
+            |(r, ((((colour_row, depth_row), steps_row), (radiance_row, aov_row)), rest))| {
+                let (sample_row, halves_row) = rest;
                 let pixel = row(rows.start + r as u32);
                 let (mut bad, mut made, mut iterated) = (0, 0, 0);
                 for i in 0..w {
@@ -297,6 +303,9 @@ where
                     steps_row[i] = out.steps;
                     if let Some(slot) = radiance_row.get_mut(i) {
                         *slot = out.radiance;
+                    }
+                    if let Some(slot) = halves_row.get_mut(i) {
+                        *slot = out.halves;
                     }
                     if let Some(slot) = aov_row.get_mut(i) {
                         *slot = out.aovs;
@@ -341,6 +350,7 @@ where
         hits: aovs.par_iter().map(|a| a.hits).collect(),
         hit_depth: aovs.par_iter().map(|a| a.depth).collect(),
         noisy: Vec::new(),
+        halves,
         samples,
         non_finite: non_finite.into_inner(),
         estimates: estimates.into_inner(),

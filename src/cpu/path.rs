@@ -22,7 +22,10 @@ use super::sobol::{
     DIM_BOUNCE_BASE, DIM_BSDF, DIM_BSDF_CHOICE, DIM_ENVIRONMENT, DIM_FOG, DIM_LENS, DIM_PIXEL,
     DIM_ROULETTE, DIM_SPHERE_LIGHT, DIM_SUN, DIMS_PER_BOUNCE, sample_bits, to_unit,
 };
-use super::trace::{Aovs, Primary, Streams, Trace, add_aovs, finish_aovs, streams_mean};
+use super::trace::{
+    Aovs, Halves, Primary, Streams, Trace, add_aovs, add_to_halves, finish_aovs, halves_mean,
+    streams_halves,
+};
 use crate::algebra::{Real, Vec3};
 use crate::params::{TraceParams, unit};
 use crate::scene::Scene;
@@ -157,13 +160,25 @@ fn any_positive<F: Real>(c: Vec3<F>) -> bool {
 }
 
 impl<F: Real> TraceParams<F> {
+    /// A path sample's stream and its index in it, as (stream, index): wherever a pixel takes
+    /// two samples or more, adaptively or not, sample k is sample k / 2 of stream k % 2
+    /// ([`TraceParams::sample_stream`] when adaptive), so that the pixel's two halves
+    /// ([`super::trace::Halves`]) are drawn independently and their disagreement is its error
+    /// estimate; a single sample is stream 0's.
+    pub fn path_stream(&self, k: u32) -> (u32, u32) {
+        if self.samples > 1 {
+            return (k & 1, k >> 1);
+        }
+        (0, k)
+    }
+
     /// The number in [0, 1) of dimension `dim` of sample `sample` of pixel (i, j), from the
     /// scene's sampler (src/cpu/sobol.rs: the dimensions' order is stated there): the point of
-    /// the sample's index in its stream ([`TraceParams::sample_stream`]), stream 1 drawn as if
-    /// its pixel's number had bit 31 set (no pixel's has), so that its points are scrambled
+    /// the sample's index in its stream ([`Self::path_stream`]), stream 1 drawn as if its
+    /// pixel's number had bit 31 set (no pixel's has), so that its points are scrambled
     /// independently of stream 0's.
     pub fn path_random(&self, path: &PathParams<F>, i: u32, j: u32, sample: u32, dim: u32) -> F {
-        let (stream, index) = self.sample_stream(sample);
+        let (stream, index) = self.path_stream(sample);
         let pixel = j.wrapping_mul(self.width).wrapping_add(i) | (stream << 31);
         let pixel = pixel ^ self.seed_mask(path);
         F::lit(to_unit(sample_bits(path.sampler, pixel, index, dim)) as f64)
@@ -779,7 +794,9 @@ pub fn render_path_rows<F: Real>(
                 .lens_open()
                 .then(|| params.trace_primary(&params.pinhole_ray(i, j, 0, F::zero())));
             let mut dropped = 0u32;
-            let mut mean = Vec3::<F>::zero();
+            // Without adaptive sampling, the pixel's halves (`add_to_halves`), in f32 as the
+            // kernel keeps them.
+            let mut halves = Halves::default();
             let mut first = None;
             let mut made = Aovs::default();
             // As `path_main` with INTERLEAVE 2: the camera rays of samples k and k + 1 traced as
@@ -826,9 +843,9 @@ pub fn render_path_rows<F: Real>(
                         break;
                     }
                 } else if valid {
-                    // The samples the mean holds, this one with them: the samples kept.
+                    // The samples the halves hold, this one with them: the samples kept.
                     let n = k + 1 - dropped;
-                    mean += (r.radiance - mean) / F::lit(n as f64);
+                    halves = add_to_halves(halves, k, r.radiance.to_f32());
                     if aovs {
                         made = add(made, n);
                     }
@@ -839,10 +856,11 @@ pub fn render_path_rows<F: Real>(
                 if aovs {
                     made = finish_aovs(made, &streams, taken);
                 }
-                mean = Vec3::from_f32(streams_mean(&streams));
+                halves = streams_halves(&streams);
             }
             let first = first.expect("at least one sample");
-            let radiance = [mean.x, mean.y, mean.z].map(|c| c.to_f64() as f32);
+            let mean = halves_mean(&halves);
+            let radiance = [mean.x, mean.y, mean.z];
             let (hit, depth, steps) = match pinhole {
                 Some(t) => (t.hit, t.t, t.steps),
                 None => (first.hit, first.depth, first.steps),
@@ -855,6 +873,7 @@ pub fn render_path_rows<F: Real>(
                 estimates: super::ESTIMATES.get() - before.0,
                 iterations: super::ITERATIONS.get() - before.1,
                 radiance,
+                halves: [halves.a, halves.b].map(|m| crate::estimate::half_colour(&m)),
                 aovs: made,
                 samples: taken,
             }

@@ -1204,7 +1204,8 @@ impl<F: Real> TraceParams<F> {
     /// is sample k / 2 of stream k % 2, as (stream, index). Each stream's stop is decided by its
     /// own samples and applied to the other's mean ([`TraceParams::add_to_streams`]), so that no
     /// half of what the pixel shows depends on its own stop. Without adaptive sampling every
-    /// sample is stream 0's: (0, k).
+    /// sample is stream 0's: (0, k) (phong mode; path mode has both streams anyway:
+    /// [`TraceParams::path_stream`]).
     pub fn sample_stream(&self, k: u32) -> (u32, u32) {
         if self.adaptive() {
             return (k & 1, k >> 1);
@@ -1434,17 +1435,62 @@ impl<F: Real> TraceParams<F> {
     }
 }
 
-/// What a pixel whose streams are `s` shows: half A's mean colour plus half B's, or the one
-/// stream's where the other has no sample in it (black where neither has).
-pub fn streams_mean(s: &Streams) -> Vec3<f32> {
-    let [a, b] = [s.a, s.b].map(|m| Vec3::new(m[0], m[1], m[2]));
-    if s.rule_a[3] == 0.0 {
+/// A pixel's two halves (the kernels' `Halves`; path mode, and an adaptive pixel once it is
+/// done): each stream's mean colour and the samples in it, `a` = (A's mean colour, n_A), `b` =
+/// (B's mean colour, n_B). The streams are drawn independently, so the halves' disagreement
+/// estimates the error of what the pixel shows: E[(a - b)^2] / 4 = Var((a + b) / 2).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Halves {
+    pub a: [f32; 4],
+    pub b: [f32; 4],
+}
+
+/// A pixel's halves with its valid sample `k` (of stream k % 2) of colour `colour` joined to its
+/// stream's running mean, m_n = m_(n-1) + (c - m_(n-1)) / n.
+pub fn add_to_halves(h: Halves, k: u32, colour: Vec3<f32>) -> Halves {
+    let c = [colour.x, colour.y, colour.z];
+    let joined = |m: [f32; 4]| {
+        let n = m[3] + 1.0;
+        [
+            m[0] + (c[0] - m[0]) / n,
+            m[1] + (c[1] - m[1]) / n,
+            m[2] + (c[2] - m[2]) / n,
+            n,
+        ]
+    };
+    let mut out = h;
+    if k.is_multiple_of(2) {
+        out.a = joined(h.a);
+    } else {
+        out.b = joined(h.b);
+    }
+    out
+}
+
+/// What a pixel whose halves are `h` shows: half A's mean colour plus half B's, or the one
+/// half's where the other has no sample in it (black where neither has).
+pub fn halves_mean(h: &Halves) -> Vec3<f32> {
+    let [a, b] = [h.a, h.b].map(|m| Vec3::new(m[0], m[1], m[2]));
+    if h.a[3] == 0.0 {
         return b;
     }
-    if s.b[3] == 0.0 {
+    if h.b[3] == 0.0 {
         return a;
     }
     (a + b) * 0.5
+}
+
+/// An adaptive pixel's halves: A's mean of its first tau_B draws, B's of its first tau_A.
+pub fn streams_halves(s: &Streams) -> Halves {
+    Halves {
+        a: [s.a[0], s.a[1], s.a[2], s.rule_a[3]],
+        b: s.b,
+    }
+}
+
+/// What a pixel whose streams are `s` shows: its halves' mean ([`halves_mean`]).
+pub fn streams_mean(s: &Streams) -> Vec3<f32> {
+    halves_mean(&streams_halves(s))
 }
 
 /// A done pixel's AOVs with their hits and M2 taken to the `taken` samples it took, which the

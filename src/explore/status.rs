@@ -119,10 +119,11 @@ impl StatusLine {
                     );
                 }
                 if let Some(noise) = s.noise.filter(|_| s.refined) {
-                    ui.label(format!("noise {:.1}%", 100.0 * noise))
+                    ui.label(format!("error {:.1}%", 100.0 * noise))
                         .on_hover_text(
-                            "the mean over the pixels that hit of the standard error of each \
-                         pixel's mean luminance, relative to that mean",
+                            "the image's estimated RMSE relative to its mean, from the \
+                             disagreement of each pixel's two halves (--stats' \
+                             estimated_relative_rmse; the book's \"The error on request\")",
                         );
                 }
                 if let Some(error) = &s.denoise_error {
@@ -130,11 +131,18 @@ impl StatusLine {
                     ui.colored_label(colour, "not denoised")
                         .on_hover_text(error);
                 } else if let Some(samples) = s.denoised_samples {
+                    let error = s
+                        .denoised_noise
+                        .map_or(String::new(), |e| format!(", error {:.1}%", 100.0 * e));
                     ui.label(format!(
-                        "denoised {samples} ({:.0} ms {})",
+                        "denoised {samples} ({:.0} ms {}{error})",
                         s.denoise_seconds * 1e3,
                         s.denoise_backend
-                    ));
+                    ))
+                    .on_hover_text(
+                        "the denoiser's time includes denoising each half alone, which gives \
+                         the denoised image's estimated error",
+                    );
                 }
                 match s.summary {
                     Some(sum) => ui.label(format!(

@@ -37,30 +37,35 @@ const OUTPUTS: [OutputSpec; 5] = [
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "value",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "sun",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "light",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "light_value",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
 ];
 

@@ -51,18 +51,21 @@ const OUTPUTS: [OutputSpec; 3] = [
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "image_b",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "guide",
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
 ];
 

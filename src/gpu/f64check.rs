@@ -92,6 +92,7 @@ const OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     bytes_per_item: 8 * OPS.len() as u64,
     on_demand: false,
     planes: 1,
+    planes_back: 1,
 }];
 
 /// The check's kernel: uniform [`CheckParams`], one output of every result of every case.

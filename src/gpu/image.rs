@@ -50,18 +50,21 @@ pub const IMAGE_OUTPUTS: [OutputSpec; 3] = [
         bytes_per_item: 4,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "depth",
         bytes_per_item: 4,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "steps",
         bytes_per_item: 4,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
 ];
 
@@ -89,6 +92,7 @@ pub const IMAGE64_OUTPUTS: [OutputSpec; 3] = [
         bytes_per_item: 8,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     IMAGE_OUTPUTS[2],
 ];
@@ -118,18 +122,21 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
         bytes_per_item: 16,
         on_demand: false,
         planes: 1,
+        planes_back: 1,
     },
     OutputSpec {
         name: "accumulated",
         bytes_per_item: 16,
         on_demand: false,
         planes: 4,
+        planes_back: 3,
     },
     OutputSpec {
         name: "aovs",
         bytes_per_item: 48,
         on_demand: true,
         planes: 1,
+        planes_back: 1,
     },
 ];
 
@@ -177,42 +184,59 @@ pub(crate) fn render_image_bands(
     let multiple = kernel.spec().band_row_multiple.max(1);
     let start = rows.start / multiple * multiple;
     let keep = rows.clone();
-    let decode =
-        |out: BandOutput<'_>| decode_frame(width, &crop_band(&out, &keep, &mut Vec::new()), kept);
+    let planes: Vec<u64> = kernel
+        .spec()
+        .outputs
+        .iter()
+        .map(|o| o.planes_back)
+        .collect();
+    let decode = |out: BandOutput<'_>| match crop_band(&out, &keep, &planes) {
+        None => decode_frame(width, &out, kept),
+        Some((row, rows, cropped)) => {
+            let outputs: Vec<Option<&[u8]>> = cropped.iter().map(|o| o.as_deref()).collect();
+            let band = BandOutput {
+                row,
+                rows,
+                outputs: &outputs,
+            };
+            decode_frame(width, &band, kept)
+        }
+    };
     kernel.run_rows(&run, start..rows.end, decode, sink)
 }
 
-/// The rows of `band` that lie in `keep`, as a band of their own; `slices` holds its outputs.
-fn crop_band<'a>(
-    band: &BandOutput<'a>,
+/// The rows of `band` that lie in `keep`, as the first row, the rows and the outputs of a band
+/// of their own (each output's `planes` cropped one by one); None where the band lies in `keep`
+/// whole.
+#[allow(clippy::type_complexity)]
+fn crop_band(
+    band: &BandOutput<'_>,
     keep: &std::ops::Range<u32>,
-    slices: &'a mut Vec<Option<&'a [u8]>>,
-) -> BandOutput<'a> {
+    planes: &[u64],
+) -> Option<(u32, u32, Vec<Option<Vec<u8>>>)> {
     let first = keep.start.max(band.row);
     let last = keep.end.min(band.row + band.rows).max(first);
     if (first, last) == (band.row, band.row + band.rows) {
-        return BandOutput {
-            row: band.row,
-            rows: band.rows,
-            outputs: band.outputs,
-        };
+        return None;
     }
     let (skip, rows) = ((first - band.row) as usize, (last - first) as usize);
-    *slices = band
+    let cropped = band
         .outputs
         .iter()
-        .map(|o| {
+        .zip(planes)
+        .map(|(o, &planes)| {
             o.map(|bytes| {
-                let per_row = bytes.len() / band.rows.max(1) as usize;
-                &bytes[skip * per_row..(skip + rows) * per_row]
+                let plane = bytes.len() / planes.max(1) as usize;
+                let per_row = plane / band.rows.max(1) as usize;
+                bytes
+                    .chunks(plane.max(1))
+                    .flat_map(|p| &p[skip * per_row..(skip + rows) * per_row])
+                    .copied()
+                    .collect()
             })
         })
         .collect();
-    BandOutput {
-        row: first,
-        rows: rows as u32,
-        outputs: slices,
-    }
+    Some((first, rows as u32, cropped))
 }
 
 /// Which outputs of an image kernel come back for `readback`. All: colour, depth, steps and
@@ -309,12 +333,16 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
             .map(|w| (wide(w[0], w[1]), wide(w[2], w[3])))
             .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1)),
     };
-    // The accumulator where it was read back: path mode's mean linear radiance, adaptive
-    // sampling's samples (a done pixel's fourth float is minus its samples).
-    let accumulated: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
+    // The accumulator where it was read back, its planes one after another: path mode's mean
+    // linear radiance, adaptive sampling's samples (a done pixel's fourth float is minus its
+    // samples), then the pixels' halves (trace.wgsl's store_halves).
+    let planes: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
+    let (accumulated, halves) = planes.split_at(planes.len().min(pixels));
     let radiance: &[[f32; 4]] = if kept.radiance { accumulated } else { &[] };
+    let half = crate::estimate::half_colour;
     // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo and M2,
-    // normal and the hits' depth). The colour is phong mode's linear mean; path mode's is the accumulator's.
+    // normal and the hits' depth). The colour is phong mode's linear mean; path mode's is the
+    // accumulator's.
     let aovs: &[[[f32; 4]; 3]] = output(band, AOVS_OUTPUT);
     let aov = |k: usize| -> Vec<[f32; 3]> {
         aovs.par_iter()
@@ -351,6 +379,13 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
         hits: aovs.par_iter().map(|a| a[0][3]).collect(),
         hit_depth: aovs.par_iter().map(|a| a[2][3]).collect(),
         noisy: Vec::new(),
+        halves: match kept.radiance && halves.len() == 2 * pixels {
+            true => (0..pixels)
+                .into_par_iter()
+                .map(|k| [half(&halves[k]), half(&halves[pixels + k])])
+                .collect(),
+            false => Vec::new(),
+        },
         samples: match kept.samples {
             true => accumulated.par_iter().map(|a| (-a[3]) as u32).collect(),
             false => Vec::new(),

@@ -19,6 +19,7 @@ pub const SAMPLE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     bytes_per_item: 4,
     on_demand: false,
     planes: 1,
+    planes_back: 1,
 }];
 
 /// The sampled grid, as shaders/sample.wgsl's `SampleGrid` (binding 7; keep in sync): its first

@@ -28,6 +28,7 @@ const PROBE_OUTPUTS: [OutputSpec; 1] = [OutputSpec {
     bytes_per_item: 4,
     on_demand: false,
     planes: 1,
+    planes_back: 1,
 }];
 
 /// The probe kernel: uniform `ProbeParams`, one output. Untrusted (wgpu's checks kept): it is

@@ -18,6 +18,7 @@
 mod banded;
 mod plan;
 pub mod progressive;
+pub mod target;
 
 pub use banded::{BandedRender, Cpu};
 use banded::{InPrecision, PreciseWork};
@@ -107,6 +108,9 @@ impl Renderer {
         sink: &mut dyn FnMut(&Frame) -> Result<()>,
     ) -> Result<RenderStats> {
         let all = 0..scene.image.height;
+        if picture == Picture::SHADED && scene.targets_error() {
+            return self.render_to_target(scene, readback, sink);
+        }
         if picture != Picture::SHADED || scene.image.denoise == Denoiser::None {
             return self.render_rows(scene, picture, readback, all, sink);
         }
@@ -133,14 +137,28 @@ impl Renderer {
     /// that image's display; the denoiser's figures go in `stats`. `render` and `merge` both
     /// come here, so that their bytes agree.
     pub fn denoise(&self, scene: &Scene, frame: &mut Frame, stats: &mut RenderStats) -> Result<()> {
-        let denoised = crate::denoise::denoise(frame, scene, self.gpu.as_deref())?;
+        let start = std::time::Instant::now();
+        let gpu = self.gpu.as_deref();
+        let denoised = crate::denoise::denoise(frame, scene, gpu)?;
+        // Path mode's estimate of the denoised image: each half denoised alone
+        // (crate::estimate), timed with the denoiser.
+        let estimate = match crate::estimate::half_frames(frame) {
+            Some([a, b]) => {
+                let da = crate::denoise::denoise(&a, scene, gpu)?.linear;
+                let db = crate::denoise::denoise(&b, scene, gpu)?.linear;
+                crate::estimate::denoised(&frame.halves, [&da, &db], &denoised.linear)
+            }
+            None => None,
+        };
+        stats.summary.estimated_rmse = estimate.map(|e| e.rmse);
+        stats.summary.estimated_relative_rmse = estimate.map(|e| e.relative);
         let colour = match Picture::SHADED.path_traced(scene) {
             true => Display::of(scene).pack_all(&denoised.linear),
             false => crate::denoise::pack_phong(&denoised.linear),
         };
         frame.set_denoised(denoised.linear, colour);
         stats.denoise = Some(crate::stats::DenoiseStats {
-            seconds: denoised.seconds,
+            seconds: start.elapsed().as_secs_f64(),
             gpu_seconds: denoised.gpu_seconds,
             backend: denoised.backend.into(),
         });
@@ -227,6 +245,7 @@ impl Renderer {
             gpu_seconds,
             environment_seconds: None,
             denoise: None,
+            target: None,
             summary,
         }
     }

@@ -4,6 +4,7 @@
 //! (`dimensions`), and how path mode's images converge (`monte_carlo`).
 
 pub mod dimensions;
+pub mod error_estimate;
 pub mod monte_carlo;
 pub mod monte_carlo_page;
 pub mod plot;

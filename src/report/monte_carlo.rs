@@ -292,9 +292,20 @@ pub fn mean_taken(frame: &Frame, samples: u32) -> f64 {
 
 /// A path-traced render of `scene` through `planner`: the frame and its seconds.
 pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
+    let (frame, stats) = render_stats(planner, scene)?;
+    let denoise = stats.denoise.map(|d| d.gpu_seconds.unwrap_or(d.seconds));
+    let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0);
+    Ok((frame, seconds))
+}
+
+/// A render of `scene`'s shaded picture through `planner`, whole, with its AOVs (the edge mask
+/// needs them, and a denoised render has them anyway): the frame and its stats.
+pub fn render_stats(
+    planner: &mut Planner,
+    scene: &Scene,
+) -> Result<(Frame, crate::stats::RenderStats)> {
     let plan = planner.plan(scene, Picture::SHADED.into(), &mut |_| {})?;
     let mut frame = Frame::empty(scene.image.width);
-    // With the AOVs: the edge mask needs them (and a denoised render has them anyway).
     let stats = plan.renderer.render_with(
         scene,
         Picture::SHADED,
@@ -304,9 +315,7 @@ pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
             Ok(())
         },
     )?;
-    let denoise = stats.denoise.map(|d| d.gpu_seconds.unwrap_or(d.seconds));
-    let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0);
-    Ok((frame, seconds))
+    Ok((frame, stats))
 }
 
 /// `scene` with this case's sampler, bounces and samples.

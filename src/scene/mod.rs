@@ -292,10 +292,10 @@ scene_schema! {
             sampler: PathSampler = PathSampler::Sobol, choice(),
                 "\"sobol\" (Owen-scrambled, the same bits on every backend) or \"random\"";
             /// Adaptive sampling, in either model (docs/book/adaptive.md): a pixel's samples
-            /// alternate between two streams; it stops taking samples once the standard error of
-            /// the first's mean luminance, relative to that mean (at least
-            /// `NOISE_LUMINANCE_FLOOR`), is at most this, and shows the second's mean alone (0:
-            /// off, every pixel takes `image.samples`).
+            /// alternate between two streams, each of which stops once the standard error of its
+            /// own mean luminance, relative to that mean (at least `NOISE_LUMINANCE_FLOOR`), is
+            /// at most this; the pixel shows both streams' halves, cross-fitted (0: off, every
+            /// pixel takes `image.samples`).
             noise_target: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.5),
                 "adaptive sampling, either model: a pixel stops once its mean's relative standard error is at most this, {range} (0 = off)";
             /// No pixel stops before max(min(min_samples, image.samples), 4) samples (4: two of
@@ -342,6 +342,12 @@ scene_schema! {
             /// model (docs/book/denoise.md); its parameters are the `[denoise]` table.
             denoise: Denoiser = Denoiser::None, choice(),
                 "\"none\" or \"atrous\" (edge-avoiding, guided by albedo, normal, depth and variance)";
+            /// Path mode: the whole image's relative RMSE to render to (`--stats`'
+            /// `estimated_relative_rmse`, docs/book/error.md): passes of more samples until the
+            /// estimate is at most this or `samples` is spent (0: off, one pass of `samples`).
+            /// Not `path.noise_target`, which is each pixel's.
+            target_error: f64 = 0.0, float(Range::at_least(0.0)), slider(0.0, 0.2),
+                "path mode: the image's estimated relative RMSE to stop at, {range} (0 = off; image.samples is the most)";
         }
 
         /// The denoiser's parameters (`image.denoise = "atrous"`, docs/book/denoise.md).
@@ -455,6 +461,14 @@ impl Scene {
         let eye = glam::DVec3::from_array(self.camera.eye);
         let target = glam::DVec3::from_array(self.camera.target);
         (target - eye).length()
+    }
+
+    /// Whether a render adds passes until its estimated error is at most `image.target_error`
+    /// (path mode, a target > 0 and `image.samples` > 1; docs/book/error.md).
+    pub fn targets_error(&self) -> bool {
+        self.image.target_error > 0.0
+            && self.image.samples > 1
+            && self.shading.model == ShadingModel::Path
     }
 
     /// Whether pixels are sampled adaptively (`path.noise_target` > 0 with `image.samples` >

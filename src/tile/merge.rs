@@ -93,6 +93,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
         gpu_seconds,
         environment_seconds: scene.loaded.environment.as_ref().map(|e| e.seconds),
         denoise: None,
+        target: None,
         summary: Summary::of(&whole),
     };
     Ok((scene, whole, stats))

@@ -18,7 +18,7 @@ use crate::scene::{SCENE_EXR_ATTRIBUTE, Scene, SceneLoader, SceneSource};
 use crate::stats::RenderStats;
 
 /// The partial format's version (`qjulia-partial`); `merge` reads this one only.
-pub const FORMAT_VERSION: i32 = 3;
+pub const FORMAT_VERSION: i32 = 4;
 
 /// The float32 channels, in the order [`Frame`] gives them (the `--hdr` channels).
 const FLOAT_CHANNELS: [&str; 13] = [
@@ -35,6 +35,11 @@ const FLOAT_CHANNELS: [&str; 13] = [
     "luminance.M2",
     "hits",
     "Z.mean",
+];
+/// Path mode's float32 channels beside those: each pixel's two halves ([`Frame::halves`]; NaN in
+/// a half that holds no sample), so that `merge` estimates the error as one render does.
+const HALF_CHANNELS: [&str; 6] = [
+    "half.A.R", "half.A.G", "half.A.B", "half.B.R", "half.B.G", "half.B.B",
 ];
 /// The uint32 channels.
 const UINT_CHANNELS: [&str; 3] = ["colour8", "steps", "samples"];
@@ -117,6 +122,15 @@ fn write_exr(
     floats.push(band.luminance_m2.clone());
     floats.push(band.hits.clone());
     floats.push(band.hit_depth.clone());
+    let halves = match band.halves.len() == pixels {
+        true => HALF_CHANNELS.as_slice(),
+        false => &[],
+    };
+    for h in 0..halves.len() / 3 {
+        for c in 0..3 {
+            floats.push(band.halves.iter().map(|v| v[h][c]).collect());
+        }
+    }
     let samples = match band.samples.len() == pixels {
         true => band.samples.clone(),
         false => vec![scene.image.samples.max(1); pixels],
@@ -124,6 +138,7 @@ fn write_exr(
     let uints = [band.colour.clone(), band.steps.clone(), samples];
     let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = FLOAT_CHANNELS
         .iter()
+        .chain(halves)
         .zip(floats)
         .map(|(name, v)| AnyChannel::new(*name, FlatSamples::F32(v)))
         .chain(
@@ -365,6 +380,10 @@ fn read_part_from(
     match path_traced {
         true => frame.radiance = linear,
         false => frame.unclamped = linear,
+    }
+    if path_traced {
+        let (a, b) = (triple(&HALF_CHANNELS[0..3])?, triple(&HALF_CHANNELS[3..6])?);
+        frame.halves = a.into_iter().zip(b).map(|(a, b)| [a, b]).collect();
     }
     let count = |name: &str| -> Result<u64> {
         text(name)?

@@ -63,7 +63,19 @@ const TRACE: Twin = Twin {
         OnlyIn {
             side: Side::Wgsl,
             name: "store_streams",
-            reason: "as load_streams, writing them back (a done pixel's first plane alone)",
+            reason: "as load_streams, writing them back (a done pixel's first plane and its \
+                     halves)",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "load_halves",
+            reason: "reads a pixel's halves from the accumulator's second and third planes; the \
+                     CPU keeps them in a local",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_halves",
+            reason: "as load_halves, writing them back",
         },
         OnlyIn {
             side: Side::Wgsl,

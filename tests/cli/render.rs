@@ -249,3 +249,82 @@ fn depth_steps_and_stats_outputs() {
     }
     assert!(stats["steps_max"].as_u64().is_some());
 }
+
+/// The tEXt chunks of the PNG at `path`, keyword and text.
+fn png_texts(path: &std::path::Path) -> Vec<(String, String)> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut rgb).unwrap();
+    reader.finish().unwrap();
+    let info = reader.info();
+    info.uncompressed_latin1_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.text.clone()))
+        .collect()
+}
+
+/// Issue 49, item 3: a path-traced PNG records its estimated error (`qjulia-error`, the stats'
+/// figures to the last digit), a render to `image.target_error` also what stopped it; a phong
+/// PNG, which has no estimate, records none.
+#[test]
+fn a_path_traced_png_records_its_estimated_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let path = [
+        "render",
+        "--preset",
+        "path-traced",
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--backend",
+        "cpu",
+        "--set",
+        "image.samples=64",
+        "--set",
+        "image.target_error=0.06",
+        "-o",
+        "path.png",
+        "--stats",
+        "path.json",
+    ];
+    let out = qjulia(d, &path);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("path.json")).unwrap()).unwrap();
+    let texts = png_texts(&d.join("path.png"));
+    let (_, text) = texts
+        .iter()
+        .find(|(k, _)| k == qjulia::output::ERROR_PNG_KEYWORD)
+        .expect("the error recorded");
+    let recorded: toml::Table = text.parse().unwrap();
+    for key in ["estimated_rmse", "estimated_relative_rmse"] {
+        assert_eq!(recorded[key].as_float(), stats[key].as_f64(), "{key}");
+    }
+    assert_eq!(
+        recorded["stopped_by"].as_str(),
+        stats["stopped_by"].as_str()
+    );
+    let last = stats["target_passes"].as_array().unwrap().last().unwrap();
+    assert_eq!(
+        recorded["samples"].as_integer(),
+        last["samples"].as_i64(),
+        "{text}"
+    );
+    let out = qjulia(
+        d,
+        &[
+            "render",
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "-o",
+            "phong.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(png_texts(&d.join("phong.png")).is_empty());
+}

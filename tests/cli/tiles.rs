@@ -279,6 +279,23 @@ fn bad_tiles_are_refused_with_one_line() {
     }
     let no_hdr = ["render", "--backend", "cpu", "--tile", "0/2"];
     assert_refused(d, &no_hdr, "error: --tile 0/2", "--hdr");
+    // A render to an error stops on the whole image's estimate, which a tile cannot see.
+    let target = [
+        "--tile",
+        "0/2",
+        "--set",
+        "shading.model=\"path\"",
+        "--set",
+        "image.samples=8",
+        "--set",
+        "image.target_error=0.05",
+    ];
+    assert_refused(
+        d,
+        &render(&target),
+        "error: --tile 0/2",
+        "image.target_error",
+    );
 }
 
 #[test]

@@ -130,6 +130,7 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         hits: Vec::new(),
         hit_depth: Vec::new(),
         noisy: Vec::new(),
+        halves: Vec::new(),
         samples: Vec::new(),
         non_finite: 0,
         estimates: 0,

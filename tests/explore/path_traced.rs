@@ -357,7 +357,7 @@ fn the_samples_view_shows_the_heat_map_of_the_counts() {
 
 /// Issue 20: with the denoiser on, the idle view shows the denoised running mean, which once it
 /// has the view's samples is what `qjulia render` writes of the same scene and samples, byte
-/// for byte; the status line has its noise figure; a `[denoise]` key from the panel denoises
+/// for byte; the status line has its error figures; a `[denoise]` key from the panel denoises
 /// the kept mean again, with no new trace, and the view is then the render with that key.
 #[test]
 fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
@@ -376,10 +376,19 @@ fn a_denoised_path_view_shows_the_render_and_its_keys_need_no_new_trace() {
     let stats = view.stats();
     assert_eq!(stats.denoised_samples, Some(3), "the view is not denoised");
     assert_eq!(stats.denoise_error, None);
-    let noise = stats.noise.expect("a noise figure");
-    assert!(noise > 0.0 && noise.is_finite(), "noise {noise}");
-    let noise_again = qjulia::denoise::frame_noise(frame, 3).unwrap();
-    assert_eq!(noise, noise_again);
+    // The error figures: the mean's, from its halves (the render's estimate of its raw image),
+    // and the denoised image's, from the halves denoised alone (the render's --stats).
+    let noise = stats.noise.expect("an error figure");
+    assert!(noise > 0.0 && noise.is_finite(), "error {noise}");
+    assert_eq!(frame.halves.len(), frame.pixel_count());
+    assert_eq!(
+        Some(noise),
+        qjulia::estimate::raw(frame).map(|e| e.relative)
+    );
+    let denoised = stats
+        .denoised_noise
+        .expect("the denoised image's error figure");
+    assert!(denoised > 0.0 && denoised.is_finite(), "error {denoised}");
     let expected = rendered_any(&harness);
     assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");
     assert!(
@@ -468,7 +477,9 @@ fn the_denoiser_switch_denoises_the_phong_view_as_render_does() {
     let view = harness.state().slice_texture().unwrap();
     assert!(!view.path_traced());
     assert_eq!(view.stats().denoised_samples, Some(3));
-    assert!(view.stats().noise.is_some_and(|n| n > 0.0));
+    // Phong mode's samples are one stream: no halves, no error figure (as --stats' null).
+    assert_eq!(view.stats().noise, None);
+    assert_eq!(view.stats().denoised_noise, None);
     let expected = rendered_any(&harness);
     assert_eq!(expected.noisy.len(), expected.pixel_count(), "not denoised");
     let denoised = shown_view(&mut harness);

@@ -271,6 +271,7 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 hits: Vec::new(),
                 hit_depth: Vec::new(),
                 noisy: Vec::new(),
+                halves: Vec::new(),
                 samples: Vec::new(),
                 non_finite: 0,
                 estimates: 0,

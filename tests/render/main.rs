@@ -22,6 +22,7 @@ mod cut;
 mod denoise;
 mod display;
 mod environment;
+mod error_estimate;
 mod exact;
 mod gpu_f64;
 mod gpu_params;

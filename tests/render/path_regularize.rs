@@ -19,9 +19,10 @@ fn pixel_variances(frame: &Frame, samples: u32) -> (f64, f64) {
 }
 
 /// Issue 35, item 8: path regularisation (`path.regularize`) on the path-traced preset at 32x32
-/// with 64 samples (CPU, f32), over seeds 0 to 3: at 0.5 every seed's mean pixel variance
-/// falls, their sum by a tenth at least, and no pixel's variance rises above the unregularised
-/// renders' largest (up to rounding); the GPU keeps to the CPU twin; and 0 is off: the same bits as the key left
+/// with 64 samples (CPU, f32), over seeds 0 to 11: at 0.5 the seeds' mean pixel variances
+/// summed fall by a tenth at least, none rises by 2% or more (where no glint lands the paths
+/// change but not their noise: 0.6% at most, measured), and no pixel's variance rises above the
+/// unregularised renders' largest (up to rounding); the GPU keeps to the CPU twin; and 0 is off: the same bits as the key left
 /// out. How much the largest variance falls turns on whether a caustic glint (a diffuse bounce,
 /// then the glossy lobe, then the sun) lands in a render, which the seeds decide: docs/book/
 /// path.md gives the figures.
@@ -35,8 +36,8 @@ fn regularisation_tames_the_glints() {
         })
     };
     let cpu = |s: &Scene| render_hdr(&cpu_renderer(s, Precision::F32), s);
-    let (mut sums, mut largest) = ([0.0; 2], [0.0f64; 2]);
-    for seed in 0..4 {
+    let (mut sums, mut largest, mut rises) = ([0.0; 2], [0.0f64; 2], 0.0f64);
+    for seed in 0..12 {
         let ((m0, x0), (m1, x1)) = (
             pixel_variances(&cpu(&scene(0.0, seed)), samples),
             pixel_variances(&cpu(&scene(0.5, seed)), samples),
@@ -45,11 +46,12 @@ fn regularisation_tames_the_glints() {
             "path-traced 32x32, {samples} samples, seed {seed}: pixel variance mean {m0:.3e}, \
              largest {x0:.3e} unregularised; mean {m1:.3e}, largest {x1:.3e} at 0.5"
         );
-        assert!(m1 < m0, "seed {seed}: mean pixel variance {m0} -> {m1}");
+        rises = rises.max(m1 / m0);
         sums = [sums[0] + m0, sums[1] + m1];
         largest = [largest[0].max(x0), largest[1].max(x1)];
     }
     assert!(sums[1] < 0.9 * sums[0], "mean pixel variances {sums:?}");
+    assert!(rises < 1.02, "a seed's mean pixel variance rose {rises}x");
     // (Up to rounding: where the largest is a pixel that no diffuse bounce leads to, the same
     // pixel's variance at 0.5 differs in the sixth digit.)
     assert!(

@@ -55,8 +55,19 @@ pub struct OutputSpec {
     /// without it where it is not read.
     pub on_demand: bool,
     /// Planes of `items` items each that the kernel keeps in it (the tracer's accumulator has
-    /// two: the running mean, then adaptive sampling's streams); only the first comes back.
+    /// four: what a pixel shows, then its halves and adaptive sampling's streams).
     pub planes: u64,
+    /// The planes that come back, from the first: a band's readback of this output is these
+    /// planes one after another, each `items` items (the accumulator's three: what a pixel
+    /// shows, then its two halves).
+    pub planes_back: u64,
+}
+
+impl OutputSpec {
+    /// Bytes a grid item takes in a band's readback: its [`Self::planes_back`] planes.
+    pub fn read_bytes(&self) -> u64 {
+        self.bytes_per_item * self.planes_back
+    }
 }
 
 /// What a compute kernel is: its module, entry point, uniform size and outputs. Binding 0 is the

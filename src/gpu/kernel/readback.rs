@@ -30,7 +30,7 @@ impl Kernel {
             .zip(read)
             .map(|(o, &wanted)| {
                 let label = format!("{} {} readback", self.spec.name, o.name);
-                wanted.then(|| buffer(device, &label, items * o.bytes_per_item, read_usage))
+                wanted.then(|| buffer(device, &label, items * o.read_bytes(), read_usage))
             })
             .collect();
         let bind_group = self.bind_group(&uniform, &storage, input);
@@ -76,11 +76,17 @@ impl Kernel {
             .zip(&buffers.readback)
             .zip(self.spec.outputs)
         {
-            let bytes = items * spec.bytes_per_item;
+            let bytes = items * spec.read_bytes();
             if let Some(dst) = dst
                 && bytes > 0
             {
-                encoder.copy_buffer_to_buffer(src, 0, dst, 0, bytes);
+                // Plane p of the band's `items` lies at p times the buffers' items (a last band
+                // may be shorter than the buffers were made for) and comes back after plane p - 1.
+                let plane = items * spec.bytes_per_item;
+                for p in 0..spec.planes_back {
+                    let from = p * buffers.items * spec.bytes_per_item;
+                    encoder.copy_buffer_to_buffer(src, from, dst, p * plane, plane);
+                }
                 to_map.push((dst, bytes));
             }
         }
@@ -114,7 +120,7 @@ impl Kernel {
             .iter()
             .zip(self.spec.outputs)
             .map(|(b, spec)| {
-                let bytes = items * spec.bytes_per_item;
+                let bytes = items * spec.read_bytes();
                 match b {
                     Some(b) if bytes > 0 => b
                         .slice(..bytes)

@@ -32,7 +32,10 @@ pub struct Request {
 pub struct Done {
     pub key: DenoiseKey,
     pub linear: Result<Vec<[f32; 3]>, String>,
-    /// Wall seconds of the denoise, and where it ran ("gpu" or "cpu").
+    /// Path mode: the denoised image's estimated relative RMSE (each half denoised alone too,
+    /// [`crate::estimate::denoised`]), where the frame has its halves.
+    pub estimate: Option<f64>,
+    /// Wall seconds of the denoise (the halves' included), and where it ran ("gpu" or "cpu").
     pub seconds: f64,
     pub backend: &'static str,
 }
@@ -57,18 +60,20 @@ impl DenoiseWorker {
             .spawn(move || {
                 // Ends when the view (the sender) is dropped.
                 while let Ok(request) = requests.recv() {
-                    let denoised =
-                        crate::denoise::denoise(&request.frame, &request.scene, Some(&kernels));
+                    let start = std::time::Instant::now();
+                    let denoised = denoise_estimated(&request, &kernels);
                     let done = match denoised {
-                        Ok(d) => Done {
+                        Ok((d, estimate)) => Done {
                             key: request.key,
                             linear: Ok(d.linear),
-                            seconds: d.seconds,
+                            estimate,
+                            seconds: start.elapsed().as_secs_f64(),
                             backend: d.backend,
                         },
                         Err(e) => Done {
                             key: request.key,
                             linear: Err(e.to_string()),
+                            estimate: None,
                             seconds: 0.0,
                             backend: "",
                         },
@@ -131,4 +136,25 @@ impl DenoiseWorker {
     pub fn drop_queued(&mut self) {
         self.queued = None;
     }
+}
+
+/// A request's frame denoised, and where it has its halves the denoised image's estimated
+/// relative RMSE: each half denoised alone too, as a render's stats have it
+/// ([`crate::estimate::denoised`]).
+fn denoise_estimated(
+    request: &Request,
+    kernels: &GpuKernels,
+) -> crate::error::Result<(crate::denoise::Denoised, Option<f64>)> {
+    let (frame, scene) = (&*request.frame, &request.scene);
+    let denoised = crate::denoise::denoise(frame, scene, Some(kernels))?;
+    let estimate = match crate::estimate::half_frames(frame) {
+        Some([a, b]) => {
+            let da = crate::denoise::denoise(&a, scene, Some(kernels))?.linear;
+            let db = crate::denoise::denoise(&b, scene, Some(kernels))?.linear;
+            crate::estimate::denoised(&frame.halves, [&da, &db], &denoised.linear)
+                .map(|e| e.relative)
+        }
+        None => None,
+    };
+    Ok((denoised, estimate))
 }

@@ -13,6 +13,9 @@ pub struct MeanLayout {
     /// The accumulator (vec4<f32> a pixel): path mode's radiance, and with adaptive sampling
     /// the samples each pixel took.
     pub accumulated: u64,
+    /// Path mode: the pixels' halves, the accumulator's second and third planes (a vec4<f32>
+    /// each), of which the view's error estimate is made ([`crate::estimate`]).
+    pub halves: u64,
     /// The AOVs (three vec4<f32>), with a denoiser.
     pub aovs: u64,
     /// The depth (one `F`), with a denoiser.
@@ -30,6 +33,7 @@ impl MeanLayout {
             } else {
                 0
             },
+            halves: if path { 32 } else { 0 },
             aovs: if aovs { 48 } else { 0 },
             depth: if aovs { depth } else { 0 },
         }
@@ -42,7 +46,8 @@ impl MeanLayout {
 }
 
 /// Records the copy of a pass's mean, the sections of `layout` from the kernel's `outputs`
-/// (`items` of each: rows times their stride), into a buffer the host can map: `spare` where
+/// (`items` of each: rows times their stride; the halves from the accumulator's second and
+/// third planes, a quarter of its buffer apart), into a buffer the host can map: `spare` where
 /// it has the size, else a new one.
 pub fn copy_mean(
     device: &wgpu::Device,
@@ -52,7 +57,7 @@ pub fn copy_mean(
     spare: Option<wgpu::Buffer>,
     layout: MeanLayout,
 ) -> wgpu::Buffer {
-    let bytes = items * (layout.accumulated + layout.aovs + layout.depth);
+    let bytes = items * (layout.accumulated + layout.halves + layout.aovs + layout.depth);
     let buffer = spare.filter(|b| b.size() == bytes).unwrap_or_else(|| {
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("mean readback"),
@@ -61,14 +66,18 @@ pub fn copy_mean(
             mapped_at_creation: false,
         })
     });
+    let plane = outputs[ACCUMULATED_OUTPUT].size() / 4;
+    let half = layout.halves / 2;
     let sections = [
-        (ACCUMULATED_OUTPUT, layout.accumulated),
-        (AOVS_OUTPUT, layout.aovs),
-        (DEPTH_OUTPUT, layout.depth),
+        (ACCUMULATED_OUTPUT, 0, layout.accumulated),
+        (ACCUMULATED_OUTPUT, plane, half),
+        (ACCUMULATED_OUTPUT, 2 * plane, half),
+        (AOVS_OUTPUT, 0, layout.aovs),
+        (DEPTH_OUTPUT, 0, layout.depth),
     ];
     let mut offset = 0;
-    for (output, per_item) in sections.into_iter().filter(|(_, b)| *b > 0) {
-        encoder.copy_buffer_to_buffer(&outputs[output], 0, &buffer, offset, items * per_item);
+    for (output, from, per_item) in sections.into_iter().filter(|(_, _, b)| *b > 0) {
+        encoder.copy_buffer_to_buffer(&outputs[output], from, &buffer, offset, items * per_item);
         offset += items * per_item;
     }
     buffer
@@ -93,6 +102,9 @@ pub struct Mean {
     pub samples_taken: Option<f64>,
     /// With a denoiser: the mean with its AOVs and depth, as the denoiser reads it.
     pub frame: Option<Arc<Frame>>,
+    /// Path mode: the mean's estimated error ([`crate::estimate::raw`]); None below two
+    /// samples.
+    pub estimate: Option<crate::estimate::ErrorEstimate>,
 }
 
 /// Decodes a mapped mean readback of `layout` (`samples` in its running mean; `adaptive`: its
@@ -108,6 +120,7 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
 ) -> Mean {
     let items = shape.2 * shape.1;
     let (accumulated, rest) = view.split_at(items * layout.accumulated as usize);
+    let (halves, rest) = rest.split_at(items * layout.halves as usize);
     let (aovs, depth) = rest.split_at(items * layout.aovs as usize);
     // Mapped ranges are aligned to 8 bytes at least, and so is each section.
     let radiance = match path {
@@ -132,6 +145,35 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
         (false, true) => vec![samples; shape.0 * shape.1],
         (false, false) => adaptive_counts.clone(),
     };
+    let half = crate::estimate::half_colour;
+    // An adaptive pixel keeps its halves there only once it is done (before, its streams'
+    // state): a mean some of whose pixels still sample has no halves, and no estimate.
+    let still = adaptive
+        && !accumulated.is_empty()
+        && unpad::<[f32; 4], _>(accumulated, shape, |a| a[3] >= 0.0)
+            .into_iter()
+            .any(|sampling| sampling);
+    let halves: Vec<[[f32; 3]; 2]> = match halves.is_empty() || still {
+        true => Vec::new(),
+        false => {
+            let (a, b) = halves.split_at(halves.len() / 2);
+            let a = unpad::<[f32; 4], _>(a, shape, half);
+            let b = unpad::<[f32; 4], _>(b, shape, half);
+            a.into_iter().zip(b).map(|(a, b)| [a, b]).collect()
+        }
+    };
+    let estimate = match halves.len() == radiance.len() && !halves.is_empty() {
+        true => {
+            let mut sums = crate::estimate::HalvesSums::default();
+            let mut mean = Frame::empty(shape.0 as u32);
+            mean.height = shape.1 as u32;
+            mean.radiance = radiance.clone();
+            mean.halves = halves.clone();
+            sums.add(&mean);
+            sums.finish()
+        }
+        false => None,
+    };
     let frame = (layout.aovs > 0).then(|| {
         let aov =
             |k: usize| unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]]);
@@ -149,6 +191,7 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
         frame.hit_depth = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[2][3]);
         frame.depth = unpad::<F, _>(depth, shape, depth_of::<F>);
         frame.samples = adaptive_counts;
+        frame.halves = halves;
         Arc::new(frame)
     });
     Mean {
@@ -156,6 +199,7 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
         counts,
         samples_taken,
         frame,
+        estimate,
     }
 }
 
@@ -208,6 +252,14 @@ mod tests {
             let n = if i == 1 { -3.0f32 } else { 0.5 };
             bytes.extend(bytemuck::bytes_of(&[i as f32, 0.0, 0.0, n]));
         }
+        // The halves: A's means i + 0.5 (none in pixel 0), B's i - 0.5, two samples each.
+        for i in 0..6 {
+            let n = if i == 0 { 0.0f32 } else { 2.0 };
+            bytes.extend(bytemuck::bytes_of(&[i as f32 + 0.5, 0.0, 0.0, n]));
+        }
+        for i in 0..6 {
+            bytes.extend(bytemuck::bytes_of(&[i as f32 - 0.5, 0.0, 0.0, 2.0f32]));
+        }
         for i in 0..6 {
             let aov = [[i as f32, 0.0, 0.0, 1.0], [0.25; 4], [0.0, 0.0, 1.0, 2.0]];
             bytes.extend(bytemuck::bytes_of(&aov));
@@ -221,7 +273,22 @@ mod tests {
         assert_eq!(firsts, [0.0, 1.0, 3.0, 4.0]);
         assert_eq!(mean.counts, [4, 3, 4, 4]);
         assert_eq!(mean.samples_taken, Some(3.75));
+        // Adaptively, three pixels still sample: their planes hold their streams, not halves,
+        // so the mean has no halves and no estimate.
+        assert_eq!(mean.estimate, None);
+        // Without adaptive sampling pixels 1, 3 and 4 (of the four kept) have both halves, 1
+        // apart in the red channel: (1^2 / 4 + 0 + 0) / 3 channels a pixel, an MSE of 1 / 12.
+        let plain = decode_mean::<f32>(&bytes, layout, shape, 4, (false, true));
+        let estimate = plain.estimate.expect("the halves' estimate");
+        assert!(
+            (estimate.rmse - (1.0f64 / 12.0).sqrt()).abs() < 1e-9,
+            "{estimate:?}"
+        );
+        let halves = &plain.frame.as_ref().expect("AOVs asked for").halves;
+        assert!(halves[0][0][0].is_nan());
+        assert_eq!(halves[1], [[1.5, 0.0, 0.0], [0.5, 0.0, 0.0]]);
         let frame = mean.frame.expect("AOVs asked for");
+        assert!(frame.halves.is_empty());
         assert_eq!(frame.samples, [4, 3, 4, 4]);
         assert_eq!(frame.albedo[2], [0.25; 3]);
         assert_eq!(frame.hit_depth, [2.0; 4]);

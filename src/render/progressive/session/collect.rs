@@ -39,9 +39,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             drop(view);
             rb.buffer.unmap();
             self.spare_readback = Some(rb.buffer);
-            self.stats.noise = frame
-                .as_ref()
-                .and_then(|f| crate::denoise::frame_noise(f, rb.samples));
+            self.stats.noise = mean.estimate.map(|e| e.relative);
             self.generation += 1;
             self.kept = Some(KeptRadiance {
                 radiance,
@@ -72,6 +70,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             let linear = match done.linear {
                 Ok(linear) => {
                     self.stats.denoise_error = None;
+                    self.stats.denoised_noise = done.estimate;
                     self.stats.denoise_seconds = done.seconds;
                     self.stats.denoise_backend = done.backend;
                     linear

@@ -27,7 +27,7 @@
 //! With a denoiser (`image.denoise`, either model) the idle view's passes also compute the AOVs
 //! (the tracers' AOVS override) and the last tile of each pass copies them and the depth back
 //! with the mean (phong mode's colour then goes through the host as path mode's does): the view
-//! keeps that frame and its noise figure ([`crate::denoise::frame_noise`]), hands it to a
+//! keeps that frame, hands it to a
 //! thread of its own ([`DenoiseWorker`], the same [`crate::denoise::denoise`] on the same device
 //! as `qjulia render`) and shows the denoised running mean once it is back, so that the view
 //! and `qjulia render` give the same bytes of the same scene and samples. The passes do not
@@ -96,9 +96,12 @@ pub struct TextureStats {
     pub samples_taken: Option<f64>,
     /// Path mode: seconds the host took to encode the radiance shown (the display transform).
     pub encode_seconds: f64,
-    /// With a denoiser: the estimated noise of the last running mean read back
-    /// ([`crate::denoise::frame_noise`]), None below 2 samples.
+    /// Path mode: the estimated relative RMSE of the last running mean read back
+    /// ([`crate::estimate::raw`], `--stats`' `estimated_relative_rmse`), None below 2 samples.
     pub noise: Option<f64>,
+    /// With a denoiser in path mode: that of the denoised image shown
+    /// ([`crate::estimate::denoised`]).
+    pub denoised_noise: Option<f64>,
     /// With a denoiser: the samples in the denoised mean shown, its wall seconds and where it
     /// ran, or why it failed.
     pub denoised_samples: Option<u32>,

@@ -348,6 +348,7 @@ impl<F: GpuReal + bytemuck::Pod, C: Canvas> Session<F, C> {
             samples: 1,
             // Said again once this scene's mean is read back and denoised.
             noise: None,
+            denoised_noise: None,
             samples_taken: None,
             counts: None,
             denoised_samples: None,
