@@ -9,8 +9,9 @@
 //!   plain Sobol' samples against a reference of REF samples of the `random` sampler, for plain
 //!   Sobol', adaptive sampling (1,024 at most, the noise target swept down), the denoiser
 //!   (samples swept up), both, path regularisation (`path.regularize` = 0.5, samples swept up)
-//!   and regularisation denoised; each rung with its bias, the image's mean radiance against the
-//!   reference's.
+//!   and regularisation denoised, and `image.target_error` asked for the goal (relative to the
+//!   reference's mean) and a little under it, alone, denoised, regularised and both; each rung
+//!   with its bias, the image's mean radiance against the reference's.
 //! - `mse REF_A.exr REF_B.exr RUN.exr...`: each run's mean squared error (linear R, G and B, over
 //!   every channel and pixel) against the mean of two references of independent seeds, less
 //!   that mean's own, a quarter of the squared difference of the two
@@ -190,15 +191,36 @@ fn time_to_rmse(renderer: &Renderer, size: u32, reference_samples: u32) -> qjuli
         "reference: {reference_samples} random samples, {reference_seconds:.2} s, mean \
          {reference_mean:.5}"
     );
-    // RMSE, trimmed RMSE, seconds, samples taken and the mean's bias in percent.
-    let measure = |scene: &Scene| -> qjulia::Result<(f64, f64, f64, u64, f64)> {
+    // RMSE, trimmed RMSE, seconds, samples taken (the last pass's, to a target), the mean's
+    // bias in percent, and to a target its passes' samples.
+    type Measured = (f64, f64, f64, u64, f64, String);
+    let measure = |scene: &Scene| -> qjulia::Result<Measured> {
         let (frame, stats, seconds) = render(renderer, scene)?;
         let error = rmse(&frame.radiance, &reference);
         let trimmed = rmse_trimmed(&frame.radiance, &reference, TRIM);
         let bias = 100.0 * (image_mean(&frame.radiance) / reference_mean - 1.0);
-        Ok((error, trimmed, seconds, stats.summary.samples_total, bias))
+        let passes = stats.target.as_ref().map_or(String::new(), |t| {
+            let samples: Vec<String> = t
+                .target_passes
+                .iter()
+                .map(|p| p.samples.to_string())
+                .collect();
+            format!(
+                ", passes {} (stopped by {})",
+                samples.join(" "),
+                t.stopped_by
+            )
+        });
+        Ok((
+            error,
+            trimmed,
+            seconds,
+            stats.summary.samples_total,
+            bias,
+            passes,
+        ))
     };
-    let (goal, goal_trimmed, plain_seconds, _, plain_bias) = measure(&preset(size, 1024))?;
+    let (goal, goal_trimmed, plain_seconds, _, plain_bias, _) = measure(&preset(size, 1024))?;
     println!(
         "plain Sobol', 1024 samples: RMSE {goal:.5} (trimmed {goal_trimmed:.5}), \
          {plain_seconds:.2} s, mean {plain_bias:+.3}%"
@@ -235,19 +257,44 @@ fn time_to_rmse(renderer: &Renderer, size: u32, reference_samples: u32) -> qjuli
             })
             .collect()
     };
+    // `image.target_error` asked for the goal itself, relative to the reference's mean (what a
+    // user who knows the error they want would ask), then a little under it: each rung one
+    // render of passes, its seconds all of them, at most 4,096 samples.
+    let relative_goal = goal / reference_mean;
+    let to_target = |denoise: bool, regularize: f64| -> Vec<Rung> {
+        [1.0, 0.9, 0.8, 0.7]
+            .iter()
+            .map(|&f| {
+                let mut s = preset(size, 4096);
+                s.image.target_error = relative_goal * f;
+                if denoise {
+                    s.image.denoise = Denoiser::Atrous;
+                }
+                s.path.regularize = regularize;
+                (format!("target_error {:.5}", relative_goal * f), s)
+            })
+            .collect()
+    };
     for (way, ladder) in [
         ("adaptive", adaptive(false)),
         ("denoised", swept(true, 0.0)),
         ("adaptive + denoised", adaptive(true)),
         ("regularized", swept(false, REGULARIZE)),
         ("regularized + denoised", swept(true, REGULARIZE)),
+        ("to a target", to_target(false, 0.0)),
+        ("to a target, denoised", to_target(true, 0.0)),
+        ("to a target, regularized", to_target(false, REGULARIZE)),
+        (
+            "to a target, regularized + denoised",
+            to_target(true, REGULARIZE),
+        ),
     ] {
         let mut reached = None;
         for (rung, scene) in &ladder {
-            let (error, trimmed, seconds, total, bias) = measure(scene)?;
+            let (error, trimmed, seconds, total, bias, passes) = measure(scene)?;
             println!(
                 "  {way}, {rung}: RMSE {error:.5} (trimmed {trimmed:.5}), {seconds:.3} s, \
-                 {:.1} samples a pixel, mean {bias:+.3}%",
+                 {:.1} samples a pixel, mean {bias:+.3}%{passes}",
                 total as f64 / (size * size) as f64
             );
             if error <= goal {

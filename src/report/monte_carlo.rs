@@ -75,6 +75,10 @@ pub struct Point {
     /// The render's GPU seconds where the device times it, else its render seconds; with the
     /// denoiser's (its GPU seconds, else its wall seconds) added.
     pub seconds: f64,
+    /// The render's own estimate of its RMSE (`--stats`' `estimated_rmse`, src/estimate.rs:
+    /// from its pixels' halves, of the denoised image where the denoiser runs), which the page
+    /// plots beside the measured one; None at one sample a pixel.
+    pub estimated: Option<f64>,
 }
 
 /// The RMSE of a curve's last point split by pixel kind ([`edge_mask`]).
@@ -293,9 +297,17 @@ pub fn mean_taken(frame: &Frame, samples: u32) -> f64 {
 /// A path-traced render of `scene` through `planner`: the frame and its seconds.
 pub fn render(planner: &mut Planner, scene: &Scene) -> Result<(Frame, f64)> {
     let (frame, stats) = render_stats(planner, scene)?;
-    let denoise = stats.denoise.map(|d| d.gpu_seconds.unwrap_or(d.seconds));
-    let seconds = stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0);
-    Ok((frame, seconds))
+    Ok((frame, seconds_of(&stats)))
+}
+
+/// A render's seconds as the page counts them: its GPU seconds where the device times them,
+/// else its render seconds, with the denoiser's (GPU seconds, else wall seconds) added.
+pub fn seconds_of(stats: &crate::stats::RenderStats) -> f64 {
+    let denoise = stats
+        .denoise
+        .as_ref()
+        .map(|d| d.gpu_seconds.unwrap_or(d.seconds));
+    stats.gpu_seconds.unwrap_or(stats.render_seconds) + denoise.unwrap_or(0.0)
 }
 
 /// A render of `scene`'s shaded picture through `planner`, whole, with its AOVs (the edge mask
@@ -403,13 +415,14 @@ pub fn run(
                 total,
             );
             let scene = scene_of(base, &case, samples);
-            let (frame, seconds) = render(planner, &scene)?;
+            let (frame, stats) = render_stats(planner, &scene)?;
             points.push(Point {
                 samples,
                 taken: mean_taken(&frame, samples),
                 rmse: rmse(&frame.radiance, reference),
                 trimmed: rmse_trimmed(&frame.radiance, reference, TRIM),
-                seconds,
+                seconds: seconds_of(&stats),
+                estimated: stats.summary.estimated_rmse,
             });
             last = Some(frame);
             done += 1;
@@ -492,6 +505,7 @@ mod tests {
             rmse,
             trimmed: rmse,
             seconds,
+            estimated: None,
         };
         let curve = Curve {
             case: cases()[0].clone(),

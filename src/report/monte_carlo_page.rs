@@ -14,12 +14,12 @@ use crate::scene::PathSampler;
 pub fn csv(curves: &[Curve]) -> String {
     let mut out = String::from(
         "scene,sampler,bounces,denoise,noise_target,regularize,samples,taken,rmse,rmse_trimmed,\
-         seconds\n",
+         seconds,estimated_rmse\n",
     );
     for c in curves {
         for p in &c.points {
             out.push_str(&format!(
-                "{},{},{},{},{},{},{},{:.3},{:.6e},{:.6e},{:.6}\n",
+                "{},{},{},{},{},{},{},{:.3},{:.6e},{:.6e},{:.6},{}\n",
                 c.case.scene_name,
                 c.case.sampler.name(),
                 c.case.bounces,
@@ -34,7 +34,8 @@ pub fn csv(curves: &[Curve]) -> String {
                 p.taken,
                 p.rmse,
                 p.trimmed,
-                p.seconds
+                p.seconds,
+                p.estimated.map_or(String::new(), |e| format!("{e:.6e}")),
             ));
         }
     }
@@ -75,15 +76,23 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
          small bright sun seen in a glossy lobe makes rare glints, a sample or two worth \
          hundreds of times a pixel's mean, and those few pixels can rule the RMSE, one sampler \
          meeting a glint that the other misses.\n\n\
+         Each render also estimates its own RMSE, without the reference (`--stats`' \
+         `estimated_rmse`: from its pixels' two halves, of the denoised image where the \
+         denoiser runs; [The error on request](../book/error.md)). The right-hand plots draw it \
+         against run time, dashed, beside the measured error of the same curve; the table \
+         gives it at 64 samples over the measured RMSE. The measured RMSE also holds the \
+         reference's own noise (it is the root of the render's MSE plus the reference's \
+         variance), so where a curve's error comes near the reference's the estimate falls \
+         below the measure by that much, as it should.\n\n\
          ![RMSE against samples and seconds](monte_carlo.png)\n\n\
-         | curve | slope | RMSE at 16 | RMSE at 64 | RMSE at 256 | trimmed at 64 | seconds at 64 | reference mean |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | curve | slope | RMSE at 16 | RMSE at 64 | RMSE at 256 | trimmed at 64 | seconds at 64 | estimate / measured at 64 | reference mean |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
         trim = 100.0 * TRIM
     );
     let cell = |c: &Curve, n: u32| at(c, n).map_or("-".into(), |p| format!("{:.4}", p.rmse));
     for c in curves {
         md.push_str(&format!(
-            "| {} | {:.3} | {} | {} | {} | {} | {} | {:.4} |\n",
+            "| {} | {:.3} | {} | {} | {} | {} | {} | {} | {:.4} |\n",
             label(&c.case),
             c.slope,
             cell(c, 16),
@@ -91,6 +100,9 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
             cell(c, 256),
             at(c, 64).map_or("-".into(), |p| format!("{:.4}", p.trimmed)),
             at(c, 64).map_or("-".into(), |p| format!("{:.3}", p.seconds)),
+            at(c, 64)
+                .and_then(|p| p.estimated.map(|e| format!("{e:.4} ({:.2}x)", e / p.rmse)))
+                .unwrap_or_else(|| "-".into()),
             c.reference_mean
         ));
     }
@@ -279,7 +291,8 @@ pub fn markdown(curves: &[Curve], size: u32, reference_samples: u32, machine: &s
 }
 
 /// `monte_carlo.png`: a row a scene, its curves' RMSE against samples (left) and against
-/// seconds (right), log-log, one series per curve.
+/// seconds (right), log-log, one series per curve; on the right each curve's own estimate of
+/// its RMSE too ([`Point::estimated`]), dashed in the curve's colour.
 pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
     use plotters::prelude::*;
     crate::heatmap::register_plot_font();
@@ -309,10 +322,17 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
                 .filter(|c| c.case.scene_name == *scene)
                 .collect();
             for (panel, (x_desc, x)) in row.split_evenly((1, 2)).iter().zip(x_of) {
+                let estimates = x_desc.starts_with("seconds");
                 let all: Vec<(f64, f64)> = mine
                     .iter()
                     .flat_map(|c| c.points.iter())
-                    .map(|p| (x(p).log10(), p.rmse.max(1e-6).log10()))
+                    .flat_map(|p| {
+                        let estimate = p.estimated.filter(|_| estimates);
+                        [Some(p.rmse), estimate]
+                            .into_iter()
+                            .flatten()
+                            .map(|e| (x(p).log10(), e.max(1e-6).log10()))
+                    })
                     .collect();
                 let (x0, x1) = all
                     .iter()
@@ -352,6 +372,16 @@ pub fn plot(path: &Path, curves: &[Curve]) -> std::result::Result<(), String> {
                     let name = label(&c.case);
                     let name = name.strip_prefix(scene).unwrap_or(&name).trim_start();
                     super::plot::draw_series(&mut chart, &points, k, name, 3)?;
+                    let estimated: Vec<(f64, f64)> = c
+                        .points
+                        .iter()
+                        .filter(|_| estimates)
+                        .filter_map(|p| p.estimated.map(|e| (x(p).log10(), e.max(1e-6).log10())))
+                        .collect();
+                    super::plot::draw_dashed(&mut chart, &estimated, k)?;
+                }
+                if estimates {
+                    super::plot::draw_dashed_legend(&mut chart, "its estimate (dashed)")?;
                 }
                 super::plot::draw_legend(&mut chart, 14)?;
             }

@@ -48,6 +48,43 @@ pub fn draw_series<'a, 'b: 'a>(
     Ok(())
 }
 
+/// Draws `points` dashed in the `k`-th colour, without a legend entry (a curve's estimate
+/// beside its measure; [`draw_dashed_legend`] says what the dashes are once).
+pub fn draw_dashed<'a, 'b: 'a>(
+    chart: &mut LogChart<'a, 'b>,
+    points: &[(f64, f64)],
+    k: usize,
+) -> Result<(), String> {
+    let colour = PALETTE[k % PALETTE.len()];
+    chart
+        .draw_series(DashedLineSeries::new(
+            points.to_vec(),
+            6,
+            4,
+            colour.stroke_width(2),
+        ))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// A legend entry for the dashed series: a grey dashed line and `label`.
+pub fn draw_dashed_legend<'a, 'b: 'a>(
+    chart: &mut LogChart<'a, 'b>,
+    label: &str,
+) -> Result<(), String> {
+    let grey = PALETTE[7];
+    chart
+        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+        .map_err(|e| e.to_string())?
+        .label(label)
+        .legend(move |(x, y)| {
+            EmptyElement::at((x, y))
+                + PathElement::new(vec![(0, 0), (7, 0)], grey.stroke_width(2))
+                + PathElement::new(vec![(12, 0), (19, 0)], grey.stroke_width(2))
+        });
+    Ok(())
+}
+
 /// The legend, upper right, in a half-transparent white box.
 pub fn draw_legend<'a, 'b: 'a>(chart: &mut LogChart<'a, 'b>, font_size: u32) -> Result<(), String> {
     chart

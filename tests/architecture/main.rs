@@ -15,6 +15,7 @@ mod import_cycles;
 mod shaders;
 mod twins;
 mod web;
+mod web_estimate;
 
 use std::path::{Path, PathBuf};
 

@@ -16,7 +16,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn web() -> PathBuf {
+pub(crate) fn web() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("web")
 }
 
@@ -26,7 +26,7 @@ fn bless() -> bool {
 
 /// Compares `path`'s bytes with `made` (or writes them, blessing); a stale file fails with how
 /// to make it again.
-fn check_file(path: &Path, made: &str) {
+pub(crate) fn check_file(path: &Path, made: &str) {
     if bless() {
         std::fs::write(path, made).unwrap();
         return;
@@ -250,7 +250,7 @@ fn the_heat_map_fixture_is_the_binarys() {
 }
 
 /// Standard base64 (RFC 4648, with padding) of `bytes`.
-fn b64(bytes: &[u8]) -> String {
+pub(crate) fn b64(bytes: &[u8]) -> String {
     const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();
     for chunk in bytes.chunks(3) {

@@ -147,8 +147,24 @@ fn the_monte_carlo_page_measures_every_case() {
             if !c.case.adaptive {
                 assert_eq!(p.taken, p.samples as f64);
             }
+            // Every render of two samples or more estimates its own error (its halves), and
+            // one of one sample cannot.
+            match p.estimated {
+                Some(e) => assert!(
+                    p.samples >= 2 && e > 0.0 && e.is_finite(),
+                    "{:?}: {p:?}",
+                    c.case
+                ),
+                None => assert_eq!(p.samples, 1, "{:?}: {p:?}", c.case),
+            }
         }
     }
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with(",seconds,estimated_rmse")
+    );
     for c in &curves {
         let s = c.split;
         assert!(s.edge.is_finite() && s.flat.is_finite() && (0.0..=1.0).contains(&s.edge_share));
@@ -165,6 +181,7 @@ fn the_monte_carlo_page_measures_every_case() {
         "regularisation**",
         "Sobol' regularized denoised",
         "off the reference's",
+        "estimate / measured at 64",
     ] {
         assert!(md.contains(verdict), "{md}");
     }

@@ -53,6 +53,7 @@ fn curve(
                 rmse: (squared / n).sqrt(),
                 trimmed: (trimmed / n).sqrt(),
                 seconds: seconds / n,
+                estimated: None,
             }
         })
         .collect()

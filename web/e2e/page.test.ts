@@ -330,6 +330,43 @@ describe('the page', () => {
     assertAgrees('path mode, 4 samples', r, cliRenderText(toml));
   });
 
+  test('path mode estimates its error, and renders to image.target_error in the CLI\u2019s passes', async () => {
+    if (skipped('the error estimate')) return;
+    const toml =
+      '[shading]\nmodel = "path"\n[path]\nbounces = 2\n[image]\nwidth = 40\nheight = 40\nsamples = 256\n' +
+      'target_error = 0.03\n';
+    const r = (await render(toml)) as Rendered & {
+      samples: number;
+      estimate: { rmse: number; relative: number } | null;
+      passes: { samples: number; estimated_relative_rmse: number | null }[];
+    };
+    const dir = scratch();
+    writeFileSync(join(dir, 'scene.toml'), toml);
+    const picture = cliRender(dir, 'scene.toml', ['--stats', 'stats.json']);
+    const stats = JSON.parse(readFileSync(join(dir, 'stats.json'), 'utf8'));
+    const theirs = stats.target_passes as { samples: number; estimated_relative_rmse: number }[];
+    console.log(
+      `image.target_error 0.03: the page's passes ${JSON.stringify(r.passes)}, the CLI's ${JSON.stringify(theirs)} ` +
+        `(stopped by ${stats.stopped_by})`,
+    );
+    // The same passes: the first of 16 samples, each later one within 5% of the CLI's (the two
+    // adapters' last bits move an estimate a little, and the schedule rounds it up), each
+    // estimate within 10% of the CLI's, and the page shows its last pass with its estimate.
+    expect(r.passes.length).toBe(theirs.length);
+    expect(r.passes.length).toBeGreaterThanOrEqual(2);
+    expect(r.passes[0].samples).toBe(16);
+    r.passes.forEach((p, k) => {
+      expect(Math.abs(p.samples / theirs[k].samples - 1)).toBeLessThanOrEqual(0.05);
+      expect(Math.abs(p.estimated_relative_rmse! / theirs[k].estimated_relative_rmse - 1)).toBeLessThanOrEqual(0.1);
+    });
+    const last = r.passes.at(-1)!;
+    expect(r.samples).toBe(last.samples);
+    expect(r.estimate!.relative).toBe(last.estimated_relative_rmse);
+    expect(last.estimated_relative_rmse! <= 0.03 || last.samples === 256).toBe(true);
+    expect(Math.abs(r.estimate!.rmse / stats.estimated_rmse - 1)).toBeLessThanOrEqual(0.1);
+    if (last.samples === theirs.at(-1)!.samples) assertAgrees('the last pass', r, picture);
+  });
+
   test('a scene naming the built-in map shows it, asking for nothing, as the CLI does', async () => {
     if (skipped('the built-in map')) return;
     const toml =

@@ -9,6 +9,7 @@
 // is there (idle accumulation), and reads it back as the CLI's frame.
 
 import { Display } from './display';
+import { type ErrorEstimate, rawEstimate } from './estimate';
 import type { Scene } from './scene';
 import { JULIA2D_MODULE, PATH_MODULE, TRACE_MODULE } from './shaders';
 import {
@@ -52,6 +53,10 @@ export interface Rendered {
   /// Path mode and adaptive sampling: the accumulator (linear mean RGB, then the pixel's
   /// state: M2 while it samples, minus its samples once done), else null.
   accumulated: Float32Array<ArrayBuffer> | null;
+  /// Path mode at two samples or more: the image's estimated error from its pixels' halves
+  /// (src/estimate.ts, `--stats`' `estimated_rmse`); with adaptive sampling only once every
+  /// pixel is done (until then a pixel's streams hold its state where the halves go). Else null.
+  estimate: ErrorEstimate | null;
   /// Samples taken so far (of `samples`).
   taken: number;
   samples: number;
@@ -143,13 +148,15 @@ export class Job {
     const device = this.tracer.device;
     const pixels = this.width * this.height;
     const wantsMean = this.kind === 'path' || this.adaptive;
+    // Path mode reads the halves too: the accumulator's second and third planes, after the first.
+    const planes = this.kind === 'path' ? 3 : wantsMean ? 1 : 0;
     const read = device.createBuffer({
-      size: (12 + (wantsMean ? 16 : 0)) * pixels,
+      size: (12 + 16 * planes) * pixels,
       usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST,
     });
     const encoder = device.createCommandEncoder();
     for (let k = 0; k < 3; k++) encoder.copyBufferToBuffer(this.outputs[k], 0, read, 4 * k * pixels, 4 * pixels);
-    if (wantsMean) encoder.copyBufferToBuffer(this.outputs[4], 0, read, 12 * pixels, 16 * pixels);
+    if (planes > 0) encoder.copyBufferToBuffer(this.outputs[4], 0, read, 12 * pixels, 16 * planes * pixels);
     device.queue.submit([encoder.finish()]);
     await read.mapAsync(GPUMapMode.READ);
     const bytes = read.getMappedRange().slice(0);
@@ -163,6 +170,8 @@ export class Job {
       const display = new Display(this.scene.get('image.exposure') as number, this.scene.get('image.tone_map') as string);
       colour = display.packAll(accumulated!);
     }
+    const halved = this.kind === 'path' && this.samples > 1 && (!this.adaptive || this.done);
+    const estimate = halved ? rawEstimate(new Float32Array(bytes, 12 * pixels, 12 * pixels), this.width) : null;
     return {
       width: this.width,
       height: this.height,
@@ -170,6 +179,7 @@ export class Job {
       depth,
       steps: new Uint32Array(bytes, 8 * pixels, pixels),
       accumulated,
+      estimate,
       taken: this.taken,
       samples: this.samples,
       milliseconds,

@@ -13,6 +13,7 @@
 import duskUrl from '../../assets/environment/dusk.hdr?url';
 import * as camera from './camera';
 import { BUILTIN_PREFIX, type EnvironmentMap, type MapFormat, builtinChecksum, loadMap, mapFormat, mapNotice } from './envmap';
+import { FIRST_PASS, nextSamples } from './estimate';
 import { type Job, type Rendered, Tracer } from './gpu';
 import { type HeatMap, COLOUR_STOPS, divergenceView, samplesView, stepsView } from './heatmap';
 import { Panel } from './panel';
@@ -69,6 +70,28 @@ function movingScene(s: Scene): Scene {
   return m;
 }
 
+/// Whether a render of `s` adds passes until its estimated error is at most
+/// `image.target_error` (Scene::targets_error: path mode, a target > 0, `image.samples` > 1).
+function targetsError(s: Scene): boolean {
+  return (
+    s.get('shading.model') === 'path' && (s.get('image.target_error') as number) > 0 && (s.get('image.samples') as number) > 1
+  );
+}
+
+/// `s` with `samples` samples a pixel: one pass of a render to `image.target_error`.
+function passScene(s: Scene, samples: number): Scene {
+  const m = new Map(s);
+  m.set('image.samples', samples);
+  return m;
+}
+
+/// A pass of a render to `image.target_error`: its samples and its estimated relative error
+/// (`--stats`' `target_passes`).
+export interface TargetPass {
+  samples: number;
+  estimated_relative_rmse: number | null;
+}
+
 /// Samples each pixel took: minus the accumulator's state once a pixel is done, else all the
 /// samples taken so far.
 function samplesOf(r: Rendered): number[] {
@@ -91,6 +114,10 @@ class Explorer {
   /// The last picture shown at full resolution, and whether it has every sample.
   last: Rendered | null = null;
   lastDone = false;
+  /// The passes of a render to `image.target_error` so far (the last one the job's), as the
+  /// CLI renders them (src/render/target.rs): each from the first sample, the next one's
+  /// samples from the last one's estimate; empty where the scene targets no error.
+  passes: TargetPass[] = [];
   private panel: Panel;
   /// The environment maps loaded, by `environment.file`'s value; the built-in ones on their
   /// way.
@@ -311,24 +338,47 @@ class Explorer {
     const target = moving ? movingScene(this.scene) : this.scene;
     const map = this.mapOf(target);
     const key = `${this.twoD ? '2d' : '3d'}\n${map === null ? 'no map' : 'map'}\n${sceneToToml(target)}`;
+    const targeting = !this.twoD && targetsError(target);
     if (key !== this.jobKey) {
-      this.job?.destroy();
-      this.job = null;
       this.jobKey = key;
-      this.lastDone = false;
-      this.job = await this.tracer.start(target, this.twoD, map?.packed ?? null);
+      const most = target.get('image.samples') as number;
+      this.passes = targeting ? [{ samples: Math.min(most, FIRST_PASS), estimated_relative_rmse: null }] : [];
+      await this.startJob(targeting ? passScene(target, this.passes[0].samples) : target, map?.packed ?? null);
     }
     const job = this.job!;
     if (job.done) return moving;
     job.step();
     const r = await job.read();
     if (this.job !== job) return true;
+    const pass = this.passes.at(-1);
+    if (targeting && pass !== undefined && job.done) {
+      // A pass is whole: the render stops at the target or at image.samples, else the next
+      // pass starts from the first sample with the samples this one's estimate asks for.
+      const e = r.estimate?.relative ?? null;
+      pass.estimated_relative_rmse = e;
+      const [goal, most] = [target.get('image.target_error') as number, target.get('image.samples') as number];
+      if (!(e !== null && e <= goal) && pass.samples < most) {
+        const samples = nextSamples(pass.samples, e, goal, most);
+        this.passes.push({ samples, estimated_relative_rmse: null });
+        this.show(r, target);
+        await this.startJob(passScene(target, samples), map?.packed ?? null);
+        return true;
+      }
+    }
     this.show(r, target);
     if (!moving) {
       this.last = r;
       this.lastDone = job.done;
     }
     return !job.done || moving;
+  }
+
+  /// Replaces the job with a new one rendering `s`.
+  private async startJob(s: Scene, packed: Float32Array<ArrayBuffer> | null): Promise<void> {
+    this.job?.destroy();
+    this.job = null;
+    this.lastDone = false;
+    this.job = await this.tracer.start(s, this.twoD, packed);
   }
 
   /// Shows a render in the canvas: the tracer's 0xFFBBGGRR pixels are RGBA bytes as they are;
@@ -355,8 +405,11 @@ class Explorer {
     showLegend(heat);
     canvas.getContext('2d')!.putImageData(new ImageData(bytes, r.width, r.height), 0, 0);
     const sampling = r.samples > 1 ? `, samples ${r.taken}/${r.samples}` : '';
+    const error = r.estimate === null ? '' : `, error ${(100 * r.estimate.relative).toFixed(1)}%`;
+    const goal = s.get('image.target_error') as number;
+    const passes = this.passes.length > 0 ? `, pass ${this.passes.length} to ${(100 * goal).toFixed(1)}%` : '';
     status.textContent =
-      `WebGPU: ${this.tracer.adapterName}; ${r.width}x${r.height}${sampling}, ` +
+      `WebGPU: ${this.tracer.adapterName}; ${r.width}x${r.height}${sampling}${error}${passes}, ` +
       `${r.milliseconds.toFixed(0)} ms${this.moving() ? ' (moving: half resolution)' : ''}${this.mapStatus(s)}`;
   }
 
@@ -543,6 +596,9 @@ async function start(): Promise<void> {
     colour: [...r.colour],
     depth: [...r.depth].map((d) => (Number.isNaN(d) ? null : d)),
     steps: [...r.steps],
+    samples: r.samples,
+    estimate: r.estimate,
+    passes: x.passes.map((p) => ({ ...p })),
   });
   const shown = async () => {
     await x.idle();
