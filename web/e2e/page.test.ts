@@ -365,6 +365,8 @@ describe('the page', () => {
     expect(last.estimated_relative_rmse! <= 0.03 || last.samples === 256).toBe(true);
     expect(Math.abs(r.estimate!.rmse / stats.estimated_rmse - 1)).toBeLessThanOrEqual(0.1);
     if (last.samples === theirs.at(-1)!.samples) assertAgrees('the last pass', r, picture);
+    const error = (100 * r.estimate!.relative).toFixed(1);
+    expect(await q<string>('status')).toContain(`samples ${last.samples}/${last.samples}, error ${error}%, pass ${r.passes.length} to 3.0%`);
   });
 
   test('a scene naming the built-in map shows it, asking for nothing, as the CLI does', async () => {
