@@ -290,19 +290,25 @@ pub const ERROR_PNG_KEYWORD: &str = "qjulia-error";
 /// `estimated_relative_rmse`, and with `image.target_error` `stopped_by` and the last pass's
 /// `samples`); None where the render has no estimate.
 pub fn error_text(stats: &RenderStats) -> Option<String> {
-    let (rmse, relative) = (
+    let target = stats.target.as_ref().map(|t| {
+        let samples = t.target_passes.last().map_or(0, |p| p.samples);
+        (t.stopped_by, samples)
+    });
+    Some(error_text_of(
         stats.summary.estimated_rmse?,
         stats.summary.estimated_relative_rmse?,
-    );
+        target,
+    ))
+}
+
+/// [`error_text`] of an estimate and, with `image.target_error`, what stopped the render and
+/// its last pass's samples (web/src/estimate.ts's `errorText` is its twin).
+pub fn error_text_of(rmse: f64, relative: f64, target: Option<(&str, u32)>) -> String {
     let mut text = format!("estimated_rmse = {rmse}\nestimated_relative_rmse = {relative}\n");
-    if let Some(target) = &stats.target {
-        let samples = target.target_passes.last().map_or(0, |p| p.samples);
-        text += &format!(
-            "stopped_by = \"{}\"\nsamples = {samples}\n",
-            target.stopped_by
-        );
+    if let Some((stopped_by, samples)) = target {
+        text += &format!("stopped_by = \"{stopped_by}\"\nsamples = {samples}\n");
     }
-    Some(text)
+    text
 }
 
 /// Appends a tEXt chunk `keyword: text` (Latin-1) to the finished PNG at `path`, before its

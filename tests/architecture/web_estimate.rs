@@ -3,7 +3,8 @@
 //! back: the mean colour, then halves A and B, four f32s a pixel) with the library's raw
 //! estimate of each ([`qjulia::estimate::raw`] of the frame the GPU readback builds from them,
 //! through [`qjulia::estimate::half_colour`]), and the pass schedule's cases with
-//! [`qjulia::render::target::next_samples`]' answers. `QJULIA_BLESS=1 cargo test --release
+//! [`qjulia::render::target::next_samples`]' answers, and estimates with the text a PNG records
+//! of them ([`qjulia::output::error_text_of`]). `QJULIA_BLESS=1 cargo test --release
 //! --test architecture web` writes it again.
 
 use crate::web::{b64, check_file, web};
@@ -114,7 +115,27 @@ fn the_estimate_fixture_is_the_librarys() {
             }));
         }
     }
-    let fixture = serde_json::json!({ "images": cases, "schedule": schedule });
+    // What a PNG records of an estimate (qjulia::output::error_text_of): f64s as Rust's
+    // Display writes them (every digit, never an exponent), from tiny to huge.
+    let mut texts = Vec::new();
+    let mut values = vec![
+        0.0, 1.0, 0.1, 1e-7, 1.5e-12, 123456.789, 1e21, 2.5e22, 5e-324,
+    ];
+    values.extend((0..24).map(|_| 10f64.powf(12.0 * draws.unit() - 9.0)));
+    for (k, &rmse) in values.iter().enumerate() {
+        let relative = rmse / (0.1 + draws.unit());
+        let target = match k % 3 {
+            0 => None,
+            1 => Some(("target_error", 2 * k as u32 + 16)),
+            _ => Some(("samples", 4096)),
+        };
+        texts.push(serde_json::json!({
+            "rmse": rmse, "relative": relative,
+            "stopped_by": target.map(|t| t.0), "samples": target.map(|t| t.1),
+            "text": qjulia::output::error_text_of(rmse, relative, target),
+        }));
+    }
+    let fixture = serde_json::json!({ "images": cases, "schedule": schedule, "texts": texts });
     let mut made = serde_json::to_string_pretty(&fixture).unwrap();
     made.push('\n');
     check_file(&web().join("test/fixtures/estimate.json"), &made);

@@ -365,6 +365,23 @@ describe('the page', () => {
     expect(last.estimated_relative_rmse! <= 0.03 || last.samples === 256).toBe(true);
     expect(Math.abs(r.estimate!.rmse / stats.estimated_rmse - 1)).toBeLessThanOrEqual(0.1);
     if (last.samples === theirs.at(-1)!.samples) assertAgrees('the last pass', r, picture);
+    // The exported PNG records the estimate as `render` does (the text held to the library's
+    // by test/estimate.test.ts).
+    const exported = Buffer.from(await q<string>('png'), 'base64');
+    const keyword = Buffer.from('qjulia-error\0');
+    let [at, recorded] = [8, ''];
+    while (at < exported.length) {
+      const length = exported.readUInt32BE(at);
+      const data = exported.subarray(at + 8, at + 8 + length);
+      if (exported.toString('latin1', at + 4, at + 8) === 'tEXt' && data.subarray(0, keyword.length).equals(keyword)) {
+        recorded = data.subarray(keyword.length).toString('latin1');
+      }
+      at += 12 + length;
+    }
+    expect(recorded).toBe(
+      `estimated_rmse = ${r.estimate!.rmse}\nestimated_relative_rmse = ${r.estimate!.relative}\n` +
+        `stopped_by = "${stats.stopped_by}"\nsamples = ${last.samples}\n`,
+    );
     const error = (100 * r.estimate!.relative).toFixed(1);
     expect(await q<string>('status')).toContain(`samples ${last.samples}/${last.samples}, error ${error}%, pass ${r.passes.length} to 3.0%`);
   });

@@ -78,3 +78,30 @@ export function nextSamples(samples: number, estimate: number | null, target: nu
   const n = Math.min(Math.ceil(Math.max(asked, samples * LEAST_GROWTH)), most);
   return Math.min(n + (n % 2), most);
 }
+
+/// The keyword of the tEXt chunk in which a PNG records its estimated error (ERROR_PNG_KEYWORD
+/// of src/output.rs).
+export const ERROR_PNG_KEYWORD = 'qjulia-error';
+
+/// `x` as Rust's Display writes an f64: the shortest digits that read back as `x` (as
+/// JavaScript's), but never in exponent notation, and no `.0` on a whole number.
+export function rustFloat(x: number): string {
+  if (!Number.isFinite(x)) return Number.isNaN(x) ? 'NaN' : x > 0 ? 'inf' : '-inf';
+  if (x === 0) return Object.is(x, -0) ? '-0' : '0';
+  const sign = x < 0 ? '-' : '';
+  const [mantissa, power] = Math.abs(x).toExponential().split('e');
+  const digits = mantissa.replace('.', '');
+  const e = Number(power);
+  if (e >= digits.length - 1) return sign + digits + '0'.repeat(e - digits.length + 1);
+  if (e >= 0) return `${sign}${digits.slice(0, e + 1)}.${digits.slice(e + 1)}`;
+  return `${sign}0.${'0'.repeat(-e - 1)}${digits}`;
+}
+
+/// What a PNG records of an estimate (src/output.rs's error_text_of): TOML of
+/// `estimated_rmse` and `estimated_relative_rmse`, and with `image.target_error` what stopped
+/// the render and its last pass's samples.
+export function errorText(rmse: number, relative: number, target: { stopped_by: string; samples: number } | null): string {
+  let text = `estimated_rmse = ${rustFloat(rmse)}\nestimated_relative_rmse = ${rustFloat(relative)}\n`;
+  if (target !== null) text += `stopped_by = "${target.stopped_by}"\nsamples = ${target.samples}\n`;
+  return text;
+}

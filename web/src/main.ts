@@ -13,11 +13,11 @@
 import duskUrl from '../../assets/environment/dusk.hdr?url';
 import * as camera from './camera';
 import { BUILTIN_PREFIX, type EnvironmentMap, type MapFormat, builtinChecksum, loadMap, mapFormat, mapNotice } from './envmap';
-import { FIRST_PASS, nextSamples } from './estimate';
+import { ERROR_PNG_KEYWORD, FIRST_PASS, errorText, nextSamples } from './estimate';
 import { type Job, type Rendered, Tracer } from './gpu';
 import { type HeatMap, COLOUR_STOPS, divergenceView, samplesView, stepsView } from './heatmap';
 import { Panel } from './panel';
-import { sceneOf, withScene } from './png';
+import { sceneOf, withScene, withText } from './png';
 import { julia2dWarnings, sliceWarnings } from './precision';
 import {
   type MapChecksums,
@@ -418,7 +418,15 @@ class Explorer {
     await this.idle();
     const blob = await new Promise<Blob | null>((ok) => canvas.toBlob(ok, 'image/png'));
     if (blob === null) throw new Error('the canvas gave no PNG');
-    return withScene(new Uint8Array(await blob.arrayBuffer()), sceneToToml(this.scene));
+    const png = withScene(new Uint8Array(await blob.arrayBuffer()), sceneToToml(this.scene));
+    // Where the picture has an estimate, its qjulia-error chunk, as `render` writes it.
+    const r = this.last;
+    if (r === null || !this.lastDone || r.estimate === null) return png;
+    const pass = this.passes.at(-1);
+    const goal = this.scene.get('image.target_error') as number;
+    const met = pass?.estimated_relative_rmse != null && pass.estimated_relative_rmse <= goal;
+    const target = pass === undefined ? null : { stopped_by: met ? 'target_error' : 'samples', samples: pass.samples };
+    return withText(png, ERROR_PNG_KEYWORD, errorText(r.estimate.rmse, r.estimate.relative, target));
   }
 }
 

@@ -94,6 +94,20 @@ export function withScene(png: Uint8Array, toml: string): Uint8Array<ArrayBuffer
   return out;
 }
 
+/// `png` with a tEXt chunk `keyword: text` (Latin-1; here ASCII) after its image data, before
+/// IEND, where the binary appends its qjulia-error chunk (src/output.rs's append_png_text).
+export function withText(png: Uint8Array, keyword: string, text: string): Uint8Array<ArrayBuffer> {
+  const end = chunks(png).find((c) => c.type === 'IEND');
+  if (end === undefined) throw new Error('a PNG without its end');
+  const data = Uint8Array.from(`${keyword}\0${text}`, (c) => c.charCodeAt(0));
+  const added = chunk('tEXt', data);
+  const out = new Uint8Array(png.length + added.length);
+  out.set(png.subarray(0, end.at), 0);
+  out.set(added, end.at);
+  out.set(png.subarray(end.at), end.at + added.length);
+  return out;
+}
+
 function isScene(data: Uint8Array): boolean {
   const keyword = new TextEncoder().encode(`${SCENE_PNG_KEYWORD}\0`);
   return keyword.every((b, k) => data[k] === b);
