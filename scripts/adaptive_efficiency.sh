@@ -23,23 +23,8 @@ SIZE=${3:-64}
 SEEDS=${4:-12}
 REF=${5:-4096}
 TARGET=${6:-0.05}
-STUDY=target/release/examples/adaptive_study
-[ -x "$STUDY" ] || { echo "$STUDY is missing: cargo build --release --example adaptive_study"; exit 2; }
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-
-scenes=(
-    "path-traced|--preset path-traced"
-    "path-gallery|--preset path-gallery"
-    "lambert|--preset unit-ball --set shading.model=\"path\" --set material.specular=0"
-)
-render() { # binary, output stem, scene arguments..., then keys
-    local bin=$1 out=$2
-    shift 2
-    # shellcheck disable=SC2068
-    "$bin" render $@ --width "$SIZE" --height "$SIZE" --hdr "$out.exr" --stats "$out.json" \
-        -o "$out.png" >/dev/null 2>&1
-}
+# shellcheck source=scripts/mse_common.sh
+. scripts/mse_common.sh
 samples_of() { # a stats file: the samples a pixel took, on average
     python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['samples_total'] / $SIZE / $SIZE)" "$1"
 }
@@ -47,10 +32,7 @@ for entry in "${scenes[@]}"; do
     name=${entry%%|*}
     args=${entry#*|}
     case ",${QJULIA_EFFICIENCY_SCENES:-$name}," in *",$name,"*) ;; *) continue ;; esac
-    render "$NEW" "$WORK/$name-ref-a" "$args" --set 'path.sampler="random"' \
-        --set image.samples="$REF" --set path.seed=90001
-    render "$NEW" "$WORK/$name-ref-b" "$args" --set 'path.sampler="random"' \
-        --set image.samples="$REF" --set path.seed=90002
+    references "$name" "$args"
     runs=()
     for seed in $(seq "$SEEDS"); do
         render "$NEW" "$WORK/$name-plain-$seed" "$args" --set image.samples=64 --set path.seed="$seed"

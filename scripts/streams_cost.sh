@@ -20,28 +20,12 @@ NEW=$2
 SEEDS=${3:-12}
 SIZE=${4:-64}
 REF=${5:-4096}
-STUDY=target/release/examples/adaptive_study
-[ -x "$STUDY" ] || { echo "$STUDY is missing: cargo build --release --example adaptive_study"; exit 2; }
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-scenes=(
-    "path-traced|--preset path-traced"
-    "path-gallery|--preset path-gallery"
-    "lambert|--preset unit-ball --set shading.model=\"path\" --set material.specular=0"
-)
-render() { # binary, output stem, scene arguments..., then keys
-    local bin=$1 out=$2
-    shift 2
-    # shellcheck disable=SC2068
-    "$bin" render $@ --width "$SIZE" --height "$SIZE" --hdr "$out.exr" -o "$out.png" >/dev/null 2>&1
-}
+# shellcheck source=scripts/mse_common.sh
+. scripts/mse_common.sh
 for entry in "${scenes[@]}"; do
     name=${entry%%|*}
     args=${entry#*|}
-    render "$NEW" "$WORK/$name-ref-a" "$args" --set 'path.sampler="random"' \
-        --set image.samples="$REF" --set path.seed=90001
-    render "$NEW" "$WORK/$name-ref-b" "$args" --set 'path.sampler="random"' \
-        --set image.samples="$REF" --set path.seed=90002
+    references "$name" "$args"
     runs=()
     for seed in $(seq "$SEEDS"); do
         render "$OLD" "$WORK/$name-old-$seed" "$args" --set image.samples=64 --set path.seed="$seed"

@@ -287,6 +287,29 @@ pub fn denoise(
     })
 }
 
+/// [`denoise`], and where `frame` has its halves (path mode) the denoised image's estimated
+/// error: each half denoised alone too ([`crate::estimate::denoised`]). The seconds are the
+/// three runs' wall time; the GPU seconds, the whole image's run's.
+#[cfg(feature = "gpu")]
+pub fn denoise_estimated(
+    frame: &Frame,
+    scene: &Scene,
+    gpu: Option<&GpuKernels>,
+) -> crate::error::Result<(Denoised, Option<crate::estimate::ErrorEstimate>)> {
+    let start = std::time::Instant::now();
+    let mut denoised = denoise(frame, scene, gpu)?;
+    let estimate = match crate::estimate::half_frames(frame) {
+        Some([a, b]) => {
+            let da = denoise(&a, scene, gpu)?.linear;
+            let db = denoise(&b, scene, gpu)?.linear;
+            crate::estimate::denoised(&frame.halves, [&da, &db], &denoised.linear)
+        }
+        None => None,
+    };
+    denoised.seconds = start.elapsed().as_secs_f64();
+    Ok((denoised, estimate))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

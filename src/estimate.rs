@@ -42,15 +42,19 @@ pub struct HalvesSums {
 impl HalvesSums {
     /// Adds the pixels of a band with its halves (path mode); a band without them adds nothing.
     pub fn add(&mut self, band: &Frame) {
-        let linear = band.linear();
-        if band.halves.len() != linear.len() {
+        self.add_pixels(band.width, &band.halves, band.linear());
+    }
+
+    /// Adds rows of `width` pixels: their halves and the linear image they show; nothing where
+    /// the two differ in length (no halves).
+    pub fn add_pixels(&mut self, width: u32, halves: &[[[f32; 3]; 2]], linear: &[[f32; 3]]) {
+        if halves.len() != linear.len() {
             return;
         }
         // Row by row, each row's pixels in order and the rows added in order, so that the sums
         // are the same bits however the image is cut into bands (a render's, merge's whole).
-        let width = band.width.max(1) as usize;
-        let rows: Vec<(f64, u64, f64)> = band
-            .halves
+        let width = width.max(1) as usize;
+        let rows: Vec<(f64, u64, f64)> = halves
             .par_chunks(width)
             .zip(linear.par_chunks(width))
             .map(|(halves, means)| {

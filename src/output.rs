@@ -290,10 +290,7 @@ pub const ERROR_PNG_KEYWORD: &str = "qjulia-error";
 /// `estimated_relative_rmse`, and with `image.target_error` `stopped_by` and the last pass's
 /// `samples`); None where the render has no estimate.
 pub fn error_text(stats: &RenderStats) -> Option<String> {
-    let target = stats.target.as_ref().map(|t| {
-        let samples = t.target_passes.last().map_or(0, |p| p.samples);
-        (t.stopped_by, samples)
-    });
+    let target = stats.target.as_ref().map(|t| (t.stopped_by, t.samples()));
     Some(error_text_of(
         stats.summary.estimated_rmse?,
         stats.summary.estimated_relative_rmse?,

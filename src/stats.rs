@@ -98,6 +98,13 @@ pub struct TargetStats {
     pub target_passes: Vec<TargetPass>,
 }
 
+impl TargetStats {
+    /// The last pass's samples: the image's.
+    pub fn samples(&self) -> u32 {
+        self.target_passes.last().map_or(0, |p| p.samples)
+    }
+}
+
 /// One pass of a render to a target.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct TargetPass {

@@ -200,10 +200,10 @@ fn report_render(stats: &qjulia::RenderStats) {
         error = format!(", estimated error {:.2}% of the mean", 100.0 * e);
     }
     if let Some(t) = &stats.target {
-        let samples = t.target_passes.last().map_or(0, |p| p.samples);
         error += &format!(
-            " after {} passes to {samples} samples (stopped by {})",
+            " after {} passes to {} samples (stopped by {})",
             t.target_passes.len(),
+            t.samples(),
             t.stopped_by
         );
     }

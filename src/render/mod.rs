@@ -137,19 +137,9 @@ impl Renderer {
     /// that image's display; the denoiser's figures go in `stats`. `render` and `merge` both
     /// come here, so that their bytes agree.
     pub fn denoise(&self, scene: &Scene, frame: &mut Frame, stats: &mut RenderStats) -> Result<()> {
-        let start = std::time::Instant::now();
-        let gpu = self.gpu.as_deref();
-        let denoised = crate::denoise::denoise(frame, scene, gpu)?;
-        // Path mode's estimate of the denoised image: each half denoised alone
-        // (crate::estimate), timed with the denoiser.
-        let estimate = match crate::estimate::half_frames(frame) {
-            Some([a, b]) => {
-                let da = crate::denoise::denoise(&a, scene, gpu)?.linear;
-                let db = crate::denoise::denoise(&b, scene, gpu)?.linear;
-                crate::estimate::denoised(&frame.halves, [&da, &db], &denoised.linear)
-            }
-            None => None,
-        };
+        // Path mode's estimate of the denoised image, timed with the denoiser.
+        let (denoised, estimate) =
+            crate::denoise::denoise_estimated(frame, scene, self.gpu.as_deref())?;
         stats.summary.estimated_rmse = estimate.map(|e| e.rmse);
         stats.summary.estimated_relative_rmse = estimate.map(|e| e.relative);
         let colour = match Picture::SHADED.path_traced(scene) {
@@ -158,7 +148,7 @@ impl Renderer {
         };
         frame.set_denoised(denoised.linear, colour);
         stats.denoise = Some(crate::stats::DenoiseStats {
-            seconds: start.elapsed().as_secs_f64(),
+            seconds: denoised.seconds,
             gpu_seconds: denoised.gpu_seconds,
             backend: denoised.backend.into(),
         });

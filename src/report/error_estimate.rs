@@ -139,9 +139,8 @@ pub fn check_target(
         let target = stats
             .target
             .ok_or_else(|| crate::error::Error::Unsupported("no target passes".into()))?;
-        let last = target.target_passes.last().copied();
         renders.push((
-            last.map_or(0, |p| p.samples),
+            target.samples(),
             target.stopped_by == "target_error",
             stats.summary.estimated_relative_rmse.unwrap_or(f64::NAN),
             measured_mse(frame.linear(), reference).sqrt() / mean,

@@ -7,29 +7,17 @@
 //! of them ([`qjulia::output::error_text_of`]). `QJULIA_BLESS=1 cargo test --release
 //! --test architecture web` writes it again.
 
+use crate::common::SplitMix;
 use crate::web::{b64, check_file, web};
 use qjulia::estimate::{half_colour, raw};
 use qjulia::frame::Frame;
 use qjulia::render::target::next_samples;
 
-/// A small deterministic generator (the values are stored; the TypeScript replays none of it).
-struct Draws(u64);
-
-impl Draws {
-    fn unit(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// An accumulator of `width` x `height` pixels: colours over six decades, a share of halves
 /// empty (no sample in them), and a few pixels whose halves are far apart (glints).
-fn planes(draws: &mut Draws, width: u32, height: u32, empty: f64) -> Vec<[f32; 4]> {
+fn planes(draws: &mut SplitMix, width: u32, height: u32, empty: f64) -> Vec<[f32; 4]> {
     let pixels = (width * height) as usize;
-    let mut colour = || -> f32 { (10f64.powf(6.0 * draws.unit() - 4.0)) as f32 };
+    let mut colour = || -> f32 { (10f64.powf(6.0 * draws.next() - 4.0)) as f32 };
     let mut halves = Vec::new();
     for _ in 0..2 * pixels {
         halves.push([colour(), colour(), colour()]);
@@ -41,7 +29,7 @@ fn planes(draws: &mut Draws, width: u32, height: u32, empty: f64) -> Vec<[f32; 4
         out.push([m[0], m[1], m[2], 8.0]);
     }
     for h in &halves {
-        let samples = if draws.unit() < empty { 0.0 } else { 4.0 };
+        let samples = if draws.next() < empty { 0.0 } else { 4.0 };
         out.push([h[0], h[1], h[2], samples]);
     }
     out
@@ -70,7 +58,7 @@ fn frame_of(planes: &[[f32; 4]], width: u32, height: u32) -> Frame {
 
 #[test]
 fn the_estimate_fixture_is_the_librarys() {
-    let mut draws = Draws(49);
+    let mut draws = SplitMix(49);
     let mut cases = Vec::new();
     // (width, height, share of empty halves): one row, one column, a square, an image where
     // most halves are empty, and one where all are (no estimate).
@@ -107,7 +95,7 @@ fn the_estimate_fixture_is_the_librarys() {
         (16, 0.02, 21),
     ] {
         let mut estimates: Vec<Option<f64>> = vec![None, Some(target), Some(target * 1.0001)];
-        estimates.extend((0..40).map(|_| Some(target * 10f64.powf(2.0 * draws.unit() - 0.5))));
+        estimates.extend((0..40).map(|_| Some(target * 10f64.powf(2.0 * draws.next() - 0.5))));
         for estimate in estimates {
             schedule.push(serde_json::json!({
                 "samples": samples, "estimate": estimate, "target": target, "most": most,
@@ -121,9 +109,9 @@ fn the_estimate_fixture_is_the_librarys() {
     let mut values = vec![
         0.0, 1.0, 0.1, 1e-7, 1.5e-12, 123456.789, 1e21, 2.5e22, 5e-324,
     ];
-    values.extend((0..24).map(|_| 10f64.powf(12.0 * draws.unit() - 9.0)));
+    values.extend((0..24).map(|_| 10f64.powf(12.0 * draws.next() - 9.0)));
     for (k, &rmse) in values.iter().enumerate() {
-        let relative = rmse / (0.1 + draws.unit());
+        let relative = rmse / (0.1 + draws.next());
         let target = match k % 3 {
             0 => None,
             1 => Some(("target_error", 2 * k as u32 + 16)),

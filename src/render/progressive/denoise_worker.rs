@@ -60,14 +60,17 @@ impl DenoiseWorker {
             .spawn(move || {
                 // Ends when the view (the sender) is dropped.
                 while let Ok(request) = requests.recv() {
-                    let start = std::time::Instant::now();
-                    let denoised = denoise_estimated(&request, &kernels);
+                    let denoised = crate::denoise::denoise_estimated(
+                        &request.frame,
+                        &request.scene,
+                        Some(&kernels),
+                    );
                     let done = match denoised {
                         Ok((d, estimate)) => Done {
                             key: request.key,
                             linear: Ok(d.linear),
-                            estimate,
-                            seconds: start.elapsed().as_secs_f64(),
+                            estimate: estimate.map(|e| e.relative),
+                            seconds: d.seconds,
                             backend: d.backend,
                         },
                         Err(e) => Done {
@@ -136,25 +139,4 @@ impl DenoiseWorker {
     pub fn drop_queued(&mut self) {
         self.queued = None;
     }
-}
-
-/// A request's frame denoised, and where it has its halves the denoised image's estimated
-/// relative RMSE: each half denoised alone too, as a render's stats have it
-/// ([`crate::estimate::denoised`]).
-fn denoise_estimated(
-    request: &Request,
-    kernels: &GpuKernels,
-) -> crate::error::Result<(crate::denoise::Denoised, Option<f64>)> {
-    let (frame, scene) = (&*request.frame, &request.scene);
-    let denoised = crate::denoise::denoise(frame, scene, Some(kernels))?;
-    let estimate = match crate::estimate::half_frames(frame) {
-        Some([a, b]) => {
-            let da = crate::denoise::denoise(&a, scene, Some(kernels))?.linear;
-            let db = crate::denoise::denoise(&b, scene, Some(kernels))?.linear;
-            crate::estimate::denoised(&frame.halves, [&da, &db], &denoised.linear)
-                .map(|e| e.relative)
-        }
-        None => None,
-    };
-    Ok((denoised, estimate))
 }

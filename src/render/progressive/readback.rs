@@ -162,18 +162,9 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
             a.into_iter().zip(b).map(|(a, b)| [a, b]).collect()
         }
     };
-    let estimate = match halves.len() == radiance.len() && !halves.is_empty() {
-        true => {
-            let mut sums = crate::estimate::HalvesSums::default();
-            let mut mean = Frame::empty(shape.0 as u32);
-            mean.height = shape.1 as u32;
-            mean.radiance = radiance.clone();
-            mean.halves = halves.clone();
-            sums.add(&mean);
-            sums.finish()
-        }
-        false => None,
-    };
+    let mut sums = crate::estimate::HalvesSums::default();
+    sums.add_pixels(shape.0 as u32, &halves, &radiance);
+    let estimate = sums.finish();
     let frame = (layout.aovs > 0).then(|| {
         let aov =
             |k: usize| unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]]);
