@@ -227,12 +227,27 @@ fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     }
     let f0 = material_f0(m);
     let one = vec3<f32>(1.0);
+    let transmitted = (one - fresnel_schlick(f0, wo.z)) * (one - fresnel_schlick(f0, wi.z));
+    return transmitted * diffuse + ggx_reflection(m, wo, wi) + multiscatter_eval(m, wo, wi);
+}
+
+// The GGX lobe's single scattering, F(wo.h) D(h) G2 / (4 wo.z wi.z), h the half vector (both
+// directions above the surface).
+fn ggx_reflection(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     let h = normalize(wo + wi);
     let alpha = ggx_alpha(m.roughness);
-    let f = fresnel_schlick(f0, dot(wo, h));
-    let spec = f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (4.0 * wo.z * wi.z));
-    let transmitted = (one - fresnel_schlick(f0, wo.z)) * (one - fresnel_schlick(f0, wi.z));
-    return transmitted * diffuse + spec + multiscatter_eval(m, wo, wi);
+    let f = fresnel_schlick(material_f0(m), dot(wo, h));
+    return f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (4.0 * wo.z * wi.z));
+}
+
+// The specular part of bsdf_eval: the GGX lobe and the multiple-scattering lobe, the light the
+// surface reflects without letting it in (the denoiser's specular signal, path.wgsl's
+// `Light`); 0 without a specular lobe or unless both directions lie above the surface.
+fn bsdf_specular(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if wo.z <= 0.0 || wi.z <= 0.0 || !has_specular_lobe(m) {
+        return vec3<f32>(0.0);
+    }
+    return ggx_reflection(m, wo, wi) + multiscatter_eval(m, wo, wi);
 }
 
 // The density, per solid angle, with which bsdf_sample draws wi: the mixture of the two lobes'

@@ -72,7 +72,10 @@ const COUNTER_DROPPED_BITS: u32 = 13u;
 const COUNTER_DROPPED_MASK: u32 = 0x1fffu;
 
 // One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
-// hit, and there the material's albedo and the shading normal (0 on a miss).
+// hit, and there the material's albedo and the shading normal (0 on a miss); the direct light
+// its first hit reflected by the specular lobes (the denoiser's specular signal: trace_path),
+// and there the cosine of the view direction to the shading normal (0 on a miss or a first
+// vertex in the fog).
 struct PathResult {
     radiance: vec3<f32>,
     depth: Real,
@@ -80,6 +83,15 @@ struct PathResult {
     hit: bool,
     albedo: vec3<f32>,
     normal: vec3<f32>,
+    specular: vec3<f32>,
+    cosine: f32,
+}
+
+// The light next-event estimation brings to a vertex (light_term, direct_light): all of it, and
+// the part of it a surface's specular lobes reflect (bsdf_specular; 0 in the fog).
+struct Light {
+    total: vec3<f32>,
+    specular: vec3<f32>,
 }
 
 // A path sample's stream and its index in it, as (stream, index): wherever a pixel takes two
@@ -194,35 +206,42 @@ fn clamp_indirect(c: vec3<f32>, vertex: u32) -> vec3<f32> {
 // the power heuristic (a point light, delta, is not). At a surface hit (in_fog false) the BSDF
 // of m in the frame f, with wo, and the cosine; at a scattering event in the fog (in_fog true)
 // the phase function (phase_hg of fog.anisotropy) of light that travelled along d, no cosine.
-fn light_term(ls: LightSample, in_fog: bool, origin: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
+fn light_term(ls: LightSample, in_fog: bool, origin: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> Light {
+    let none = Light(vec3<f32>(0.0), vec3<f32>(0.0));
     let wi = to_local(f, ls.wi);
     if ls.pdf <= 0.0 || !(in_fog || wi.z > 0.0) {
-        return vec3<f32>(0.0);
+        return none;
     }
     let v = visibility(origin, vec3<Real>(ls.wi), Real(ls.distance));
     if v <= 0.0 {
-        return vec3<f32>(0.0);
+        return none;
     }
     if in_fog {
         let phase = phase_hg(f32(params.fog_anisotropy), dot(d, ls.wi));
         if ls.delta {
-            return ls.radiance * (phase * v);
+            return Light(ls.radiance * (phase * v), vec3<f32>(0.0));
         }
         var w = 1.0;
         if path.strategy == STRATEGY_BOTH {
             w = power_heuristic(ls.pdf, phase);
         }
-        return ls.radiance * (phase * w / ls.pdf * v);
+        return Light(ls.radiance * (phase * w / ls.pdf * v), vec3<f32>(0.0));
     }
     let f_wi = bsdf_eval(m, wo, wi) * ls.radiance;
+    let s_wi = bsdf_specular(m, wo, wi) * ls.radiance;
     if ls.delta {
-        return f_wi * wi.z * v;
+        return Light(f_wi * wi.z * v, s_wi * wi.z * v);
     }
     var w = 1.0;
     if path.strategy == STRATEGY_BOTH {
         w = power_heuristic(ls.pdf, bsdf_pdf(m, wo, wi));
     }
-    return f_wi * (wi.z * w / ls.pdf) * v;
+    return Light(f_wi * (wi.z * w / ls.pdf) * v, s_wi * (wi.z * w / ls.pdf) * v);
+}
+
+// The sum of two lights.
+fn add_light(a: Light, b: Light) -> Light {
+    return Light(a.total + b.total, a.specular + b.specular);
 }
 
 // Next-event estimation at a vertex: the sun, the environment map and the sphere light, each by
@@ -230,8 +249,8 @@ fn light_term(ls: LightSample, in_fog: bool, origin: vec3<Real>, f: Basis, wo: v
 // surface hit (in_fog false) shadow rays leave from p + SURFACE_OFFSET epsilon n; at a
 // scattering event in the fog (in_fog true) from p itself. One function, so that the kernel
 // holds one shadow trace per light.
-fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
+fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<Real>, f: Basis, wo: vec3<f32>, m: Material, d: vec3<f32>) -> Light {
+    var sum = Light(vec3<f32>(0.0), vec3<f32>(0.0));
     let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
     var origin = p;
     if !in_fog {
@@ -240,17 +259,17 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<
     // Each light its own point (DIM_SUN, DIM_ENVIRONMENT, DIM_SPHERE_LIGHT).
     if any(path.sun_irradiance > vec3<f32>(0.0)) {
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
-        sum += light_term(sample_sun(path_sun(), u), in_fog, origin, f, wo, m, d);
+        sum = add_light(sum, light_term(sample_sun(path_sun(), u), in_fog, origin, f, wo, m, d));
     }
     if (!SPECIALISED || ENVIRONMENT) && environment_on() {
         // The sun's group's other two dimensions.
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_ENVIRONMENT), path_random(i, j, sample, dim + DIM_ENVIRONMENT + 1u));
         let es = sample_environment(u);
-        sum += light_term(LightSample(es.wi, es.radiance, es.pdf, 3.4e38, false), in_fog, origin, f, wo, m, d);
+        sum = add_light(sum, light_term(LightSample(es.wi, es.radiance, es.pdf, 3.4e38, false), in_fog, origin, f, wo, m, d));
     }
     if any(path.light_intensity > vec3<f32>(0.0)) {
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SPHERE_LIGHT), path_random(i, j, sample, dim + DIM_SPHERE_LIGHT + 1u));
-        sum += light_term(sample_sphere_light(path_sphere_light(), vec3<f32>(p), u), in_fog, origin, f, wo, m, d);
+        sum = add_light(sum, light_term(sample_sphere_light(path_sphere_light(), vec3<f32>(p), u), in_fog, origin, f, wo, m, d));
     }
     return sum;
 }
@@ -387,8 +406,14 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
     var origin = camera.origin;
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
-    var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false, vec3<f32>(0.0), vec3<f32>(0.0));
+    var result = PathResult(vec3<f32>(0.0), -1.0, 0u, false, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     var pdf_prev: f32 = 0.0;
+    // The first hit's specular light (the denoiser's specular signal): the part of the direct
+    // light there that its specular lobes reflect (Light.specular). The light gathered after
+    // the first bounce stays with the diffuse signal whichever lobe drew the bounce: split by
+    // the lobes' shares it made both signals noisier than their sum, and the denoised image
+    // worse (docs/book/denoise.md). A first vertex in the fog has none: its light is diffuse.
+    var specular = vec3<f32>(0.0);
     // Whether the path has scattered by the cosine lobe (regularized), with path.regularize on.
     var diffuse_before = false;
     let light_on = params.light_radius > 0.0 && any(path.light_intensity > vec3<f32>(0.0));
@@ -490,13 +515,18 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
             if bounce == 0u {
                 result.albedo = m.albedo;
                 result.normal = n;
+                result.cosine = max(wo.z, 0.0);
             }
             if wo.z <= 0.0 {
                 break;
             }
         }
         if path.strategy != STRATEGY_BSDF {
-            radiance += clamp_indirect(throughput * direct_light(i, j, sample, bounce, in_fog, p, f, wo, m, dir32), bounce);
+            let light = direct_light(i, j, sample, bounce, in_fog, p, f, wo, m, dir32);
+            radiance += clamp_indirect(throughput * light.total, bounce);
+            if bounce == 0u {
+                specular = throughput * light.specular;
+            }
         }
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_BSDF), path_random(i, j, sample, dim + DIM_BSDF + 1u));
@@ -527,6 +557,7 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         throughput /= q;
     }
     result.radiance = radiance;
+    result.specular = specular;
     return result;
 }
 
@@ -570,7 +601,7 @@ fn path_main(
     // Without adaptive sampling, the pixel's halves (add_to_halves).
     var halves = Halves(vec4<f32>(0.0), vec4<f32>(0.0));
     var made = vec4<u32>(0u);
-    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
+    var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
     // Adaptively (trace.wgsl's `adaptive`), the pixel's streams (add_to_streams).
     var streams = Streams(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     // The samples dropped so far, and the counter word's exhausted rays of earlier dispatches.
@@ -635,7 +666,7 @@ fn path_main(
             streams = add_to_streams(streams, k, valid, r.radiance);
             let n = streams.rule_a.w + streams.b.w;
             if AOVS && n > before {
-                aovs = add_aovs(aovs, u32(n) - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
+                aovs = add_aovs(aovs, u32(n) - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth), r.specular, r.cosine);
             }
             if sampling_done(streams, k + 1u) {
                 taken = k + 1u;
@@ -646,7 +677,7 @@ fn path_main(
             let n = k + 1u - dropped;
             halves = add_to_halves(halves, k, r.radiance);
             if AOVS {
-                aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth));
+                aovs = add_aovs(aovs, n - 1u, r.radiance, r.hit, r.albedo, r.normal, f32(r.depth), r.specular, r.cosine);
             }
         }
     }

@@ -1273,8 +1273,11 @@ fn pack_colour(colour: vec3<Real>) -> u32 {
 // The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
 // colours and the sum of the squared deviations of their luminances from the running mean
 // (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
-// did and the means of their hits' base colours, shading normals and depths (0 while none has).
-// In f32 in both precisions, as the accumulator is.
+// did and the means of their hits' base colours, shading normals and depths (0 while none has);
+// in path mode also the mean of their first hits' specular light (path.wgsl's
+// PathResult.specular; 0 in phong mode), and over the hits the mean cosine of the view
+// direction to the shading normal (the denoiser's specular reflectance). In f32 in both
+// precisions, as the accumulator is.
 struct Aovs {
     colour: vec3<f32>,
     hits: f32,
@@ -1282,6 +1285,8 @@ struct Aovs {
     normal: vec3<f32>,
     m2: f32,
     depth: f32,
+    specular: vec3<f32>,
+    cosine: f32,
 }
 
 // Rec. 709 luminance of a linear colour, as shaders/bsdf.wgsl's `luminance` (the phong module
@@ -1297,13 +1302,14 @@ fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
     return m2 + (l - before) * (l - after);
 }
 
-// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 (add_m2); where it
-// hit, its albedo, normal and depth to the running means over the hits, by the same rule with
-// the hits counted so far.
-fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>, depth: f32) -> Aovs {
+// Adds sample k (0-based) to the AOVs: its colour and its specular light to the running means
+// over the samples, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2
+// (add_m2); where it hit, its albedo, normal, depth and view cosine to the running means over
+// the hits, by the same rule with the hits counted so far.
+fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, normal: vec3<f32>, depth: f32, specular: vec3<f32>, cosine: f32) -> Aovs {
     var out = a;
     out.colour = a.colour + (colour - a.colour) / f32(k + 1u);
+    out.specular = a.specular + (specular - a.specular) / f32(k + 1u);
     let l = sample_luminance(colour);
     out.m2 = add_m2(a.m2, l, sample_luminance(a.colour), sample_luminance(out.colour));
     if hit {
@@ -1311,6 +1317,7 @@ fn add_aovs(a: Aovs, k: u32, colour: vec3<f32>, hit: bool, albedo: vec3<f32>, no
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
         out.normal = a.normal + (normal - a.normal) / out.hits;
         out.depth = a.depth + (depth - a.depth) / out.hits;
+        out.cosine = a.cosine + (cosine - a.cosine) / out.hits;
     }
     return out;
 }
@@ -1323,21 +1330,24 @@ fn add_pixel_aovs(a: Aovs, k: u32, pixel: Pixel) -> Aovs {
     if pixel.hit {
         albedo = vec3<f32>(hit_albedo(pixel.point));
     }
-    return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal), f32(pixel.depth));
+    return add_aovs(a, k, vec3<f32>(pixel.colour), pixel.hit, albedo, vec3<f32>(pixel.normal), f32(pixel.depth), vec3<f32>(0.0), 0.0);
 }
 
-// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo and M2, normal and depth.
+// The AOVs pixel `index` holds in out_aovs: colour and hits, albedo and M2, normal and depth,
+// specular light and view cosine.
 fn load_aovs(index: u32) -> Aovs {
-    let a = out_aovs[3u * index];
-    let b = out_aovs[3u * index + 1u];
-    let c = out_aovs[3u * index + 2u];
-    return Aovs(a.xyz, a.w, b.xyz, c.xyz, b.w, c.w);
+    let a = out_aovs[4u * index];
+    let b = out_aovs[4u * index + 1u];
+    let c = out_aovs[4u * index + 2u];
+    let d = out_aovs[4u * index + 3u];
+    return Aovs(a.xyz, a.w, b.xyz, c.xyz, b.w, c.w, d.xyz, d.w);
 }
 
 fn store_aovs(index: u32, a: Aovs) {
-    out_aovs[3u * index] = vec4<f32>(a.colour, a.hits);
-    out_aovs[3u * index + 1u] = vec4<f32>(a.albedo, a.m2);
-    out_aovs[3u * index + 2u] = vec4<f32>(a.normal, a.depth);
+    out_aovs[4u * index] = vec4<f32>(a.colour, a.hits);
+    out_aovs[4u * index + 1u] = vec4<f32>(a.albedo, a.m2);
+    out_aovs[4u * index + 2u] = vec4<f32>(a.normal, a.depth);
+    out_aovs[4u * index + 3u] = vec4<f32>(a.specular, a.cosine);
 }
 
 // Adaptive sampling (params.noise_target > 0; the book's chapter "Adaptive sampling"), by
@@ -1642,7 +1652,7 @@ fn main(
     if SPECIALISED && !SAMPLES {
         samples = 1u;
     }
-    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
+    let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
     // Where the lens is open, the depth and the steps are the pinhole ray's, traced for them.
     if params.sample_start == 0u && lens_open() {
         let pinhole = trace_primary(pinhole_ray(i, j, 0u, t_min));

@@ -143,6 +143,19 @@ pub fn half_frames(frame: &Frame) -> Option<[Frame; 2]> {
                 }
             })
             .collect();
+        // The half's specular light: the pixel's, in the half's proportion to its colour
+        // (the halves keep no specular light of their own).
+        if frame.specular.len() == pixels {
+            half.specular = (0..pixels)
+                .into_par_iter()
+                .map(|k| {
+                    std::array::from_fn(|c| match frame.radiance[k][c] > 0.0 {
+                        true => frame.specular[k][c] * half.radiance[k][c] / frame.radiance[k][c],
+                        false => 0.0,
+                    })
+                })
+                .collect();
+        }
         half
     }))
 }

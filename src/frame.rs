@@ -51,6 +51,15 @@ pub struct Frame {
     /// open), averaged over the samples whose primary ray hit; 0 where none did. The denoiser's
     /// depth guide. Empty where the AOVs were not asked for.
     pub hit_depth: Vec<f32>,
+    /// The AOVs, path mode: each pixel's mean of its samples' first-hit specular light, the
+    /// part of their radiance the first hit's specular lobes reflected (shaders/path.wgsl's
+    /// `PathResult.specular`), the denoiser's specular signal; empty in phong mode and where the
+    /// AOVs were not asked for.
+    pub specular: Vec<[f32; 3]>,
+    /// The AOVs, path mode: the cosine of the view direction to the first hit's shading normal,
+    /// averaged over the samples whose primary ray hit (0 where none did): the denoiser's
+    /// specular reflectance is taken at it. Empty where [`Self::specular`] is.
+    pub view_cosine: Vec<f32>,
     /// Where the frame was denoised (`image.denoise`): the linear mean before the denoiser
     /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
     pub noisy: Vec<[f32; 3]>,
@@ -100,6 +109,8 @@ impl Frame {
             luminance_m2: Vec::new(),
             hits: Vec::new(),
             hit_depth: Vec::new(),
+            specular: Vec::new(),
+            view_cosine: Vec::new(),
             noisy: Vec::new(),
             halves: Vec::new(),
             samples: Vec::new(),
@@ -130,6 +141,8 @@ impl Frame {
         self.luminance_m2.extend_from_slice(&band.luminance_m2);
         self.hits.extend_from_slice(&band.hits);
         self.hit_depth.extend_from_slice(&band.hit_depth);
+        self.specular.extend_from_slice(&band.specular);
+        self.view_cosine.extend_from_slice(&band.view_cosine);
         self.noisy.extend_from_slice(&band.noisy);
         self.halves.extend_from_slice(&band.halves);
         self.samples.extend_from_slice(&band.samples);

@@ -3,8 +3,11 @@
 //! phong mode's unclamped colour mean; with a denoiser the denoised one, and the mean before
 //! it in `noisy.R/G/B`, [`NOISY_CHANNELS`]), `albedo.R/G/B` and `N.X/Y/Z` the AOVs
 //! ([`Frame::albedo`], [`Frame::normal`]), `Z` the depth (NaN where the ray hits nothing, as
-//! `--depth` writes it), and the scene's TOML in the `qjulia-scene` string attribute of the
-//! header ([`crate::scene::scene_from_exr`] reads it back). ZIP compression (lossless, 16 rows
+//! `--depth` writes it); in path mode where the material has a specular lobe,
+//! `specular.R/G/B` the first hits' specular light ([`Frame::specular`], before any denoiser)
+//! and `reflectance.R/G/B` the specular reflectance the denoiser divides it by
+//! ([`crate::denoise::specular_reflectance`] at [`Frame::view_cosine`], 0 where no sample
+//! hit); and the scene's TOML in the `qjulia-scene` string attribute of the header ([`crate::scene::scene_from_exr`] reads it back). ZIP compression (lossless, 16 rows
 //! a block), scan lines top to bottom.
 
 use std::io::{Seek, Write};
@@ -25,14 +28,27 @@ pub const CHANNELS: [&str; 10] = [
 /// The layer a denoised image's mean before the denoiser goes in ([`Frame::noisy`]).
 pub const NOISY_CHANNELS: [&str; 3] = ["noisy.R", "noisy.G", "noisy.B"];
 
+/// Path mode's specular layers: the first hits' specular light, then the reflectance.
+pub const SPECULAR_CHANNELS: [&str; 6] = [
+    "specular.R",
+    "specular.G",
+    "specular.B",
+    "reflectance.R",
+    "reflectance.G",
+    "reflectance.B",
+];
+
 /// The channels of a whole image, filled band by band, top to bottom (40 bytes a pixel in
-/// host memory until it is written, 52 with the noisy layer).
+/// host memory until it is written, 52 with the noisy layer, 68 with the specular ones).
 pub struct HdrImage {
     width: u32,
     height: u32,
     channels: [Vec<f32>; 10],
     /// `noisy.R/G/B`, where the bands were denoised.
     noisy: [Vec<f32>; 3],
+    /// `specular.R/G/B` and each pixel's view cosine, in path mode.
+    specular: [Vec<f32>; 3],
+    view_cosine: Vec<f32>,
 }
 
 impl HdrImage {
@@ -44,6 +60,8 @@ impl HdrImage {
             height,
             channels: std::array::from_fn(|_| Vec::with_capacity(pixels)),
             noisy: Default::default(),
+            specular: Default::default(),
+            view_cosine: Vec::new(),
         }
     }
 
@@ -74,6 +92,12 @@ impl HdrImage {
                 self.noisy[c].extend(band.noisy.iter().map(|v| v[c]));
             }
         }
+        if band.specular.len() == pixels && band.view_cosine.len() == pixels {
+            for c in 0..3 {
+                self.specular[c].extend(band.specular.iter().map(|v| v[c]));
+            }
+            self.view_cosine.extend_from_slice(&band.view_cosine);
+        }
     }
 
     /// Rows added so far.
@@ -82,7 +106,7 @@ impl HdrImage {
     }
 
     /// Writes the image as OpenEXR with `scene` in its header; every row must be there.
-    pub fn write(self, scene: &Scene, to: impl Write + Seek) -> std::io::Result<()> {
+    pub fn write(mut self, scene: &Scene, to: impl Write + Seek) -> std::io::Result<()> {
         assert_eq!(self.rows(), self.height, "every row of the EXR is there");
         let size = (self.width as usize, self.height as usize);
         let pixels = self.channels[9].len();
@@ -90,10 +114,12 @@ impl HdrImage {
             self.noisy.iter().all(|c| c.is_empty() || c.len() == pixels),
             "every band or none was denoised"
         );
+        let specular = self.specular_layers(scene);
         let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = CHANNELS
             .iter()
             .zip(self.channels)
             .chain(NOISY_CHANNELS.iter().zip(self.noisy))
+            .chain(SPECULAR_CHANNELS.iter().zip(specular))
             .filter(|(_, values)| values.len() == pixels)
             .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
             .collect();
@@ -111,6 +137,31 @@ impl HdrImage {
             )),
         );
         write_exr(attributes, size, layer, channels, to)
+    }
+
+    /// [`SPECULAR_CHANNELS`]' values where every band had them and `scene`'s material has a
+    /// specular lobe; empty otherwise.
+    fn specular_layers(&mut self, scene: &Scene) -> [Vec<f32>; 6] {
+        let pixels = self.channels[9].len();
+        let material = crate::denoise::scene_material(scene);
+        if self.view_cosine.len() != pixels || !crate::cpu::bsdf::has_specular_lobe(material) {
+            return Default::default();
+        }
+        let [r, g, b] = std::mem::take(&mut self.specular);
+        let albedo = &self.channels[3..6];
+        let reflectance: Vec<[f32; 3]> = (0..pixels)
+            .map(|k| match self.view_cosine[k] > 0.0 {
+                true => {
+                    let albedo =
+                        crate::algebra::Vec3::new(albedo[0][k], albedo[1][k], albedo[2][k]);
+                    let m = crate::cpu::bsdf::Material { albedo, ..material };
+                    crate::denoise::specular_reflectance(m, self.view_cosine[k])
+                }
+                false => [0.0; 3],
+            })
+            .collect();
+        let channel = |c: usize| reflectance.iter().map(|v| v[c]).collect();
+        [r, g, b, channel(0), channel(1), channel(2)]
     }
 }
 

@@ -439,6 +439,8 @@ mod tests {
             luminance_m2: Vec::new(),
             hits: Vec::new(),
             hit_depth: Vec::new(),
+            specular: Vec::new(),
+            view_cosine: Vec::new(),
             noisy: Vec::new(),
             halves: Vec::new(),
             samples: Vec::new(),

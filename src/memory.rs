@@ -10,13 +10,15 @@ use crate::error::{Error, Result};
 /// lower ceiling than the host's).
 pub const MEMORY_LIMIT_VAR: &str = "QJULIA_MEMORY_LIMIT";
 
-/// A whole [`crate::Frame`] with every AOV, in host memory: colour, depth, steps, samples and
-/// M2 (4 bytes each), the linear mean, albedo, normal and the noisy mean (12 each).
-pub const FRAME_BYTES_PER_PIXEL: u64 = 5 * 4 + 4 * 12;
+/// A whole [`crate::Frame`] with every AOV, in host memory: colour, depth, steps, samples, M2
+/// and the view cosine (4 bytes each), the linear mean, albedo, normal, specular light and the
+/// noisy mean (12 each).
+pub const FRAME_BYTES_PER_PIXEL: u64 = 6 * 4 + 5 * 12;
 
 /// The whole-image EXR of `--hdr` ([`crate::hdr::HdrImage`]) until it is written, with the
-/// noisy layer: 13 float32 channels.
-pub const HDR_BYTES_PER_PIXEL: u64 = 13 * 4;
+/// noisy and the specular layers: 19 float32 channels, and the view cosine the reflectance is
+/// made of.
+pub const HDR_BYTES_PER_PIXEL: u64 = 20 * 4;
 
 /// The denoiser's buffers beside the frame ([`crate::denoise`]): the illumination, the guide
 /// and a pass's output (16 bytes each), the albedo divided out and the denoised image (12

@@ -20,6 +20,8 @@
 //! | `luminance.M2` | float32 | the sum of the squared deviations of the samples' luminances from their mean (Welford's M2, the AOVs' fourth float of the albedo): the denoiser's variance |
 //! | `hits` | float32 | how many of the samples the pixel's mean holds hit ([`crate::frame::Frame::hits`]): the denoiser's hit fraction |
 //! | `Z.mean` | float32 | the depth of the hits, averaged over them, 0 where none hit ([`crate::frame::Frame::hit_depth`]): the denoiser's depth guide |
+//! | `half.A.R/G/B`, `half.B.R/G/B` | float32 | path mode: the pixel's two halves ([`crate::frame::Frame::halves`], NaN in an empty half), so that `merge` estimates the error as one render does |
+//! | `specular.R/G/B`, `view.cosine` | float32 | path mode: the first hits' specular light and mean view cosine ([`crate::frame::Frame::specular`], [`crate::frame::Frame::view_cosine`]), so that `merge` denoises as one render does |
 //! | `samples` | uint32 | samples each pixel took: `image.samples`, or fewer where adaptive sampling (`path.noise_target`) stopped it; each pixel decides alone, so a tile's counts are the whole render's |
 //!
 //! The accumulators keep a running mean in float32 (m_k = m_(k-1) + (x_k - m_(k-1)) / (k + 1)),

@@ -243,12 +243,28 @@ pub fn bsdf_eval<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
     }
     let f0 = material_f0(m);
     let one = Vec3::splat(F::one());
+    let transmitted = (one - fresnel_schlick(f0, wo.z)).mul_elem(one - fresnel_schlick(f0, wi.z));
+    transmitted.mul_elem(diffuse) + ggx_reflection(m, wo, wi) + multiscatter_eval(m, wo, wi)
+}
+
+/// The GGX lobe's single scattering, F(wo.h) D(h) G2 / (4 wo.z wi.z), h the half vector (both
+/// directions above the surface).
+pub fn ggx_reflection<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
     let h = (wo + wi).normalize();
     let alpha = ggx_alpha(m.roughness);
-    let f = fresnel_schlick(f0, wo.dot(h));
-    let spec = f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (F::lit(4.0) * wo.z * wi.z));
-    let transmitted = (one - fresnel_schlick(f0, wo.z)).mul_elem(one - fresnel_schlick(f0, wi.z));
-    transmitted.mul_elem(diffuse) + spec + multiscatter_eval(m, wo, wi)
+    let f = fresnel_schlick(material_f0(m), wo.dot(h));
+    f * (ggx_d(h, alpha) * smith_g2(wo, wi, alpha) / (F::lit(4.0) * wo.z * wi.z))
+}
+
+/// The specular part of [`bsdf_eval`]: the GGX lobe and the multiple-scattering lobe, the
+/// light the surface reflects without letting it in (the denoiser's specular signal,
+/// [`crate::cpu::path::Light`]); 0 without a specular lobe or unless both directions lie above
+/// the surface.
+pub fn bsdf_specular<F: Real>(m: Material<F>, wo: Vec3<F>, wi: Vec3<F>) -> Vec3<F> {
+    if wo.z <= F::zero() || wi.z <= F::zero() || !has_specular_lobe(m) {
+        return Vec3::zero();
+    }
+    ggx_reflection(m, wo, wi) + multiscatter_eval(m, wo, wi)
 }
 
 /// The density, per solid angle, with which [`bsdf_sample`] draws `wi`: the mixture of the two

@@ -349,6 +349,15 @@ where
         luminance_m2: aovs.par_iter().map(|a| a.m2).collect(),
         hits: aovs.par_iter().map(|a| a.hits).collect(),
         hit_depth: aovs.par_iter().map(|a| a.depth).collect(),
+        // Path mode's alone: phong mode has no specular signal.
+        specular: match keep.radiance {
+            true => aov(|a| a.specular),
+            false => Vec::new(),
+        },
+        view_cosine: match keep.radiance && keep.aovs {
+            true => aovs.par_iter().map(|a| a.cosine).collect(),
+            false => Vec::new(),
+        },
         noisy: Vec::new(),
         halves,
         samples,

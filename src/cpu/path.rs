@@ -8,8 +8,8 @@
 //! helpers; a twin pair is split alike or not at all.
 
 use super::bsdf::{
-    Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, specular_probability,
-    to_local, to_world,
+    Basis, Material, basis_from_normal, bsdf_eval, bsdf_pdf, bsdf_sample, bsdf_specular,
+    specular_probability, to_local, to_world,
 };
 use super::environment::{environment_pdf, sample_environment};
 use super::light::{
@@ -140,7 +140,10 @@ pub struct PathFog<F> {
 }
 
 /// One sample of a pixel: its linear radiance, its primary ray's depth and steps and whether it
-/// hit, and there the material's albedo and the shading normal (0 on a miss).
+/// hit, and there the material's albedo and the shading normal (0 on a miss); the direct light
+/// its first hit reflected by the specular lobes (the denoiser's specular signal:
+/// [`TraceParams::trace_path_from`]), and there the cosine of the view direction to the
+/// shading normal (0 on a miss or a first vertex in the fog).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathResult<F> {
     pub radiance: Vec3<F>,
@@ -149,6 +152,26 @@ pub struct PathResult<F> {
     pub hit: bool,
     pub albedo: Vec3<F>,
     pub normal: Vec3<F>,
+    pub specular: Vec3<F>,
+    pub cosine: F,
+}
+
+/// The light next-event estimation brings to a vertex ([`TraceParams::light_term`],
+/// [`TraceParams::direct_light`]): all of it, and the part of it a surface's specular lobes
+/// reflect ([`bsdf_specular`]; 0 in the fog).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light<F> {
+    pub total: Vec3<F>,
+    pub specular: Vec3<F>,
+}
+
+impl<F: Real> Light<F> {
+    fn none() -> Self {
+        Self {
+            total: Vec3::zero(),
+            specular: Vec3::zero(),
+        }
+    }
 }
 
 fn max3<F: Real>(c: Vec3<F>) -> F {
@@ -307,15 +330,19 @@ impl<F: Real> TraceParams<F> {
         (in_fog, origin): (bool, Vec3<F>),
         (f, wo, m): (Basis<F>, Vec3<F>, Material<F>),
         d: Vec3<F>,
-    ) -> Vec3<F> {
+    ) -> Light<F> {
         let wi = to_local(f, ls.wi);
         if ls.pdf <= F::zero() || !(in_fog || wi.z > F::zero()) {
-            return Vec3::zero();
+            return Light::none();
         }
         let v = self.visibility(path, origin, ls.wi, ls.distance);
         if v <= F::zero() {
-            return Vec3::zero();
+            return Light::none();
         }
+        let fog_light = |total| Light {
+            total,
+            specular: Vec3::zero(),
+        };
         let weight = |other_pdf: F| match path.strategy {
             Strategy::Both => power_heuristic(ls.pdf, other_pdf),
             _ => F::one(),
@@ -323,15 +350,31 @@ impl<F: Real> TraceParams<F> {
         if in_fog {
             let phase = phase_hg(self.fog_anisotropy, d.dot(ls.wi));
             if ls.delta {
-                return ls.radiance * (phase * v);
+                return fog_light(ls.radiance * (phase * v));
             }
-            return ls.radiance * (phase * weight(phase) / ls.pdf * v);
+            return fog_light(ls.radiance * (phase * weight(phase) / ls.pdf * v));
         }
         let f_wi = bsdf_eval(m, wo, wi).mul_elem(ls.radiance);
+        let s_wi = bsdf_specular(m, wo, wi).mul_elem(ls.radiance);
         if ls.delta {
-            return f_wi * wi.z * v;
+            return Light {
+                total: f_wi * wi.z * v,
+                specular: s_wi * wi.z * v,
+            };
         }
-        f_wi * (wi.z * weight(bsdf_pdf(m, wo, wi)) / ls.pdf) * v
+        let scale = wi.z * weight(bsdf_pdf(m, wo, wi)) / ls.pdf;
+        Light {
+            total: f_wi * scale * v,
+            specular: s_wi * scale * v,
+        }
+    }
+
+    /// The sum of two lights.
+    pub fn add_light(&self, a: Light<F>, b: Light<F>) -> Light<F> {
+        Light {
+            total: a.total + b.total,
+            specular: a.specular + b.specular,
+        }
     }
 
     /// Next-event estimation at a vertex: the sun, the environment map and the sphere light,
@@ -349,8 +392,8 @@ impl<F: Real> TraceParams<F> {
         p: Vec3<F>,
         surface: (Basis<F>, Vec3<F>, Material<F>),
         d: Vec3<F>,
-    ) -> Vec3<F> {
-        let mut sum = Vec3::zero();
+    ) -> Light<F> {
+        let mut sum = Light::none();
         let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
         // Each light its own point (DIM_SUN, DIM_ENVIRONMENT, DIM_SPHERE_LIGHT).
         let point = |first: u32| {
@@ -366,7 +409,7 @@ impl<F: Real> TraceParams<F> {
         let vertex = (in_fog, origin);
         if any_positive(path.sun.irradiance) {
             let ls = sample_sun(self.path_sun(path), point(DIM_SUN));
-            sum += self.light_term(path, ls, vertex, surface, d);
+            sum = self.add_light(sum, self.light_term(path, ls, vertex, surface, d));
         }
         if self.environment_on() {
             // The sun's group's other two dimensions.
@@ -378,12 +421,12 @@ impl<F: Real> TraceParams<F> {
                 distance: F::lit(3.4e38),
                 delta: false,
             };
-            sum += self.light_term(path, ls, vertex, surface, d);
+            sum = self.add_light(sum, self.light_term(path, ls, vertex, surface, d));
         }
         if any_positive(path.light_intensity) {
             let light = self.path_sphere_light(path);
             let ls = sample_sphere_light(light, p, point(DIM_SPHERE_LIGHT));
-            sum += self.light_term(path, ls, vertex, surface, d);
+            sum = self.add_light(sum, self.light_term(path, ls, vertex, surface, d));
         }
         sum
     }
@@ -578,8 +621,15 @@ impl<F: Real> TraceParams<F> {
             hit: false,
             albedo: Vec3::zero(),
             normal: Vec3::zero(),
+            specular: Vec3::zero(),
+            cosine: F::zero(),
         };
         let mut pdf_prev = F::zero();
+        // The first hit's specular light (the denoiser's specular signal): the part of the
+        // direct light there that its specular lobes reflect (`Light::specular`). The light
+        // gathered after the first bounce stays with the diffuse signal (the kernel's comment
+        // says why). A first vertex in the fog has none: its light is diffuse.
+        let mut specular = Vec3::zero();
         // Whether the path has scattered by the cosine lobe (`regularized`), with
         // path.regularize on.
         let mut diffuse_before = false;
@@ -702,6 +752,7 @@ impl<F: Real> TraceParams<F> {
                 if bounce == 0 {
                     result.albedo = m.albedo;
                     result.normal = n;
+                    result.cosine = wo.z.max(F::zero());
                 }
                 if wo.z <= F::zero() {
                     break;
@@ -709,8 +760,11 @@ impl<F: Real> TraceParams<F> {
             }
             if path.strategy != Strategy::Bsdf {
                 let at = (i, j, sample);
-                let d = self.direct_light(path, at, bounce, in_fog, p, (f, wo, m), dir);
-                radiance += self.clamp_indirect(path, throughput.mul_elem(d), bounce);
+                let light = self.direct_light(path, at, bounce, in_fog, p, (f, wo, m), dir);
+                radiance += self.clamp_indirect(path, throughput.mul_elem(light.total), bounce);
+                if bounce == 0 {
+                    specular = throughput.mul_elem(light.specular);
+                }
             }
             let dim = DIM_BOUNCE_BASE + bounce * DIMS_PER_BOUNCE;
             let u = crate::algebra::Vec2::new(
@@ -744,6 +798,7 @@ impl<F: Real> TraceParams<F> {
             throughput = throughput / q;
         }
         result.radiance = radiance;
+        result.specular = specular;
         result
     }
 
@@ -828,7 +883,8 @@ pub fn render_path_rows<F: Real>(
                 let add = |made: Aovs, n: u32| {
                     let (radiance, albedo) = (r.radiance.to_f32(), r.albedo.to_f32());
                     let (normal, depth) = (r.normal.to_f32(), r.depth.to_f64() as f32);
-                    add_aovs(made, n - 1, radiance, r.hit, albedo, normal, depth)
+                    let first = (r.specular.to_f32(), r.cosine.to_f64() as f32);
+                    add_aovs(made, n - 1, radiance, r.hit, albedo, normal, depth, first)
                 };
                 if params.adaptive() {
                     // The samples the pixel's colours hold, and whether this one joined them.

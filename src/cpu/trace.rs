@@ -115,7 +115,10 @@ pub struct Pixel<F> {
 /// The AOVs of a pixel's samples so far (`--hdr`, the denoiser): the mean of their unclamped
 /// colours and the sum of the squared deviations of their luminances from the running mean
 /// (Welford's M2: the denoiser's variance), and over the samples whose primary ray hit, how many
-/// did and the means of their hits' base colours, shading normals and depths (0 while none has).
+/// did and the means of their hits' base colours, shading normals and depths (0 while none has);
+/// in path mode also the mean of their first hits' specular light
+/// ([`crate::cpu::path::PathResult::specular`]; 0 in phong mode), and over the hits the mean
+/// cosine of the view direction to the shading normal (the denoiser's specular reflectance).
 /// In f32 in both precisions, as the shader keeps them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Aovs {
@@ -125,6 +128,8 @@ pub struct Aovs {
     pub normal: Vec3<f32>,
     pub m2: f32,
     pub depth: f32,
+    pub specular: Vec3<f32>,
+    pub cosine: f32,
 }
 
 impl<F: Real> TraceParams<F> {
@@ -1271,10 +1276,11 @@ pub fn add_m2(m2: f32, l: f32, before: f32, after: f32) -> f32 {
     m2 + (l - before) * (l - after)
 }
 
-/// Adds sample k (0-based) to the AOVs: its colour to the running mean over the samples,
-/// m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2 ([`add_m2`]); where
-/// it hit, its albedo, normal and depth to the running means over the hits, by the same rule
-/// with the hits counted so far.
+/// Adds sample k (0-based) to the AOVs: its colour and its specular light to the running means
+/// over the samples, m_k = m_(k-1) + (c_k - m_(k-1)) / (k + 1), and its luminance l_k to M2
+/// ([`add_m2`]); where it hit, its albedo, normal, depth and view cosine to the running means
+/// over the hits, by the same rule with the hits counted so far.
+#[allow(clippy::too_many_arguments)]
 pub fn add_aovs(
     a: Aovs,
     k: u32,
@@ -1283,9 +1289,11 @@ pub fn add_aovs(
     albedo: Vec3<f32>,
     normal: Vec3<f32>,
     depth: f32,
+    (specular, cosine): (Vec3<f32>, f32),
 ) -> Aovs {
     let mut out = a;
     out.colour = a.colour + (colour - a.colour) / (k + 1) as f32;
+    out.specular = a.specular + (specular - a.specular) / (k + 1) as f32;
     let l = sample_luminance(colour);
     out.m2 = add_m2(
         a.m2,
@@ -1298,6 +1306,7 @@ pub fn add_aovs(
         out.albedo = a.albedo + (albedo - a.albedo) / out.hits;
         out.normal = a.normal + (normal - a.normal) / out.hits;
         out.depth = a.depth + (depth - a.depth) / out.hits;
+        out.cosine = a.cosine + (cosine - a.cosine) / out.hits;
     }
     out
 }
@@ -1313,7 +1322,16 @@ impl<F: Real> TraceParams<F> {
         }
         let (colour, normal) = (pixel.colour.to_f32(), pixel.normal.to_f32());
         let depth = pixel.depth.to_f64() as f32;
-        add_aovs(a, k, colour, pixel.hit, albedo, normal, depth)
+        add_aovs(
+            a,
+            k,
+            colour,
+            pixel.hit,
+            albedo,
+            normal,
+            depth,
+            (Vec3::zero(), 0.0),
+        )
     }
 
     /// Whether this render samples adaptively (the shader's `adaptive`: `noise_target` > 0 with

@@ -80,7 +80,7 @@ const STEPS_OUTPUT: usize = 2;
 const WORK_OUTPUT: usize = IMAGE_OUTPUTS.len();
 /// Where the running mean of the samples (`accumulated`) is among the tracer's outputs.
 pub const ACCUMULATED_OUTPUT: usize = WORK_OUTPUT + 1;
-/// Where the AOVs (three `vec4<f32>` a pixel, trace.wgsl's `store_aovs`) are among the
+/// Where the AOVs (four `vec4<f32>` a pixel, trace.wgsl's `store_aovs`) are among the
 /// tracer's outputs.
 pub const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
 
@@ -111,7 +111,7 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
 /// the distance estimates and the quaternion iterations, each a u64 as two u32s), the running
 /// mean of the samples' colours (`vec4<f32>`, then three more planes for adaptive sampling's
 /// streams, trace.wgsl's `Streams`, which stay on the device), and on demand the AOVs
-/// (three `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
+/// (four `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
 /// WebGPU's default of eight a stage.
 pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[0],
@@ -133,7 +133,7 @@ pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     },
     OutputSpec {
         name: "aovs",
-        bytes_per_item: 48,
+        bytes_per_item: 64,
         on_demand: true,
         planes: 1,
         planes_back: 1,
@@ -340,10 +340,10 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
     let (accumulated, halves) = planes.split_at(planes.len().min(pixels));
     let radiance: &[[f32; 4]] = if kept.radiance { accumulated } else { &[] };
     let half = crate::estimate::half_colour;
-    // The AOVs where they were read back: three vec4s a pixel (colour and hits, albedo and M2,
-    // normal and the hits' depth). The colour is phong mode's linear mean; path mode's is the
-    // accumulator's.
-    let aovs: &[[[f32; 4]; 3]] = output(band, AOVS_OUTPUT);
+    // The AOVs where they were read back: four vec4s a pixel (colour and hits, albedo and M2,
+    // normal and the hits' depth, specular light and view cosine). The colour is phong mode's
+    // linear mean; path mode's is the accumulator's.
+    let aovs: &[[[f32; 4]; 4]] = output(band, AOVS_OUTPUT);
     let aov = |k: usize| -> Vec<[f32; 3]> {
         aovs.par_iter()
             .map(|a| [a[k][0], a[k][1], a[k][2]])
@@ -378,6 +378,16 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
         luminance_m2: aovs.par_iter().map(|a| a[1][3]).collect(),
         hits: aovs.par_iter().map(|a| a[0][3]).collect(),
         hit_depth: aovs.par_iter().map(|a| a[2][3]).collect(),
+        // Path mode's alone: phong mode has no specular signal.
+        specular: if radiance.is_empty() {
+            Vec::new()
+        } else {
+            aov(3)
+        },
+        view_cosine: match radiance.is_empty() {
+            true => Vec::new(),
+            false => aovs.par_iter().map(|a| a[3][3]).collect(),
+        },
         noisy: Vec::new(),
         halves: match kept.radiance && halves.len() == 2 * pixels {
             true => (0..pixels)

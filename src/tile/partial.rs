@@ -18,7 +18,7 @@ use crate::scene::{SCENE_EXR_ATTRIBUTE, Scene, SceneLoader, SceneSource};
 use crate::stats::RenderStats;
 
 /// The partial format's version (`qjulia-partial`); `merge` reads this one only.
-pub const FORMAT_VERSION: i32 = 4;
+pub const FORMAT_VERSION: i32 = 5;
 
 /// The float32 channels, in the order [`Frame`] gives them (the `--hdr` channels).
 const FLOAT_CHANNELS: [&str; 13] = [
@@ -37,9 +37,20 @@ const FLOAT_CHANNELS: [&str; 13] = [
     "Z.mean",
 ];
 /// Path mode's float32 channels beside those: each pixel's two halves ([`Frame::halves`]; NaN in
-/// a half that holds no sample), so that `merge` estimates the error as one render does.
-const HALF_CHANNELS: [&str; 6] = [
-    "half.A.R", "half.A.G", "half.A.B", "half.B.R", "half.B.G", "half.B.B",
+/// a half that holds no sample), so that `merge` estimates the error as one render does; its
+/// first hits' specular light and view cosine ([`Frame::specular`], [`Frame::view_cosine`]),
+/// so that `merge` denoises as one render does.
+const HALF_CHANNELS: [&str; 10] = [
+    "half.A.R",
+    "half.A.G",
+    "half.A.B",
+    "half.B.R",
+    "half.B.G",
+    "half.B.B",
+    "specular.R",
+    "specular.G",
+    "specular.B",
+    "view.cosine",
 ];
 /// The uint32 channels.
 const UINT_CHANNELS: [&str; 3] = ["colour8", "steps", "samples"];
@@ -122,14 +133,20 @@ fn write_exr(
     floats.push(band.luminance_m2.clone());
     floats.push(band.hits.clone());
     floats.push(band.hit_depth.clone());
-    let halves = match band.halves.len() == pixels {
+    let halves = match band.halves.len() == pixels && band.specular.len() == pixels {
         true => HALF_CHANNELS.as_slice(),
         false => &[],
     };
-    for h in 0..halves.len() / 3 {
-        for c in 0..3 {
-            floats.push(band.halves.iter().map(|v| v[h][c]).collect());
+    if !halves.is_empty() {
+        for h in 0..2 {
+            for c in 0..3 {
+                floats.push(band.halves.iter().map(|v| v[h][c]).collect());
+            }
         }
+        for c in 0..3 {
+            floats.push(band.specular.iter().map(|v| v[c]).collect());
+        }
+        floats.push(band.view_cosine.clone());
     }
     let samples = match band.samples.len() == pixels {
         true => band.samples.clone(),
@@ -384,6 +401,8 @@ fn read_part_from(
     if path_traced {
         let (a, b) = (triple(&HALF_CHANNELS[0..3])?, triple(&HALF_CHANNELS[3..6])?);
         frame.halves = a.into_iter().zip(b).map(|(a, b)| [a, b]).collect();
+        frame.specular = triple(&HALF_CHANNELS[6..9])?;
+        frame.view_cosine = float(HALF_CHANNELS[9])?.to_vec();
     }
     let count = |name: &str| -> Result<u64> {
         text(name)?

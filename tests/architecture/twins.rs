@@ -261,6 +261,12 @@ const PATH: Twin = Twin {
         },
         OnlyIn {
             side: Side::Rust,
+            name: "none",
+            reason: "a `Light` of no light; WGSL writes the literal \
+                     `Light(vec3<f32>(0.0), vec3<f32>(0.0))`",
+        },
+        OnlyIn {
+            side: Side::Rust,
             name: "trace_path_from",
             reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
                      traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \

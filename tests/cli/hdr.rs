@@ -180,9 +180,22 @@ fn path_mode_writes_the_radiance_and_the_depth() {
     assert!(exr.all_f32, "float32 channels");
     let mut names = exr.names();
     names.sort();
+    // Path mode with a specular lobe (the default material's) adds the specular layers.
     let mut expected = qjulia::hdr::CHANNELS.to_vec();
+    expected.extend(qjulia::hdr::SPECULAR_CHANNELS);
     expected.sort();
     assert_eq!(names, expected);
+    // The reflectance is the lobes' share of the light, in (0, 1) where a sample hit, 0 where
+    // none did; the specular light is part of the radiance.
+    for k in 0..32 * 24 {
+        let r = exr.channel("reflectance.G")[k];
+        // The albedo is 0 where no sample hit (the default diffuse colour has green).
+        match exr.channel("albedo.G")[k] == 0.0 {
+            true => assert_eq!(r, 0.0, "pixel {k}: a miss reflects nothing"),
+            false => assert!(r > 0.0 && r < 1.0, "pixel {k}: reflectance {r}"),
+        }
+        assert!(exr.channel("specular.G")[k] <= exr.channel("G")[k] * 1.0001 + 1e-6);
+    }
     // The frame as the renderer makes it without the AOVs.
     let scene = small_scene(&sets);
     let (frame, _) = common::cpu_renderer(&scene, Precision::F32)
@@ -435,7 +448,11 @@ fn gpu_and_cpu_aovs_agree() {
     );
     assert_eq!(plain.steps, gpu.steps);
     // Path mode, on a GPU renderer of the same device.
-    let scene = small_scene(&["shading.model=\"path\"", "image.samples=2"]);
+    let scene = small_scene(&[
+        "shading.model=\"path\"",
+        "image.samples=2",
+        "sun.intensity=2",
+    ]);
     let kernels = std::sync::Arc::new(qjulia::gpu::GpuKernels::new(tracer.context().clone()));
     let renderer =
         qjulia::Planner::on_device(kernels, qjulia::Backend::Gpu, qjulia::PrecisionChoice::F32)
@@ -462,7 +479,7 @@ fn gpu_and_cpu_aovs_agree() {
 }
 
 /// The tracer's AOV output is allocated whole only for a run that reads it back: a plain
-/// render's is a placeholder of one pixel (48 bytes), the other outputs whole either way.
+/// render's is a placeholder of one pixel (64 bytes), the other outputs whole either way.
 #[test]
 fn the_aov_buffer_is_allocated_only_when_read() {
     let Some(tracer) = common::gpu("the_aov_buffer_is_allocated_only_when_read") else {
@@ -478,10 +495,10 @@ fn the_aov_buffer_is_allocated_only_when_read() {
     // The work counts are 16 bytes a pixel (two 64-bit counts), the accumulator four planes of
     // 16 bytes a pixel (the running mean or stream A's, then the rest of adaptive sampling's
     // streams: trace.wgsl's `Streams`).
-    assert_eq!(sizes(&[]), [4000, 4000, 4000, 16000, 64000, 48]);
+    assert_eq!(sizes(&[]), [4000, 4000, 4000, 16000, 64000, 64]);
     let mut read = vec![false; names.len()];
     *read.last_mut().unwrap() = true;
-    assert_eq!(sizes(&read), [4000, 4000, 4000, 16000, 64000, 48000]);
+    assert_eq!(sizes(&read), [4000, 4000, 4000, 16000, 64000, 64000]);
 }
 
 /// Where both tracers hit with sample 0, the albedo within 1e-3 and the normal within 1e-2 on
@@ -524,6 +541,35 @@ fn assert_aovs_agree(name: &str, gpu: &Frame, cpu: &Frame, phong: bool) {
             .count();
         eprintln!("{name}: colour agrees on {colour}/{n}");
         assert!(share(colour, n) >= 0.98, "{name}: colour");
+        assert!(
+            gpu.specular.is_empty() && cpu.specular.is_empty(),
+            "{name}: no specular"
+        );
+        return;
+    }
+    // Path mode's specular signal: the first hits' specular direct light, within the pixel's
+    // radiance, and the view cosine of the hits.
+    assert_eq!(gpu.specular.len(), n, "{name}: the GPU's specular light");
+    assert_eq!(gpu.view_cosine.len(), n, "{name}: the GPU's view cosine");
+    let specular = (0..n)
+        .filter(|&k| close(gpu.specular[k], cpu.specular[k], 2e-3))
+        .count();
+    let cosine = both
+        .iter()
+        .filter(|&&k| (gpu.view_cosine[k] - cpu.view_cosine[k]).abs() <= 1e-2)
+        .count();
+    eprintln!("{name}: specular agrees on {specular}/{n}, view cosine on {cosine}");
+    assert!(share(specular, n) >= 0.95, "{name}: specular light");
+    assert!(share(cosine, both.len()) >= 0.98, "{name}: view cosine");
+    for f in [gpu, cpu] {
+        assert!(
+            (0..n).all(|k| (0..3).all(|c| f.specular[k][c] <= f.radiance[k][c] * 1.0001 + 1e-6)),
+            "{name}: the specular light is part of the radiance"
+        );
+        assert!(
+            both.iter().any(|&k| f.specular[k] != [0.0; 3]),
+            "{name}: some hit reflects light specularly"
+        );
     }
 }
 

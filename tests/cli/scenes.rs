@@ -195,20 +195,20 @@ fn a_whole_image_job_that_would_not_fit_is_refused_before_it_starts() {
     let cases: [(&[&str], &str); 4] = [
         (
             &["--hdr", "x.exr"],
-            "--hdr's 64x64 image would need 212992 bytes (208.0 KiB) of memory, more than the \
+            "--hdr's 64x64 image would need 327680 bytes (320.0 KiB) of memory, more than the \
              100000 bytes (97.7 KiB) available",
         ),
         (
             &["-o", "x.png", "--set", "image.denoise=\"atrous\""],
-            "the denoised 64x64 image would need 589824 bytes",
+            "the denoised 64x64 image would need 655360 bytes",
         ),
         (
             &["-o", "x.png", "--view", "steps"],
-            "the 64x64 heat map would need 278528 bytes",
+            "the 64x64 heat map would need 344064 bytes",
         ),
         (
             &["--tile", "0/2", "--hdr", "x.exr"],
-            "tile 0/2's 64x32 rows would need 245760 bytes",
+            "tile 0/2's 64x32 rows would need 335872 bytes",
         ),
     ];
     for (args, expected) in cases {

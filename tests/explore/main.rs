@@ -129,6 +129,8 @@ fn shown_view(harness: &mut Harness<'static, ExplorerApp>) -> Frame {
         luminance_m2: Vec::new(),
         hits: Vec::new(),
         hit_depth: Vec::new(),
+        specular: Vec::new(),
+        view_cosine: Vec::new(),
         noisy: Vec::new(),
         halves: Vec::new(),
         samples: Vec::new(),

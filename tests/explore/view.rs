@@ -270,6 +270,8 @@ fn step_views_show_the_heat_map_of_the_steps() {
                 luminance_m2: Vec::new(),
                 hits: Vec::new(),
                 hit_depth: Vec::new(),
+                specular: Vec::new(),
+                view_cosine: Vec::new(),
                 noisy: Vec::new(),
                 halves: Vec::new(),
                 samples: Vec::new(),

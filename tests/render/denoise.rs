@@ -69,14 +69,42 @@ fn scene(sets: &[&str]) -> Scene {
     common::scene(&all)
 }
 
+type Both = (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>);
+
 /// The passes of `scene` over `prepared` on the CPU, and on the GPU where there is one.
-fn both(test: &str, scene: &Scene, prepared: &Prepared) -> (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>) {
+fn both(test: &str, scene: &Scene, prepared: &Prepared) -> Both {
     let passes: Vec<DenoiseParams> = denoise::passes(scene, prepared.width, prepared.height);
-    let cpu = denoise::run_cpu(&passes, prepared.image.clone(), &prepared.guide);
+    both_of(test, &passes, prepared)
+}
+
+/// The frame's signals (`denoise::prepare_split`), each through its passes on the CPU and on
+/// the GPU where there is one, added: what the renderer's denoiser makes.
+fn both_signals(test: &str, scene: &Scene, noisy: &Frame) -> Both {
+    let split = denoise::prepare_split(noisy, scene, scene.image.samples);
+    let (w, h) = (noisy.width, noisy.height);
+    let (mut cpu, mut gpu) = both_of(test, &denoise::passes(scene, w, h), &split.diffuse);
+    if let Some(specular) = &split.specular {
+        let (c, g) = both_of(test, &denoise::specular_passes(scene, w, h), specular);
+        let add = |a: &mut Vec<[f32; 3]>, b: &[[f32; 3]]| {
+            a.iter_mut()
+                .zip(b)
+                .for_each(|(a, b)| (0..3).for_each(|k| a[k] += b[k]))
+        };
+        add(&mut cpu, &c);
+        if let (Some(gpu), Some(g)) = (gpu.as_mut(), g) {
+            add(gpu, &g);
+        }
+    }
+    (cpu, gpu)
+}
+
+/// `passes` over `prepared` on the CPU, and on the GPU where there is one.
+fn both_of(test: &str, passes: &[DenoiseParams], prepared: &Prepared) -> Both {
+    let cpu = denoise::run_cpu(passes, prepared.image.clone(), &prepared.guide);
     let gpu = kernels(test).map(|k| {
         k.denoiser()
             .expect("the denoiser's kernel")
-            .run(&passes, &prepared.image, &prepared.guide)
+            .run(passes, &prepared.image, &prepared.guide)
             .expect("the GPU passes")
             .image
     });
@@ -302,8 +330,14 @@ fn gpu_and_cpu_passes_agree() {
                 Ok(())
             })
             .expect("a render");
-        let prepared = denoise::prepare(&noisy, scene.image.samples);
-        let (cpu, gpu) = both(name, &scene, &prepared);
+        let (cpu, gpu) = both_signals(name, &scene, &noisy);
+        assert_eq!(
+            denoise::prepare_split(&noisy, &scene, scene.image.samples)
+                .specular
+                .is_some(),
+            name == "path",
+            "{name}: path mode's glossy material has a specular signal"
+        );
         let gpu = gpu.expect("a GPU");
         let pack = |linear: &[[f32; 3]]| match name {
             "path" => Display::of(&scene).pack_all(linear),

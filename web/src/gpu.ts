@@ -29,7 +29,7 @@ import {
 /// the accumulator keeps adaptive sampling's streams in three more planes, and only its first
 /// comes back); the AOVs (the last) are a placeholder of one pixel, as the Rust runner binds
 /// them when not read.
-const OUTPUT_BYTES = [4, 4, 4, 16, 64, 48];
+const OUTPUT_BYTES = [4, 4, 4, 16, 64, 64];
 const ON_DEMAND = [false, false, false, false, false, true];
 /// The 2D view's outputs: colour, the in-set marker, iterations (JULIA2D_KERNEL).
 const JULIA2D_OUTPUT_BYTES = [4, 4, 4];

@@ -34,7 +34,7 @@ impl MeanLayout {
                 0
             },
             halves: if path { 32 } else { 0 },
-            aovs: if aovs { 48 } else { 0 },
+            aovs: if aovs { 64 } else { 0 },
             depth: if aovs { depth } else { 0 },
         }
     }
@@ -167,7 +167,7 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
     let estimate = sums.finish();
     let frame = (layout.aovs > 0).then(|| {
         let aov =
-            |k: usize| unpad::<[[f32; 4]; 3], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]]);
+            |k: usize| unpad::<[[f32; 4]; 4], _>(aovs, shape, move |a| [a[k][0], a[k][1], a[k][2]]);
         let mut frame = Frame::empty(shape.0 as u32);
         frame.height = shape.1 as u32;
         frame.radiance = radiance.clone();
@@ -177,9 +177,14 @@ pub fn decode_mean<F: GpuReal + bytemuck::Pod>(
         }
         frame.albedo = aov(1);
         frame.normal = aov(2);
-        frame.luminance_m2 = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[1][3]);
-        frame.hits = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[0][3]);
-        frame.hit_depth = unpad::<[[f32; 4]; 3], _>(aovs, shape, |a| a[2][3]);
+        frame.luminance_m2 = unpad::<[[f32; 4]; 4], _>(aovs, shape, |a| a[1][3]);
+        frame.hits = unpad::<[[f32; 4]; 4], _>(aovs, shape, |a| a[0][3]);
+        frame.hit_depth = unpad::<[[f32; 4]; 4], _>(aovs, shape, |a| a[2][3]);
+        // Path mode's alone: phong mode has no specular signal.
+        if !radiance.is_empty() {
+            frame.specular = aov(3);
+            frame.view_cosine = unpad::<[[f32; 4]; 4], _>(aovs, shape, |a| a[3][3]);
+        }
         frame.depth = unpad::<F, _>(depth, shape, depth_of::<F>);
         frame.samples = adaptive_counts;
         frame.halves = halves;
@@ -252,7 +257,12 @@ mod tests {
             bytes.extend(bytemuck::bytes_of(&[i as f32 - 0.5, 0.0, 0.0, 2.0f32]));
         }
         for i in 0..6 {
-            let aov = [[i as f32, 0.0, 0.0, 1.0], [0.25; 4], [0.0, 0.0, 1.0, 2.0]];
+            let aov = [
+                [i as f32, 0.0, 0.0, 1.0],
+                [0.25; 4],
+                [0.0, 0.0, 1.0, 2.0],
+                [0.125, 0.0, 0.0, 0.75],
+            ];
             bytes.extend(bytemuck::bytes_of(&aov));
         }
         for i in 0..6 {
@@ -283,6 +293,8 @@ mod tests {
         assert_eq!(frame.samples, [4, 3, 4, 4]);
         assert_eq!(frame.albedo[2], [0.25; 3]);
         assert_eq!(frame.hit_depth, [2.0; 4]);
+        assert_eq!(frame.specular[1], [0.125, 0.0, 0.0]);
+        assert_eq!(frame.view_cosine, [0.75; 4]);
         assert!(frame.depth[2].is_nan());
         assert_eq!(frame.depth[3], 4.0);
     }
