@@ -6,10 +6,13 @@
 //! 1. [`prepare`]: each pixel's linear colour divided by its demodulation, h A + (1 - h) of its
 //!    albedo AOV A and hit fraction h (the illumination), the variance of its mean luminance
 //!    (from the AOVs' Welford M2), and its guide (the mean normal and the mean depth of its
-//!    hits, where most of its samples hit);
+//!    hits, where most of its samples hit); in path mode with a specular lobe, [`prepare_split`]
+//!    makes two signals of it, the first hits' specular direct light over the lobes'
+//!    reflectance ([`specular_reflectance`]) and the rest over the albedo;
 //! 2. the passes, on the GPU (src/gpu/denoise.rs over shaders/denoise.wgsl) or on the CPU
-//!    (its twin, src/cpu/denoise.rs);
-//! 3. [`finish`]: the illumination times the albedo again.
+//!    (its twin, src/cpu/denoise.rs), each signal its own ([`passes`], [`specular_passes`]);
+//! 3. [`finish`]: the illumination times the albedo (the reflectance) again, the signals
+//!    added.
 //!
 //! The book's chapter "Denoising" (docs/book/denoise.md) gives every formula.
 
@@ -493,6 +496,82 @@ mod tests {
         assert_eq!(demodulation([0.0; 3], 0.0), [1.0; 3]);
         assert_eq!(hit_fraction(3.0, 4), 0.75);
         assert_eq!(hit_fraction(0.0, 0), 0.0);
+    }
+
+    #[test]
+    fn the_specular_reflectance_is_the_lobes_directional_albedo() {
+        let m = |metallic: f32, specular: f32, multiscatter: bool| Material {
+            albedo: Vec3::new(0.9, 0.6, 0.3),
+            roughness: 0.25,
+            metallic,
+            specular,
+            multiscatter,
+        };
+        // No specular lobe: nothing to divide by.
+        assert_eq!(specular_reflectance(m(0.0, 0.0, true), 0.7), [0.0; 3]);
+        // A metal seen face on, single scattering: F0 = its albedo, times E(1).
+        let e = ggx_albedo(1.0f32, 0.25);
+        let r = specular_reflectance(m(1.0, 0.5, false), 1.0);
+        for (c, a) in r.iter().zip([0.9f32, 0.6, 0.3]) {
+            assert!((c - a * e).abs() < 1e-6, "{r:?}");
+        }
+        // The multiple-scattering lobe only adds light; a dielectric reflects more at grazing.
+        let with = specular_reflectance(m(1.0, 0.5, true), 0.5);
+        let without = specular_reflectance(m(1.0, 0.5, false), 0.5);
+        assert!((0..3).all(|c| with[c] > without[c]), "{with:?} {without:?}");
+        let face_on = specular_reflectance(m(0.0, 0.5, false), 1.0)[1];
+        assert!(specular_reflectance(m(0.0, 0.5, false), 0.1)[1] > face_on);
+        assert!(face_on > 0.0 && face_on < 0.04 + 1e-6, "{face_on}");
+    }
+
+    #[test]
+    fn the_two_signals_add_back_to_the_colour() {
+        let mut frame = Frame::empty(4);
+        frame.height = 1;
+        frame.radiance = vec![[0.5, 0.4, 0.3], [0.2; 3], [0.0; 3], [0.6, 0.2, 0.1]];
+        frame.albedo = vec![[0.8, 0.5, 0.2]; 4];
+        frame.normal = vec![[0.0, 0.0, 1.0]; 4];
+        frame.luminance_m2 = vec![0.3; 4];
+        frame.hits = vec![4.0, 4.0, 4.0, 1.0];
+        frame.hit_depth = vec![2.0; 4];
+        // Pixel 1's specular light is more than its colour (an adaptive mean's halves can
+        // leave it so): it is held at the colour. Pixel 3 is a miss to the guide: all diffuse.
+        frame.specular = vec![[0.1, 0.05, 0.02], [0.3; 3], [0.0; 3], [0.1; 3]];
+        frame.view_cosine = vec![0.8, 0.3, 0.5, 0.9];
+        let scene = crate::scene::presets::find("path-traced").unwrap().scene();
+        let split = prepare_split(&frame, &scene, 4);
+        let specular = split.specular.expect("a glossy material splits");
+        let d = finish(&split.diffuse.image, &split.diffuse.albedo);
+        let s = finish(&specular.image, &specular.albedo);
+        let expected_specular = [[0.1, 0.05, 0.02], [0.2; 3], [0.0; 3], [0.0; 3]];
+        for k in 0..4 {
+            for c in 0..3 {
+                let sum = d[k][c] + s[k][c];
+                assert!(
+                    (sum - frame.radiance[k][c]).abs() < 1e-6,
+                    "pixel {k}: {sum}"
+                );
+                assert!(
+                    (s[k][c] - expected_specular[k][c]).abs() < 1e-6,
+                    "pixel {k}"
+                );
+            }
+        }
+        // The variance splits by the signals' shares of the luminance (before demodulation).
+        let share = luminance(vec3(expected_specular[0])) / luminance(vec3(frame.radiance[0]));
+        let scale = luminance(vec3(specular.albedo[0]));
+        let v = mean_variance(0.3, 4) * share / (scale * scale);
+        assert!(
+            (specular.image[0][3] - v).abs() <= 1e-6 * v,
+            "{}",
+            specular.image[0][3]
+        );
+        // Phong mode (no specular light) and a material without a specular lobe do not split.
+        let mut lambert = scene.clone();
+        lambert.material.specular = 0.0;
+        assert!(prepare_split(&frame, &lambert, 4).specular.is_none());
+        frame.specular.clear();
+        assert!(prepare_split(&frame, &scene, 4).specular.is_none());
     }
 
     #[test]
