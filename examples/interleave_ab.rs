@@ -18,13 +18,11 @@
 //!     cargo run --release --example interleave_ab [SIZE] [SAMPLES]
 
 use qjulia::gpu::kernel::{Band, Kernel, KernelSpec, Run};
-use qjulia::gpu::shaders::{
-    ALGEBRA_WGSL, ENVIRONMENT_WGSL, REAL32_WGSL, ShaderModuleSource, TRACE_WGSL,
-};
+use qjulia::gpu::shaders::ShaderModuleSource;
 use qjulia::gpu::{GpuContext, GpuParams, TRACE_OUTPUTS};
 use qjulia::params::TraceParams;
 
-const EXPERIMENT_WGSL: &str = r#"
+const EXPERIMENT_WGSL: &str = r#"#import trace
 // The estimate at two points at once: both orbits in one loop, each stopping on its own.
 fn estimate_pair(p1: vec3<f32>, p2: vec3<f32>, live: vec2<bool>) -> vec2<f32> {
     var z1 = slice_point(p1);
@@ -134,16 +132,7 @@ fn pair_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 "#;
 
-const MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "interleave",
-    parts: &[
-        REAL32_WGSL,
-        ALGEBRA_WGSL,
-        TRACE_WGSL,
-        ENVIRONMENT_WGSL,
-        EXPERIMENT_WGSL,
-    ],
-};
+const MODULE: ShaderModuleSource = ShaderModuleSource::text("interleave", EXPERIMENT_WGSL);
 
 fn spec(entry_point: &'static str) -> KernelSpec {
     KernelSpec {

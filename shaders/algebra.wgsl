@@ -5,6 +5,7 @@
 // (a, b)(c, d) = (a c - conj(d) b, d a + b conj(c)) and conj((a, b)) = (conj(a), -b).
 // Twin: src/algebra.rs, same names, same order of terms, same order of functions (checked by
 // tests/architecture/twins.rs).
+#import real
 
 // The quaternion product a b (not commutative: a b != b a in general). (The seed's quatMult.)
 fn quat_mul(a: vec4<Real>, b: vec4<Real>) -> vec4<Real> {

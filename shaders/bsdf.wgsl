@@ -12,6 +12,7 @@
 //
 // Directions are in the local shading frame: the normal is +z, wo points away from the surface
 // toward where the light goes (the eye), wi toward where it comes from; both unit length.
+#import ggx_albedo
 
 const PI: f32 = 3.14159265358979;
 // alpha = roughness^2 breaks the visible-normal sampling at 0 (the distribution becomes a

@@ -2,7 +2,10 @@
 // each light per item, from inputs every side derives
 // the same way from the item's index, written out whole, so that tests/render/bsdf.rs can hold the GPU's
 // BSDF to its CPU twin (src/cpu/bsdf.rs). Host side and the inputs' definition:
-// src/gpu/bsdf_probe.rs. Needs shaders/bsdf.wgsl in front of it.
+// src/gpu/bsdf_probe.rs.
+#import bsdf
+#import light
+#import sobol
 
 // The probe's uniform (keep in sync with `GpuBsdfProbe` in src/gpu/bsdf_probe.rs).
 struct Probe {

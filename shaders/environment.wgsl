@@ -7,6 +7,7 @@
 // SPECIALISED and ENVIRONMENT overrides in the module.
 //
 // Twin: src/cpu/environment.rs, same names, same order (tests/architecture/twins.rs).
+#import params
 
 // The map's buffer (src/envmap.rs packs it, src/cpu/environment.rs states it): the width and
 // height (floats, exact), the irradiance's nine coefficients (RGB, a vec4 slot each), then per

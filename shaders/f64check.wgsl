@@ -1,7 +1,8 @@
 // The start-up check of the adapter's f64 (src/gpu/f64check.rs): every f64 operation the f64
-// kernels rely on, on a few known values, for the host to compare with its own. Needs
-// shaders/real64.wgsl in front of it (the kernels' own `real_*` functions, with the repairs the
-// host chose as its override constants). One invocation per case.
+// kernels rely on, on a few known values, for the host to compare with its own. It imports
+// shaders/real64.wgsl (the kernels' own `real_*` functions, with the repairs the host chose as
+// its override constants). One invocation per case.
+#import real64
 
 // Keep in sync with `CheckParams` in src/gpu/f64check.rs.
 struct CheckParams {

@@ -1,6 +1,6 @@
 // GGX's directional and average albedo, the tables of multiple-scattering compensation (Kulla
 // and Conty 2017, "Revisiting Physically Based Shading at Imageworks"): shaders/bsdf.wgsl's
-// `multiscatter_eval` reads them. f32, needs nothing in front of it.
+// `multiscatter_eval` reads them. f32, imports nothing.
 // Twin: src/cpu/ggx_albedo.rs, same names, same order (tests/architecture/twins.rs); it reads its numbers
 // from this file. src/cpu/ggx_quadrature.rs makes them: `QJULIA_BLESS=1 cargo test --test
 // multiscatter` writes the tables below again, and the test fails where they are not what its

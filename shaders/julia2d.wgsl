@@ -3,10 +3,11 @@
 //
 // Twin: src/cpu/julia2d.rs, function by function, with the same names in the same order (checked
 // by tests/architecture/twins.rs, which lists the functions only one side has); a change to one is a change to
-// both. Needs a prelude in front of it (shaders/real32.wgsl or shaders/real64.wgsl: the float
-// type `Real`): z and the pixel's point in `Real`, the grey in f32 (src/gpu/shaders.rs).
+// both. Written against the float type `Real` of shaders/real.wgsl: z and the pixel's
+// point in `Real`, the grey in f32 (src/gpu/shaders.rs).
 //
 // WGSL may assume NaN and Inf never occur, so every guard comes before the operation it guards.
+#import real
 
 // Keep in sync with the table of `Julia2dParams` in src/params.rs, which makes the host's f32 and
 // f64 images of it, `GpuJulia2dParams` and `GpuJulia2dParams64` (tests/architecture/shaders.rs compares their

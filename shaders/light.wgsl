@@ -2,12 +2,13 @@
 // given angular radius) and the sphere light, their sampling for next-event estimation, and
 // the power heuristic that weighs light samples against BSDF samples.
 // Twin: src/cpu/light.rs, same names, same order (tests/architecture/twins.rs). The book's chapter "Light"
-// (docs/book/light.md) gives every formula. f32 throughout, as shaders/bsdf.wgsl, which must come
-// in front of it (its PI and its shading frame).
+// (docs/book/light.md) gives every formula. f32 throughout, as shaders/bsdf.wgsl, which it
+// imports (its PI and its shading frame).
 //
 // Units: a light's `intensity` is the irradiance it gives a surface facing it (the sun), or at
 // distance 1 (the sphere light, whose radiance is then intensity / (pi r^2)): a point light and a
 // sphere of the same intensity light the far field alike, and the radius only softens.
+#import bsdf
 
 // The sky (keep in sync with `Sky` in src/cpu/light.rs): a gradient about `up`.
 struct Sky {

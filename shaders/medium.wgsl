@@ -3,7 +3,8 @@
 // free-flight distance sampling along a ray's stretch within the ball. The book's chapter
 // "Atmosphere" (docs/book/atmosphere.md) gives every formula.
 // Twin: src/cpu/medium.rs, same names, same order (tests/architecture/twins.rs). f32 throughout, as
-// shaders/bsdf.wgsl, which must come in front of it (its PI and its shading frame).
+// shaders/bsdf.wgsl, which it imports (its PI and its shading frame).
+#import bsdf
 
 // A direction drawn by sample_hg, with the density (per solid angle) it was drawn with.
 struct PhaseSample {

@@ -4,15 +4,20 @@
 // roulette and a clamp. The book's chapters "Path tracing" and "Atmosphere" give the estimator
 // exactly.
 //
-// Twin: src/cpu/path.rs, same names, same order (tests/architecture/twins.rs). Needs a prelude, algebra.wgsl,
-// trace.wgsl (its Params, outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl,
-// light.wgsl, medium.wgsl and sobol.wgsl in front of it (src/gpu/shaders.rs). Geometry is in
+// Twin: src/cpu/path.rs, same names, same order (tests/architecture/twins.rs). Imports trace.wgsl (its Params,
+// outputs, sphere tracing, normals, camera and orbit trap), bsdf.wgsl, light.wgsl, medium.wgsl
+// and sobol.wgsl. Geometry is in
 // `Real` (f32 or f64); the material, the light and the radiance are f32 (shaders/bsdf.wgsl says
 // why).
 //
 // Why it passes 600 lines: it is one estimator, surface and fog vertices alike; the fog's vertex
 // (direct_light with in_fog, path_fog) reads the sampler (path_random) and the path uniform, which
 // live here, so it cannot join medium.wgsl, which comes before them; and its twin is split alike.
+#import trace
+#import bsdf
+#import light
+#import medium
+#import sobol
 
 // The path tracer's own parameters, a second uniform beside the tracer's Params (keep in sync
 // with `GpuPathParams` in src/gpu/path.rs; its CPU twin is `PathParams` in src/cpu/path.rs).

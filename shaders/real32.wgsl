@@ -1,4 +1,4 @@
-// The f32 prelude: the float type `Real` of shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl is
+// The f32 prelude (shaders/real.wgsl imports it without the feature F64): the float type `Real` of shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl is
 // f32, with its limits, and the functions those files take through `real_*` are WGSL's own
 // builtins, so that an f32 scene runs exactly what it ran before f64 came (src/gpu/shaders.rs).
 // Its twin for f64 is shaders/real64.wgsl: the same names in the same order.

@@ -1,7 +1,7 @@
-// The f64 prelude: the float type `Real` of shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl is
-// f64, with its limits, and the functions those files take through `real_*` are built from what
-// f64 reliably has on the GPU (src/gpu/shaders.rs). Twin of shaders/real32.wgsl, the same names
-// in the same order.
+// The f64 prelude (shaders/real.wgsl imports it with the feature F64): the float type `Real` of
+// shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl is f64, with its limits, and the functions
+// those files take through `real_*` are built from what f64 reliably has on the GPU. Twin of
+// shaders/real32.wgsl, the same names in the same order.
 //
 // Vulkan's GLSL.std.450 defines log, exp, sin, cos and pow for 16- and 32-bit floats only, and
 // lavapipe returns wrong f64 values for them without an error. So nothing here calls them on an

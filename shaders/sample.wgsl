@@ -1,11 +1,11 @@
 // The voxel sampler of `qjulia mesh`: one invocation per grid point, the level of the mesh's
-// surface there, through the tracer's own estimate (estimate_distance, with the cut). Needs
-// shaders/algebra.wgsl and shaders/trace.wgsl in front of it (src/gpu/shaders.rs), whose
-// `Params` uniform (binding 0: the scene's, as a render's) and first output (binding 1) it
+// surface there, through the tracer's own estimate (estimate_distance, with the cut). Imports
+// shaders/trace.wgsl, whose `Params` uniform (binding 0: the scene's, as a render's) and first output (binding 1) it
 // shares; the grid is a uniform of its own (binding 7: binding 6 is the tracer's AOV output).
 //
 // Twin: src/cpu/sample.rs, function by function, with the same names in the same order
 // (tests/architecture/twins.rs).
+#import trace
 //
 // The sampled grid (keep in sync with GpuSampleGrid in src/gpu/sampler.rs; its CPU twin is
 // src/grid.rs's SampleGrid): its first point (the low corner of its box), the spacing of its

@@ -1,8 +1,7 @@
 // The sampler of the path tracer (issue 19): Owen-scrambled Sobol' points in Burley's hash form
 // ("Practical Hash-based Owen Scrambling", JCGT 2020), and a plain integer hash kept for
 // comparison, in u32 arithmetic only so that every backend and the CPU draw the same bits for a
-// (pixel, sample, dimension). Stands alone: it needs no prelude and nothing of trace.wgsl, so a
-// kernel can put it in front of its own code (src/gpu/shaders.rs). The exact definition is in
+// (pixel, sample, dimension). Stands alone: it imports nothing. The exact definition is in
 // docs/book/sampler.md.
 //
 // Twin: src/cpu/sobol.rs, function by function, with the same names in the same order

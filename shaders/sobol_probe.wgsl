@@ -1,8 +1,9 @@
 // A test-support kernel (src/gpu/sobol_probe.rs): the sampler of shaders/sobol.wgsl evaluated
 // over a grid of (pixel, sample, dimension), its bits written as they are, so that the tests
-// can hold them to the CPU twin's bit for bit. Needs shaders/sobol.wgsl in front of it. Item
+// can hold them to the CPU twin's bit for bit. Item
 // (x, row) of the grid is pixel `pixel_base + row_offset + row`, sample `x / dims`, dimension
 // `x % dims`, written at row * width + x.
+#import sobol
 struct ProbeParams {
     row_offset: u32,
     rows: u32,

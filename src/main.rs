@@ -41,6 +41,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Report(args)) => cli::report(args),
         Some(cli::Command::Explore(args)) => cli::explore(args),
         Some(cli::Command::GpuParams(args)) => cli::gpu_params(args),
+        Some(cli::Command::Kernel(args)) => cli::kernel(args),
         Some(cli::Command::Schema(args)) => cli::schema(args),
         Some(cli::Command::Web(args)) => cli::web(args),
         None if qjulia::explore::display_available() => cli::explore(&cli::ExploreArgs::default()),

@@ -84,8 +84,24 @@ pub struct RenderStats {
     /// How a render to `image.target_error` went (src/render/target.rs), where it did.
     #[serde(flatten)]
     pub target: Option<TargetStats>,
+    /// The GPU kernel that drew the picture, as `qjulia kernel` composes it; nothing on the CPU.
+    #[serde(flatten)]
+    pub kernel: Option<KernelStats>,
     #[serde(flatten)]
     pub summary: Summary,
+}
+
+/// The kernel a GPU render ran (`--stats`' `kernel*` keys): its name in shaders/kernels.json,
+/// and its composed text's size in bytes and 64-bit FNV-1a fingerprint (16 hex digits), before
+/// the host's override constants.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KernelStats {
+    #[serde(rename = "kernel")]
+    pub name: String,
+    #[serde(rename = "kernel_bytes")]
+    pub bytes: usize,
+    #[serde(rename = "kernel_fingerprint")]
+    pub fingerprint: String,
 }
 
 /// What `--stats` says of a render to a target.

@@ -13,8 +13,8 @@ use qjulia::tile::Tile;
 use qjulia::{Frame, Picture, Precision, Readback};
 
 use super::{
-    AnimateArgs, BackendArg, ExploreArgs, GpuParamsArgs, MergeArgs, MeshArgs, Render2dArgs,
-    RenderArgs, SchemaArgs, WebArgs,
+    AnimateArgs, BackendArg, ExploreArgs, GpuParamsArgs, KernelArgs, MergeArgs, MeshArgs,
+    Render2dArgs, RenderArgs, SchemaArgs, WebArgs,
 };
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
@@ -493,6 +493,26 @@ pub fn web(args: &WebArgs) -> anyhow::Result<()> {
     std::io::stdout().flush()?;
     server.run();
     Ok(())
+}
+
+/// `qjulia kernel`: the WGSL a render of the scene hands the GPU, composed for it.
+pub fn kernel(args: &KernelArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let picture = qjulia::Picture::SHADED;
+    let precision = qjulia::precision::decide(args.precision.choice(), &scene, &picture.into());
+    let kernels = qjulia::gpu::scene_kernel::scene_kernels(&scene, picture, precision.precision);
+    let out = match args.json {
+        true => serde_json::to_string_pretty(&kernels)? + "\n",
+        false => {
+            let texts: Vec<String> = kernels.iter().map(|k| k.to_text()).collect();
+            texts.join("\n")
+        }
+    };
+    // A reader that stops early (`| head`) is no error.
+    match std::io::Write::write_all(&mut std::io::stdout().lock(), out.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
 }
 
 pub fn gpu_params(args: &GpuParamsArgs) -> anyhow::Result<()> {

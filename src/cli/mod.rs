@@ -6,7 +6,7 @@ mod commands;
 mod report;
 
 pub use commands::{
-    animate, explore, gpu_params, info, merge, mesh, render, render2d, schema, web,
+    animate, explore, gpu_params, info, kernel, merge, mesh, render, render2d, schema, web,
 };
 pub use report::report;
 
@@ -59,6 +59,10 @@ pub enum Command {
     /// Print the tracer's uniform for a scene as data: its layout (WGSL `struct Params`), its
     /// bytes and the override constants of the scene's pipeline (for a host that packs them).
     GpuParams(GpuParamsArgs),
+    /// Print the WGSL of the kernels a render of the scene runs on the GPU, as composed from
+    /// shaders/ for it: each kernel's name, entry point, size, fingerprint, files and override
+    /// constants, and what the host does to it after the text, as `//` lines above its text.
+    Kernel(KernelArgs),
     /// The scene schema and the presets, as data (`--json`): every key's type, default, range,
     /// choices, comment and slider, the loader's messages, and each preset's scene.
     Schema(SchemaArgs),
@@ -243,6 +247,20 @@ pub struct GpuParamsArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct KernelArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The kernels' precision, as `render` decides it (auto: f32 wherever f32 resolves the
+    /// scene).
+    #[arg(long, value_enum, default_value_t = PrecisionArg::Auto)]
+    pub precision: PrecisionArg,
+    /// Print JSON instead: a list of the kernels, each with its name, entry, files, bytes,
+    /// fingerprint, overrides, after and text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Args, Debug)]
 pub struct MeshArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -367,7 +385,7 @@ impl BackendArg {
 }
 
 impl PrecisionArg {
-    fn choice(self) -> PrecisionChoice {
+    pub(crate) fn choice(self) -> PrecisionChoice {
         match self {
             PrecisionArg::Auto => PrecisionChoice::Auto,
             PrecisionArg::F32 => PrecisionChoice::F32,

@@ -4,6 +4,7 @@
 //! kernel's spec, and each kernel is generic over the trait.
 
 pub mod bsdf_probe;
+pub mod compose;
 mod context;
 pub mod denoise;
 pub mod f64check;
@@ -17,6 +18,7 @@ pub mod path;
 pub mod pipeline_cache;
 mod real;
 mod sampler;
+pub mod scene_kernel;
 pub mod shaders;
 mod sobol_probe;
 mod tracer;

@@ -1,182 +1,215 @@
-//! The WGSL sources, compiled into the binary from shaders/ so that it stands alone.
+//! The WGSL kernels, composed from the files of shaders/ (compiled into the binary, so that it
+//! stands alone) as shaders/kernels.json declares them.
+//!
+//! # Files, imports and kernels
+//!
+//! Each file of shaders/ names the files it needs with `#import` lines and gates its text with
+//! `#if FEATURE` ([`super::compose`] gives the rules). shaders/kernels.json declares the
+//! features and the kernels: each kernel's root file, entry point and features. A kernel's WGSL
+//! is its root composed with its features; no host keeps a join order, and the page composes
+//! the same declaration the same way (web/src/compose.ts).
 //!
 //! # One source, two precisions
 //!
 //! shaders/algebra.wgsl, trace.wgsl and julia2d.wgsl are written against a float type `Real`
 //! (`vec3<Real>`, `Real(i)`, ...) and call the few functions whose f64 form needs care through
-//! `real_sqrt`, `real_log`, `real_pow`, `real_cos` and `real_normalize`. They do not define
-//! `Real`: a prelude in front of them does. The f32 modules put shaders/real32.wgsl first
-//! (`alias Real = f32;`, the builtins themselves), the f64 modules shaders/real64.wgsl
-//! (`alias Real = f64;`, those functions built from checked f64 operations). That choice of
-//! prelude is the whole transform: no text of the kernels is rewritten, an f32 module is
-//! exactly the kernel it was before f64 came, and the f64 one is a separate module with its own
-//! pipelines, so f32 scenes pay nothing. What stays f32 in the f64 kernels is written `f32`
-//! there: the packed colour, the samples' running mean, the 2D view's grey.
+//! `real_sqrt`, `real_log`, `real_pow`, `real_cos` and `real_normalize`. They import
+//! shaders/real.wgsl, which imports real32.wgsl (`alias Real = f32;`, the builtins themselves)
+//! or, with the feature F64, real64.wgsl (`alias Real = f64;`, those functions built from checked
+//! f64 operations). That choice is the whole transform: no text of the kernels is rewritten, an
+//! f32 kernel is exactly the kernel it was before f64 came, and the f64 one is a separate module
+//! with its own pipelines, so f32 scenes pay nothing. What stays f32 in the f64 kernels is
+//! written `f32` there: the packed colour, the samples' running mean, the 2D view's grey.
 
-/// The f32 prelude: `Real` is f32.
-pub const REAL32_WGSL: &str = include_str!("../../shaders/real32.wgsl");
-/// The f64 prelude: `Real` is f64, with the functions f64 lacks on Vulkan.
-pub const REAL64_WGSL: &str = include_str!("../../shaders/real64.wgsl");
-/// Quaternion arithmetic (twin: src/algebra.rs); needs a prelude.
-pub const ALGEBRA_WGSL: &str = include_str!("../../shaders/algebra.wgsl");
-/// The tracer kernel (twin: src/cpu/trace.rs); needs a prelude and [`ALGEBRA_WGSL`] in front.
-pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
-/// The environment map (twin: src/cpu/environment.rs): its lookup, irradiance and sampling;
-/// f32, reads [`TRACE_WGSL`]'s `params` and overrides, which every module with it holds.
-pub const ENVIRONMENT_WGSL: &str = include_str!("../../shaders/environment.wgsl");
-/// The voxel sampler of `qjulia mesh` (twin: src/cpu/sample.rs); needs a prelude,
-/// [`ALGEBRA_WGSL`] and [`TRACE_WGSL`] in front of it, whose estimate it runs.
-pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
-/// The path tracer's BSDF (twin: src/cpu/bsdf.rs); f32 throughout, needs no prelude.
-pub const BSDF_WGSL: &str = include_str!("../../shaders/bsdf.wgsl");
-/// GGX's albedo tables for the material's multiple scattering (twin: src/cpu/ggx_albedo.rs);
-/// f32, needs nothing in front of it; [`BSDF_WGSL`] reads it.
-pub const GGX_ALBEDO_WGSL: &str = include_str!("../../shaders/ggx_albedo.wgsl");
-/// The path tracer's light (twin: src/cpu/light.rs); f32, needs [`BSDF_WGSL`] in front (its
-/// shading frame).
-pub const LIGHT_WGSL: &str = include_str!("../../shaders/light.wgsl");
-/// The fog's medium (twin: src/cpu/medium.rs): the phase function and free flight; f32, needs
-/// [`BSDF_WGSL`] in front (its PI and shading frame).
-pub const MEDIUM_WGSL: &str = include_str!("../../shaders/medium.wgsl");
-/// The path tracer (twin: src/cpu/path.rs); needs a prelude, [`ALGEBRA_WGSL`], [`TRACE_WGSL`],
-/// [`BSDF_WGSL`], [`LIGHT_WGSL`], [`MEDIUM_WGSL`] and [`SOBOL_WGSL`] in front.
-pub const PATH_WGSL: &str = include_str!("../../shaders/path.wgsl");
-/// A test kernel over [`BSDF_WGSL`] (src/gpu/bsdf_probe.rs).
-pub const BSDF_PROBE_WGSL: &str = include_str!("../../shaders/bsdf_probe.wgsl");
-/// The 2D Julia view's kernel (twin: src/cpu/julia2d.rs); needs a prelude.
-pub const JULIA2D_WGSL: &str = include_str!("../../shaders/julia2d.wgsl");
-/// The path tracer's sampler (twin: src/cpu/sobol.rs); integer only, needs nothing in front of
-/// it, so that a kernel can put it before its own code.
-pub const SOBOL_WGSL: &str = include_str!("../../shaders/sobol.wgsl");
-/// The sampler's test-support kernel (src/gpu/sobol_probe.rs); needs [`SOBOL_WGSL`].
-pub const SOBOL_PROBE_WGSL: &str = include_str!("../../shaders/sobol_probe.wgsl");
-/// The denoiser's a-trous pass (twin: src/cpu/denoise.rs); needs nothing in front of it.
-pub const DENOISE_WGSL: &str = include_str!("../../shaders/denoise.wgsl");
-/// The start-up check of the adapter's f64 (src/gpu/f64check.rs); needs [`REAL64_WGSL`].
-pub const F64CHECK_WGSL: &str = include_str!("../../shaders/f64check.wgsl");
+use std::collections::HashMap;
+use std::sync::OnceLock;
 
-/// One WGSL module the GPU runs: a name and its source files in order.
+use serde::Deserialize;
+
+use super::compose::{Composed, Composer, fingerprint};
+
+/// Every file of shaders/ by its stem (a test holds the list to the folder).
+pub const FILES: &[(&str, &str)] = &[
+    ("algebra", include_str!("../../shaders/algebra.wgsl")),
+    ("bsdf", include_str!("../../shaders/bsdf.wgsl")),
+    ("bsdf_probe", include_str!("../../shaders/bsdf_probe.wgsl")),
+    ("denoise", include_str!("../../shaders/denoise.wgsl")),
+    (
+        "environment",
+        include_str!("../../shaders/environment.wgsl"),
+    ),
+    ("f64check", include_str!("../../shaders/f64check.wgsl")),
+    ("ggx_albedo", include_str!("../../shaders/ggx_albedo.wgsl")),
+    ("julia2d", include_str!("../../shaders/julia2d.wgsl")),
+    ("light", include_str!("../../shaders/light.wgsl")),
+    ("medium", include_str!("../../shaders/medium.wgsl")),
+    ("params", include_str!("../../shaders/params.wgsl")),
+    ("path", include_str!("../../shaders/path.wgsl")),
+    ("real", include_str!("../../shaders/real.wgsl")),
+    ("real32", include_str!("../../shaders/real32.wgsl")),
+    ("real64", include_str!("../../shaders/real64.wgsl")),
+    ("sample", include_str!("../../shaders/sample.wgsl")),
+    ("sobol", include_str!("../../shaders/sobol.wgsl")),
+    (
+        "sobol_probe",
+        include_str!("../../shaders/sobol_probe.wgsl"),
+    ),
+    ("trace", include_str!("../../shaders/trace.wgsl")),
+];
+
+/// shaders/kernels.json as written.
+pub const DECLARATION_JSON: &str = include_str!("../../shaders/kernels.json");
+
+/// The text of shaders/`name`.wgsl.
+pub fn file(name: &str) -> Option<&'static str> {
+    FILES.iter().find(|f| f.0 == name).map(|f| f.1)
+}
+
+/// shaders/kernels.json: the features a file may test and the kernels the hosts build.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Declaration {
+    pub format: u32,
+    pub features: Vec<FeatureDecl>,
+    pub kernels: Vec<KernelDecl>,
+}
+
+/// A feature: its name (what `#if` tests) and what it turns on.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeatureDecl {
+    pub name: String,
+    pub doc: String,
+}
+
+/// A kernel: its name, its root file, the entry point the host runs, its features, and whether
+/// the page builds it.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KernelDecl {
+    pub name: String,
+    pub root: String,
+    pub entry: String,
+    pub features: Vec<String>,
+    pub web: bool,
+}
+
+/// The declaration, parsed once (a test holds it well-formed).
+pub fn declaration() -> &'static Declaration {
+    static PARSED: OnceLock<Declaration> = OnceLock::new();
+    PARSED.get_or_init(|| {
+        serde_json::from_str(DECLARATION_JSON).expect("shaders/kernels.json is well-formed")
+    })
+}
+
+impl Declaration {
+    /// The kernel declared as `name`.
+    pub fn kernel(&self, name: &str) -> Option<&KernelDecl> {
+        self.kernels.iter().find(|k| k.name == name)
+    }
+
+    /// The declared features' names.
+    pub fn feature_names(&self) -> Vec<&str> {
+        self.features.iter().map(|f| f.name.as_str()).collect()
+    }
+
+    /// `kernel` composed from [`FILES`].
+    pub fn compose(&self, kernel: &KernelDecl) -> Result<Composed, super::compose::ComposeError> {
+        let lookup = |n: &str| file(n);
+        let features = self.feature_names();
+        let on: Vec<&str> = kernel.features.iter().map(String::as_str).collect();
+        Composer::new(&lookup, &features).compose(&kernel.root, &on)
+    }
+}
+
+/// One WGSL module the GPU runs: a kernel of shaders/kernels.json by name, or (for tests) a
+/// text of its own.
 #[derive(Clone, Copy, Debug)]
 pub struct ShaderModuleSource {
     pub name: &'static str,
-    pub parts: &'static [&'static str],
+    text: Option<&'static str>,
 }
 
 impl ShaderModuleSource {
-    /// The module's full source: its parts joined.
+    /// The kernel shaders/kernels.json declares as `name`.
+    pub const fn kernel(name: &'static str) -> Self {
+        Self { name, text: None }
+    }
+
+    /// A module of one text (a test's or an experiment's kernel), composed as a root file: it
+    /// may `#import` the files of shaders/.
+    pub const fn text(name: &'static str, text: &'static str) -> Self {
+        Self {
+            name,
+            text: Some(text),
+        }
+    }
+
+    /// The module's full source: the kernel composed (once a process).
     pub fn source(&self) -> String {
-        self.parts.join("\n")
+        if let Some(text) = self.text {
+            let lookup = |n: &str| if n == self.name { Some(text) } else { file(n) };
+            let features = declaration().feature_names();
+            let composer = Composer::new(&lookup, &features);
+            let composed = composer.compose(self.name, &[]);
+            return composed
+                .unwrap_or_else(|e| panic!("module {}: {e}", self.name))
+                .text;
+        }
+        static COMPOSED: OnceLock<HashMap<String, String>> = OnceLock::new();
+        let all = COMPOSED.get_or_init(|| {
+            let d = declaration();
+            let composed = d.kernels.iter().map(|k| {
+                let text = d
+                    .compose(k)
+                    .unwrap_or_else(|e| panic!("kernel {}: {e}", k.name));
+                (k.name.clone(), text.text)
+            });
+            composed.collect()
+        });
+        all.get(self.name)
+            .unwrap_or_else(|| panic!("no kernel {} in shaders/kernels.json", self.name))
+            .clone()
     }
 
     /// Whether it computes in f64 (needs the adapter's SHADER_F64).
     pub fn is_f64(&self) -> bool {
-        self.parts.first() == Some(&REAL64_WGSL)
+        let declared = declaration().kernel(self.name);
+        declared.is_some_and(|k| k.features.iter().any(|f| f == "F64"))
+    }
+
+    /// The source's size in bytes and its fingerprint ([`fingerprint`]).
+    pub fn size_and_fingerprint(&self) -> (usize, String) {
+        let source = self.source();
+        (source.len(), fingerprint(source.as_bytes()))
     }
 }
 
-/// The tracer in f32: quaternion arithmetic, then the kernel.
-pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "trace",
-    parts: &[REAL32_WGSL, ALGEBRA_WGSL, TRACE_WGSL, ENVIRONMENT_WGSL],
-};
-
-/// The tracer in f64: the same files after the f64 prelude.
-pub const TRACE64_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "trace64",
-    parts: &[REAL64_WGSL, ALGEBRA_WGSL, TRACE_WGSL, ENVIRONMENT_WGSL],
-};
-
-/// The voxel sampler (f32): quaternion arithmetic, the tracer (its estimate), then the sampler.
-pub const SAMPLE_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "sample",
-    parts: &[
-        REAL32_WGSL,
-        ALGEBRA_WGSL,
-        TRACE_WGSL,
-        ENVIRONMENT_WGSL,
-        SAMPLE_WGSL,
-    ],
-};
-
+/// The tracer in f32.
+pub const TRACE_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("trace");
+/// The tracer in f64: the same files, with F64.
+pub const TRACE64_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("trace64");
+/// The voxel sampler of `qjulia mesh` (f32).
+pub const SAMPLE_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("sample");
 /// The 2D Julia view in f32.
-pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "julia2d",
-    parts: &[REAL32_WGSL, JULIA2D_WGSL],
-};
-
+pub const JULIA2D_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("julia2d");
 /// The 2D Julia view in f64.
-pub const JULIA2D64_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "julia2d64",
-    parts: &[REAL64_WGSL, JULIA2D_WGSL],
-};
-
+pub const JULIA2D64_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("julia2d64");
 /// The start-up check of f64.
-pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "f64check",
-    parts: &[REAL64_WGSL, F64CHECK_WGSL],
-};
-
-/// The path tracer in f32: the tracer's module, the material, the light, the sampler, then the
-/// path kernel.
-pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "path",
-    parts: &[
-        REAL32_WGSL,
-        ALGEBRA_WGSL,
-        TRACE_WGSL,
-        ENVIRONMENT_WGSL,
-        BSDF_WGSL,
-        GGX_ALBEDO_WGSL,
-        LIGHT_WGSL,
-        MEDIUM_WGSL,
-        SOBOL_WGSL,
-        PATH_WGSL,
-    ],
-};
-
+pub const F64CHECK_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("f64check");
+/// The path tracer in f32.
+pub const PATH_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("path");
 /// The path tracer in f64 (geometry in f64; material, light and radiance in f32).
-pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "path64",
-    parts: &[
-        REAL64_WGSL,
-        ALGEBRA_WGSL,
-        TRACE_WGSL,
-        ENVIRONMENT_WGSL,
-        BSDF_WGSL,
-        GGX_ALBEDO_WGSL,
-        LIGHT_WGSL,
-        MEDIUM_WGSL,
-        SOBOL_WGSL,
-        PATH_WGSL,
-    ],
-};
+pub const PATH64_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("path64");
+/// The BSDF's and the light's test kernel.
+pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("bsdf_probe");
+/// The sampler's probe (test support).
+pub const SOBOL_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("sobol_probe");
+/// The denoiser's pass (it works on f32 images in either precision).
+pub const DENOISE_MODULE: ShaderModuleSource = ShaderModuleSource::kernel("denoise");
 
-/// The BSDF's and the light's test kernel: the BSDF, the light, the sampler (its inputs), then
-/// the probe.
-pub const BSDF_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "bsdf_probe",
-    parts: &[
-        BSDF_WGSL,
-        GGX_ALBEDO_WGSL,
-        LIGHT_WGSL,
-        SOBOL_WGSL,
-        BSDF_PROBE_WGSL,
-    ],
-};
-
-/// The sampler's probe (test support): the sampler alone, then the probe kernel.
-pub const SOBOL_PROBE_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "sobol_probe",
-    parts: &[SOBOL_WGSL, SOBOL_PROBE_WGSL],
-};
-
-/// The denoiser: its pass alone (it works on f32 images in either precision).
-pub const DENOISE_MODULE: ShaderModuleSource = ShaderModuleSource {
-    name: "denoise",
-    parts: &[DENOISE_WGSL],
-};
-
-/// Every module the GPU path builds; the tests validate each with naga.
+/// Every module the GPU path builds, in shaders/kernels.json's order (a test holds the two
+/// alike); the tests validate each with naga.
 pub const ALL_MODULES: &[ShaderModuleSource] = &[
     TRACE_MODULE,
     TRACE64_MODULE,
@@ -202,4 +235,47 @@ pub fn validate_wgsl(source: &str) -> Result<naga::Module, String> {
     .validate(&module)
     .map_err(|e| e.emit_to_string(source))?;
     Ok(module)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The declaration lists every kernel of [`ALL_MODULES`] in its order, every kernel
+    /// composes, and every feature a file tests is declared.
+    #[test]
+    fn the_declaration_is_the_hosts() {
+        let d = declaration();
+        assert_eq!(d.format, 1);
+        let names: Vec<&str> = d.kernels.iter().map(|k| k.name.as_str()).collect();
+        let modules: Vec<&str> = ALL_MODULES.iter().map(|m| m.name).collect();
+        assert_eq!(names, modules);
+        for k in &d.kernels {
+            d.compose(k).unwrap_or_else(|e| panic!("{}: {e}", k.name));
+        }
+        let tested = super::super::compose::features_tested(FILES.iter().map(|f| f.1));
+        for f in tested {
+            assert!(
+                d.feature_names().contains(&f.as_str()),
+                "{f} is not declared"
+            );
+        }
+    }
+
+    /// The f32 and f64 kernels differ exactly in their prelude.
+    #[test]
+    fn f64_takes_the_other_prelude() {
+        let d = declaration();
+        let trace = d.compose(d.kernel("trace").unwrap()).unwrap();
+        let trace64 = d.compose(d.kernel("trace64").unwrap()).unwrap();
+        let without = |files: &[String], prelude: &str| -> Vec<String> {
+            files.iter().filter(|f| *f != prelude).cloned().collect()
+        };
+        assert_eq!(
+            without(&trace.files, "real32"),
+            without(&trace64.files, "real64")
+        );
+        assert!(trace.files.contains(&"real32".into()) && !trace.files.contains(&"real64".into()));
+        assert!(TRACE64_MODULE.is_f64() && !TRACE_MODULE.is_f64());
+    }
 }

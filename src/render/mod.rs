@@ -213,6 +213,7 @@ impl Renderer {
             false => banded.render_bands(scene, picture, readback, rows, &mut counted)?,
         };
         let mut stats = self.stats(size, times, summary.finish());
+        stats.kernel = self.kernel_stats(scene, picture);
         stats.environment_seconds = scene.loaded.environment.as_ref().map(|e| e.seconds);
         Ok(stats)
     }
@@ -236,8 +237,19 @@ impl Renderer {
             environment_seconds: None,
             denoise: None,
             target: None,
+            kernel: None,
             summary,
         }
+    }
+
+    /// The kernel that draws `picture` of `scene` here, on the GPU; nothing on the CPU.
+    fn kernel_stats(&self, scene: &Scene, picture: Picture) -> Option<crate::stats::KernelStats> {
+        self.gpu.as_ref()?;
+        Some(crate::gpu::scene_kernel::kernel_stats(
+            scene,
+            picture,
+            self.precision,
+        ))
     }
 
     /// Renders a picture of each of `scenes` (validated, of one size) one after another and
@@ -274,17 +286,19 @@ impl Renderer {
             }
             return Ok(());
         };
+        let kernel = scenes.peek().and_then(|s| self.kernel_stats(s, picture));
         let mut sink = |mut frame: Frame, times: crate::gpu::kernel::RunTimes| {
             frame.fill_samples(samples);
             let summary = match readback.maps() {
                 true => crate::stats::Summary::of(&frame),
                 false => SummaryBuilder::new(frame.width).finish(),
             };
-            let stats = self.stats(
+            let mut stats = self.stats(
                 (frame.width, frame.height),
                 (times.seconds, times.gpu_seconds),
                 summary,
             );
+            stats.kernel = kernel.clone();
             sink(frame, stats)
         };
         self.in_precision()

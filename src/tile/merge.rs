@@ -82,6 +82,17 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
         Display::of(&scene).show(&mut whole);
     }
     let [backend, adapter, precision, precision_reason] = made_by;
+    // The kernel a GPU render of the whole scene records: this binary's composition of it.
+    #[cfg(not(feature = "gpu"))]
+    let kernel = None;
+    #[cfg(feature = "gpu")]
+    let kernel = (backend == "gpu").then(|| {
+        let precision = match precision.as_str() {
+            "f64" => crate::Precision::F64,
+            _ => crate::Precision::F32,
+        };
+        crate::gpu::scene_kernel::kernel_stats(&scene, Picture::SHADED, precision)
+    });
     let stats = RenderStats {
         backend,
         adapter,
@@ -94,6 +105,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
         environment_seconds: scene.loaded.environment.as_ref().map(|e| e.seconds),
         denoise: None,
         target: None,
+        kernel,
         summary: Summary::of(&whole),
     };
     Ok((scene, whole, stats))

@@ -16,6 +16,7 @@ mod shaders;
 mod twins;
 mod web;
 mod web_estimate;
+mod web_kernels;
 
 use std::path::{Path, PathBuf};
 

@@ -5,9 +5,7 @@ use std::mem::offset_of;
 
 use qjulia::algebra::Real;
 use qjulia::cpu::trace::{NORMAL_LIMIT, TINY};
-use qjulia::gpu::shaders::{
-    ALGEBRA_WGSL, ALL_MODULES, ShaderModuleSource, TRACE_MODULE, validate_wgsl,
-};
+use qjulia::gpu::shaders::{ALL_MODULES, ShaderModuleSource, TRACE_MODULE, validate_wgsl};
 use qjulia::uniform::Layout;
 
 use crate::common;
@@ -20,28 +18,41 @@ fn every_module_validates() {
             panic!("shader module {} does not validate:\n{e}", module.name);
         }
     }
-    // The library file stands alone too, after either prelude.
-    use qjulia::gpu::shaders::{REAL32_WGSL, REAL64_WGSL};
-    for prelude in [REAL32_WGSL, REAL64_WGSL] {
-        validate_wgsl(&format!("{prelude}\n{ALGEBRA_WGSL}"))
-            .expect("algebra.wgsl validates after a prelude");
-    }
 }
 
+/// shaders/ holds exactly the files the binary composes from, and each is in some kernel, so that
+/// naga validates it.
 #[test]
 fn every_wgsl_file_is_part_of_a_validated_module() {
+    use qjulia::gpu::shaders::{FILES, declaration};
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "wgsl") {
-            let text = std::fs::read_to_string(&path).unwrap();
-            let used = ALL_MODULES.iter().any(|m| m.parts.contains(&text.as_str()));
-            assert!(
-                used,
-                "{} is in no shader module, so nothing validates it",
-                path.display()
-            );
-        }
+    let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    on_disk.sort();
+    let listed: Vec<&str> = FILES.iter().map(|f| f.0).collect();
+    assert_eq!(
+        on_disk, listed,
+        "src/gpu/shaders.rs's FILES is shaders/, sorted"
+    );
+    let d = declaration();
+    let composed: Vec<Vec<String>> = d
+        .kernels
+        .iter()
+        .map(|k| d.compose(k).unwrap().files)
+        .collect();
+    for (name, text) in FILES {
+        assert!(
+            !text.contains('\r'),
+            "shaders/{name}.wgsl has a carriage return"
+        );
+        assert!(
+            composed.iter().any(|files| files.iter().any(|f| f == name)),
+            "shaders/{name}.wgsl is in no kernel, so nothing validates it"
+        );
     }
 }
 

@@ -18,6 +18,7 @@ mod common;
 mod faults;
 mod fuzz_findings;
 mod hdr;
+mod kernel;
 mod kills;
 mod lost_device;
 mod mesh;

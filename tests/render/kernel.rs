@@ -33,10 +33,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 const ACCUMULATE: KernelSpec = KernelSpec {
     name: "accumulate",
-    module: ShaderModuleSource {
-        name: "accumulate",
-        parts: &[ACCUMULATE_WGSL],
-    },
+    module: ShaderModuleSource::text("accumulate", ACCUMULATE_WGSL),
     entry_point: "main",
     uniform_bytes: 16,
     outputs: &[

@@ -1,0 +1,168 @@
+//! The kernels a scene runs on the GPU, as `qjulia kernel` shows them and `--stats` names them:
+//! each one's composed WGSL (what the host parses), its size and fingerprint, the override
+//! constants the scene's variant sets, and what the host does to the module after the text.
+
+use serde::{Serialize, Serializer};
+
+use super::shaders::{
+    DENOISE_MODULE, JULIA2D_MODULE, JULIA2D64_MODULE, PATH_MODULE, PATH64_MODULE,
+    ShaderModuleSource, TRACE_MODULE, TRACE64_MODULE, declaration,
+};
+use super::variant::{self, Variant};
+use crate::params::TraceParams;
+use crate::picture::Picture;
+use crate::precision::Precision;
+use crate::scene::{Denoiser, Scene};
+
+/// One kernel of a scene: what `qjulia kernel --json` prints for it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneKernel {
+    /// The kernel's name in shaders/kernels.json.
+    pub name: &'static str,
+    /// The entry point the host runs.
+    pub entry: String,
+    /// The files composed into it, in the order they were appended.
+    pub files: Vec<String>,
+    /// The composed text's size in bytes and its 64-bit FNV-1a fingerprint (16 hex digits).
+    pub bytes: usize,
+    pub fingerprint: String,
+    /// The override constants the scene's variant sets (none where `QJULIA_SPECIALISE=0`), in
+    /// the numbers wgpu's `constants` map takes.
+    #[serde(serialize_with = "in_order")]
+    pub overrides: Vec<(&'static str, f64)>,
+    /// What the host does after the text, in order, one line each.
+    pub after: Vec<String>,
+    /// The composed WGSL.
+    pub text: String,
+}
+
+/// The kernel that draws `picture` of `scene` in `precision`: the 2D view's, the path tracer's
+/// or the tracer's.
+pub fn picture_module(scene: &Scene, picture: Picture, precision: Precision) -> ShaderModuleSource {
+    let f64 = precision == Precision::F64;
+    match picture {
+        Picture::Julia2d if f64 => JULIA2D64_MODULE,
+        Picture::Julia2d => JULIA2D_MODULE,
+        _ if picture.path_traced(scene) && f64 => PATH64_MODULE,
+        _ if picture.path_traced(scene) => PATH_MODULE,
+        _ if f64 => TRACE64_MODULE,
+        _ => TRACE_MODULE,
+    }
+}
+
+/// The kernels a render of `picture` of `scene` in `precision` runs: the picture's, then the
+/// denoiser's where `image.denoise` asks for it.
+pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> Vec<SceneKernel> {
+    let module = picture_module(scene, picture, precision);
+    let specialised = variant::specialise_from_env();
+    let overrides = match (specialised, module.name) {
+        (false, _) | (_, "julia2d" | "julia2d64") => Vec::new(),
+        _ => {
+            let p = TraceParams::<f64>::new(scene);
+            match picture.path_traced(scene) {
+                true => Variant::of_path(&p).constants(),
+                false => Variant::of(&p, picture == Picture::SHADED).constants(),
+            }
+        }
+    };
+    let mut after = Vec::new();
+    if module.name != "julia2d" && module.name != "julia2d64" {
+        after.push(
+            "the host adds INTERLEAVE and COMPACT (the device's choices), AOVS = 1 where the \
+             render reads the AOVs back, and BAKE_VALUES where it bakes the scene's numbers \
+             (QJULIA_BAKE)"
+                .to_string(),
+        );
+    }
+    if precision == Precision::F64 {
+        after.push("the f64 check's repairs, which the device chooses at start-up".into());
+    }
+    if specialised {
+        after.push(
+            "naga applies the constants and removes the branches they decide, and what no \
+             entry point reaches (src/gpu/kernel/specialise.rs)"
+                .into(),
+        );
+    }
+    after.push(
+        "where the driver mistreats uniforms, they become read-only storage \
+         (QJULIA_UNIFORMS_AS_STORAGE)"
+            .into(),
+    );
+    let mut kernels = vec![describe(module, overrides, after)];
+    if picture != Picture::Julia2d && scene.image.denoise == Denoiser::Atrous {
+        kernels.push(describe(DENOISE_MODULE, Vec::new(), Vec::new()));
+    }
+    kernels
+}
+
+/// What `--stats` records of the kernel that draws `picture` of `scene` in `precision`.
+pub fn kernel_stats(
+    scene: &Scene,
+    picture: Picture,
+    precision: Precision,
+) -> crate::stats::KernelStats {
+    let module = picture_module(scene, picture, precision);
+    let (bytes, fingerprint) = module.size_and_fingerprint();
+    crate::stats::KernelStats {
+        name: module.name.to_string(),
+        bytes,
+        fingerprint,
+    }
+}
+
+fn describe(
+    module: ShaderModuleSource,
+    overrides: Vec<(&'static str, f64)>,
+    after: Vec<String>,
+) -> SceneKernel {
+    let d = declaration();
+    let declared = d.kernel(module.name).expect("every module is declared");
+    let composed = d.compose(declared).expect("every kernel composes");
+    SceneKernel {
+        name: module.name,
+        entry: declared.entry.clone(),
+        files: composed.files,
+        bytes: composed.text.len(),
+        fingerprint: super::compose::fingerprint(composed.text.as_bytes()),
+        overrides,
+        after,
+        text: composed.text,
+    }
+}
+
+impl SceneKernel {
+    /// The kernel as `qjulia kernel` prints it: a header of `//` lines (name, entry point, size,
+    /// fingerprint, files, overrides, what follows), then the text.
+    pub fn to_text(&self) -> String {
+        let mut out = format!(
+            "// qjulia kernel {} (entry point {}): {} bytes, fingerprint {}\n// files: {}\n",
+            self.name,
+            self.entry,
+            self.bytes,
+            self.fingerprint,
+            self.files.join(" ")
+        );
+        if !self.overrides.is_empty() {
+            let pairs: Vec<String> = self
+                .overrides
+                .iter()
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect();
+            out.push_str(&format!("// overrides: {}\n", pairs.join(", ")));
+        }
+        for line in &self.after {
+            out.push_str(&format!("// then: {line}\n"));
+        }
+        out.push_str(&self.text);
+        if !self.text.ends_with('\n') {
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// Pairs as a JSON object, in their order.
+fn in_order<S: Serializer>(pairs: &[(&'static str, f64)], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_map(pairs.iter().map(|(k, v)| (k, v)))
+}

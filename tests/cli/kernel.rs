@@ -1,0 +1,151 @@
+//! `qjulia kernel`: the WGSL a render of a scene hands the GPU, composed for it. Each kernel the
+//! scene runs, in order, with its header; the text validates with naga, its size and fingerprint
+//! are its own; `--precision` and `--json` as the contract gives them; and a GPU render's
+//! `--stats` names the same kernel, a CPU render's none.
+
+use qjulia::gpu::compose::fingerprint;
+use qjulia::gpu::shaders::validate_wgsl;
+use serde_json::Value;
+
+use crate::common::{assert_refused, qjulia, stderr};
+
+/// `qjulia kernel --json` with `args`, parsed.
+fn kernels(args: &[&str]) -> Vec<Value> {
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(dir.path(), &[&["kernel", "--json"], args].concat());
+    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
+}
+
+fn names(kernels: &[Value]) -> Vec<&str> {
+    kernels
+        .iter()
+        .map(|k| k["name"].as_str().unwrap())
+        .collect()
+}
+
+fn files(kernel: &Value) -> Vec<&str> {
+    let files = kernel["files"].as_array().unwrap();
+    files.iter().map(|f| f.as_str().unwrap()).collect()
+}
+
+#[test]
+fn each_scene_gets_its_kernels() {
+    let seed = kernels(&[]);
+    assert_eq!(names(&seed), ["trace"]);
+    let trace = &seed[0];
+    assert_eq!(trace["entry"], "main");
+    assert_eq!(
+        files(trace),
+        [
+            "real32",
+            "real",
+            "algebra",
+            "params",
+            "environment",
+            "trace"
+        ]
+    );
+    let text = trace["text"].as_str().unwrap();
+    assert_eq!(trace["bytes"].as_u64().unwrap() as usize, text.len());
+    assert_eq!(trace["fingerprint"], fingerprint(text.as_bytes()));
+    assert_eq!(trace["overrides"]["SPECIALISED"], 1.0);
+    assert_eq!(
+        trace["overrides"]["SHADOWS"], 1.0,
+        "the seed's look has its shadow"
+    );
+    validate_wgsl(text).unwrap();
+
+    let path = kernels(&["--preset", "path-traced"]);
+    assert_eq!(names(&path), ["path"]);
+    assert_eq!(path[0]["entry"], "path_main");
+    for file in ["bsdf", "ggx_albedo", "light", "medium", "sobol", "path"] {
+        assert!(files(&path[0]).contains(&file), "{file}");
+    }
+    let denoised = kernels(&[
+        "--preset",
+        "path-traced",
+        "--set",
+        "image.denoise=\"atrous\"",
+    ]);
+    assert_eq!(names(&denoised), ["path", "denoise"]);
+    assert_eq!(denoised[1]["entry"], "atrous_main");
+
+    let f64 = kernels(&["--precision", "f64"]);
+    assert_eq!(names(&f64), ["trace64"]);
+    assert!(files(&f64[0]).contains(&"real64") && !files(&f64[0]).contains(&"real32"));
+    assert!(f64[0]["after"].to_string().contains("f64 check"));
+    let path64 = kernels(&["--preset", "path-traced", "--precision", "f64"]);
+    assert_eq!(names(&path64), ["path64"]);
+}
+
+#[test]
+fn the_text_is_valid_wgsl_with_its_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = qjulia(dir.path(), &["kernel", "--preset", "path-traced"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let json = kernels(&["--preset", "path-traced"]);
+    let first = text.lines().next().unwrap();
+    assert_eq!(
+        first,
+        format!(
+            "// qjulia kernel path (entry point path_main): {} bytes, fingerprint {}",
+            json[0]["bytes"],
+            json[0]["fingerprint"].as_str().unwrap()
+        )
+    );
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("// overrides: SPECIALISED = 1, "))
+    );
+    assert!(text.ends_with(json[0]["text"].as_str().unwrap()));
+    validate_wgsl(&text).unwrap();
+}
+
+#[test]
+fn bad_scenes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_refused(
+        dir.path(),
+        &["kernel", "--set", "image.width=0"],
+        "error: ",
+        "image.width",
+    );
+    assert_refused(
+        dir.path(),
+        &["kernel", "--preset", "nope"],
+        "error: ",
+        "nope",
+    );
+}
+
+#[test]
+fn stats_name_the_kernel_on_the_gpu_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let stats = |backend: &str| -> Value {
+        let args = [
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--stats",
+            "s.json",
+            "--backend",
+        ];
+        let out = qjulia(dir.path(), &[&args[..], &[backend]].concat());
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap()
+    };
+    let cpu = stats("cpu");
+    assert!(cpu.get("kernel").is_none() && cpu.get("kernel_fingerprint").is_none());
+    if crate::common::gpu("stats_name_the_kernel_on_the_gpu_only").is_none() {
+        return;
+    }
+    let gpu = stats("gpu");
+    let trace = &kernels(&[])[0];
+    assert_eq!(gpu["kernel"], "trace");
+    assert_eq!(gpu["kernel_bytes"], trace["bytes"]);
+    assert_eq!(gpu["kernel_fingerprint"], trace["fingerprint"]);
+}
