@@ -195,10 +195,15 @@ pub fn features_tested<'t>(texts: impl IntoIterator<Item = &'t str>) -> BTreeSet
 /// The 64-bit FNV-1a hash of `bytes`, as 16 lowercase hex digits: a kernel's fingerprint in
 /// `--stats` and `qjulia kernel` (web/src/compose.ts has the twin).
 pub fn fingerprint(bytes: &[u8]) -> String {
+    format!("{:016x}", fnv1a(bytes))
+}
+
+/// The 64-bit FNV-1a hash of `bytes` (the `fnv` crate's).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
     use std::hash::Hasher as _;
     let mut h = fnv::FnvHasher::default();
     h.write(bytes);
-    format!("{:016x}", h.finish())
+    h.finish()
 }
 
 #[cfg(test)]

@@ -44,9 +44,7 @@ pub fn cache_dir() -> Option<PathBuf> {
 
 /// FNV-1a, 64 bits.
 fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
+    super::compose::fnv1a(bytes)
 }
 
 /// The hash of what the pipelines are made of: every module's source, this build's version and
