@@ -100,7 +100,7 @@ struct Light {
 }
 
 // A path sample's stream and its index in it, as (stream, index): wherever a pixel takes two
-// samples or more, adaptively or not, sample k is sample k / 2 of stream k % 2 (trace.wgsl's
+// samples or more, adaptively or not, sample k is sample k / 2 of stream k % 2 (accumulate.wgsl's
 // sample_stream when adaptive), so that the pixel's two halves (Halves) are drawn independently
 // and their disagreement is its error estimate; a single sample is stream 0's.
 fn path_stream(k: u32) -> vec2<u32> {
@@ -581,7 +581,7 @@ fn sample_valid(c: vec3<f32>) -> bool {
 // sample 0 gives the depth and the steps (where the lens is open, the pinhole ray's through the
 // pixel's centre, traced for them alone). A sample whose radiance is not valid (sample_valid) is
 // dropped: counted in out_colour's word, and left out of the pixel's halves, its M2, its AOVs and
-// its adaptive state. Adaptively (trace.wgsl's `adaptive`) the samples go to the pixel's two
+// its adaptive state. Adaptively (accumulate.wgsl's `adaptive`) the samples go to the pixel's two
 // streams instead (add_to_streams), the AOVs take the samples that join the streams' colours,
 // and the pixel stops after the sample that leaves it done (sampling_done), showing
 // streams_mean; a later dispatch leaves it at once, or with COMPACT gives its invocation to a
@@ -592,7 +592,7 @@ fn path_main(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    // With compaction (trace.wgsl's COMPACT) the block's live pixels, packed.
+    // With compaction (params.wgsl's COMPACT) the block's live pixels, packed.
     let pixel = compacted_pixel(gid, wid, lid);
     let i = pixel.x;
     let row = pixel.y;
@@ -607,7 +607,7 @@ fn path_main(
     var halves = Halves(vec4<f32>(0.0), vec4<f32>(0.0));
     var made = vec4<u32>(0u);
     var aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
-    // Adaptively (trace.wgsl's `adaptive`), the pixel's streams (add_to_streams).
+    // Adaptively (accumulate.wgsl's `adaptive`), the pixel's streams (add_to_streams).
     var streams = Streams(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     // The samples dropped so far, and the counter word's exhausted rays of earlier dispatches.
     var dropped = 0u;
