@@ -66,7 +66,7 @@ fn lens_position(k: u32) -> vec2<f32> {
 // sample k / 2 of stream k % 2, as (stream, index). Each stream's stop is decided by its own
 // samples and applied to the other's mean (add_to_streams), so that no half of what the pixel
 // shows depends on its own stop. Without adaptive sampling every sample is stream 0's: (0, k)
-// (phong mode; path mode has both streams anyway: path.wgsl's path_stream).
+// (phong mode; path mode has both streams anyway: path_uniform.wgsl's path_stream).
 fn sample_stream(k: u32) -> vec2<u32> {
     if adaptive() {
         return vec2<u32>(k & 1u, k >> 1u);

@@ -51,7 +51,7 @@ pub struct GpuParamsJson {
     /// What this precision cannot resolve in the 2D view (`precision::julia2d_warnings`), each
     /// warning's line (the browser's 2D zoom stops there).
     pub julia2d_warnings: Vec<String>,
-    /// The path tracer's own uniform (`struct PathParams` of shaders/path.wgsl, binding 7, f32
+    /// The path tracer's own uniform (`struct PathParams` of shaders/path_uniform.wgsl, binding 7, f32
     /// in either precision): its layout and bytes, whatever the model (path mode reads it).
     pub path: UniformJson,
 }

@@ -53,6 +53,14 @@ pub const FILES: &[(&str, &str)] = &[
     ("normal", include_str!("../../shaders/normal.wgsl")),
     ("params", include_str!("../../shaders/params.wgsl")),
     ("path", include_str!("../../shaders/path.wgsl")),
+    (
+        "path_uniform",
+        include_str!("../../shaders/path_uniform.wgsl"),
+    ),
+    (
+        "path_vertex",
+        include_str!("../../shaders/path_vertex.wgsl"),
+    ),
     ("real", include_str!("../../shaders/real.wgsl")),
     ("real32", include_str!("../../shaders/real32.wgsl")),
     ("real64", include_str!("../../shaders/real64.wgsl")),

@@ -318,7 +318,48 @@ const GGX_ALBEDO: Twin = Twin {
 
 const PATH: Twin = Twin {
     wgsl: "shaders/path.wgsl",
-    rust: "src/cpu/path.rs",
+    rust: "src/cpu/path/mod.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "trace_path_from",
+            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
+                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
+                     signature its callers use, traces the camera ray and calls this",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "path_main",
+            reason: "the entry point: the samples' running mean and the writes; on the CPU \
+                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
+                     `trace_path_from` as it does",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "render_path_rows",
+            reason: "the CPU's `path_main`: rows in parallel, each pixel's running mean of \
+                     `trace_path`, as the entry point keeps it",
+        },
+    ],
+};
+
+const PATH_UNIFORM: Twin = Twin {
+    wgsl: "shaders/path_uniform.wgsl",
+    rust: "src/cpu/path/uniform.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "new",
+        reason: "the host makes `PathParams` of a scene; the shader reads it as a uniform",
+    }],
+};
+
+const PATH_VERTEX: Twin = Twin {
+    wgsl: "shaders/path_vertex.wgsl",
+    rust: "src/cpu/path/vertex.rs",
     rust_from: None,
     rust_from_reason: "",
     only_in: &[
@@ -337,31 +378,6 @@ const PATH: Twin = Twin {
             name: "none",
             reason: "a `Light` of no light; WGSL writes the literal \
                      `Light(vec3<f32>(0.0), vec3<f32>(0.0))`",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "trace_path_from",
-            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
-                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
-                     signature its callers use, traces the camera ray and calls this",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "path_main",
-            reason: "the entry point: the samples' running mean and the writes; on the CPU \
-                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
-                     `trace_path_from` as it does",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "new",
-            reason: "the host makes `PathParams` of a scene; the shader reads it as a uniform",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "render_path_rows",
-            reason: "the CPU's `path_main`: rows in parallel, each pixel's running mean of \
-                     `trace_path`, as the entry point keeps it",
         },
     ],
 };
@@ -710,6 +726,16 @@ fn path_twins_match() {
 }
 
 #[test]
+fn path_uniform_twins_match() {
+    check(&PATH_UNIFORM);
+}
+
+#[test]
+fn path_vertex_twins_match() {
+    check(&PATH_VERTEX);
+}
+
+#[test]
 fn denoise_twins_match() {
     check(&DENOISE);
 }
@@ -736,6 +762,8 @@ fn every_exception_has_a_reason() {
         &ENVIRONMENT,
         &MEDIUM,
         &PATH,
+        &PATH_UNIFORM,
+        &PATH_VERTEX,
         &DENOISE,
     ] {
         for only in twin.only_in {
