@@ -4,7 +4,7 @@
 //! bound by the iterations' arithmetic (interleaving would not help), an earlier estimate a
 //! latency chain (about 114 lane-cycles an iteration: two independent chains would overlap).
 //! It paid, and the kernels now pair their camera rays (`sphere_trace_pair` in
-//! shaders/trace.wgsl, the `INTERLEAVE` override); this stays as the isolated measurement of the
+//! shaders/march.wgsl, the `INTERLEAVE` override); this stays as the isolated measurement of the
 //! fused loops alone, without the cut, over-relaxation or shading.
 //!
 //! Both entry points sphere-trace the camera rays of samples 0..S of every pixel (quaternions,

@@ -1,7 +1,7 @@
 //! The floor's probe (issue 37, item 3): how many of the seed's quaternion iterations this
 //! machine's adapter makes a second at best, for `scripts/floor.sh` to compare a render with.
 //!
-//! The kernel is `iterate_orbit`'s loop for a quaternion in f32 (shaders/trace.wgsl):
+//! The kernel is `iterate_orbit`'s loop for a quaternion in f32 (shaders/estimate.wgsl):
 //! z <- z^2 + c, |z|^2, |z'|^2 <- s |z|^2 |z'|^2 and the two tests that end an orbit, with the
 //! loop counter. Unlike a render, every lane makes exactly the same number of iterations: no lane
 //! waits for another, no ray is traced, nothing but the loop is timed. The scene's values are

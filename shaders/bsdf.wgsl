@@ -242,7 +242,7 @@ fn ggx_reflection(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 }
 
 // The specular part of bsdf_eval: the GGX lobe and the multiple-scattering lobe, the light the
-// surface reflects without letting it in (the denoiser's specular signal, path.wgsl's
+// surface reflects without letting it in (the denoiser's specular signal, path_vertex.wgsl's
 // `Light`); 0 without a specular lobe or unless both directions lie above the surface.
 fn bsdf_specular(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if wo.z <= 0.0 || wi.z <= 0.0 || !has_specular_lobe(m) {

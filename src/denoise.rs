@@ -73,7 +73,7 @@ pub fn demodulation(albedo: [f32; 3], hit_fraction: f32) -> [f32; 3] {
 }
 
 /// The fraction of the samples a pixel took (`samples`; adaptively, its AOVs' hits are taken to
-/// those: trace.wgsl's `finish_aovs`) whose primary ray hit, from the AOVs' count of them; in
+/// those: accumulate.wgsl's `finish_aovs`) whose primary ray hit, from the AOVs' count of them; in
 /// [0, 1], 0 without samples.
 pub fn hit_fraction(hits: f32, samples: u32) -> f32 {
     match samples {
@@ -237,7 +237,7 @@ fn prepare_signals(frame: &Frame, samples: u32, split: Option<Material<f32>>) ->
     );
     let (w, h) = (frame.width as usize, frame.height as usize);
     // Each pixel's hit fraction, of the samples it took (an adaptive pixel's hits are taken to
-    // those: trace.wgsl's `finish_aovs`).
+    // those: accumulate.wgsl's `finish_aovs`).
     let fraction: Vec<f32> = (0..pixels)
         .into_par_iter()
         .map(|k| hit_fraction(frame.hits[k], frame.samples_of(k, samples)))
@@ -249,7 +249,7 @@ fn prepare_signals(frame: &Frame, samples: u32, split: Option<Material<f32>>) ->
     let hit: Vec<bool> = fraction.par_iter().map(|&f| guide_hit(f)).collect();
     let variance: Vec<f32> = if samples >= 2 {
         // Each pixel's own count: adaptive sampling stops pixels at different ones (and takes
-        // its M2 to the count it took: trace.wgsl's `finish_aovs`).
+        // its M2 to the count it took: accumulate.wgsl's `finish_aovs`).
         frame
             .luminance_m2
             .par_iter()

@@ -44,7 +44,7 @@ pub struct Frame {
     pub luminance_m2: Vec<f32>,
     /// The AOVs: how many of the samples the pixel's mean holds hit (its hit fraction, times
     /// those samples: all it kept; with adaptive sampling, taken to the samples it took:
-    /// trace.wgsl's `finish_aovs`); the denoiser's
+    /// accumulate.wgsl's `finish_aovs`); the denoiser's
     /// demodulation and guide. Empty where the AOVs were not asked for.
     pub hits: Vec<f32>,
     /// The AOVs: the depth of the hits (the primary ray's t, through the lens where it is
@@ -64,7 +64,7 @@ pub struct Frame {
     /// (`--hdr`'s `noisy.R/G/B`); [`Self::linear`] is then the denoised image. Empty otherwise.
     pub noisy: Vec<[f32; 3]>,
     /// Path mode: each pixel's two halves, the mean colours of its two independently drawn
-    /// streams (shaders/trace.wgsl's `Halves`), whose disagreement is its error estimate
+    /// streams (shaders/accumulate.wgsl's `Halves`), whose disagreement is its error estimate
     /// ([`crate::estimate::half_variance`]); NaN in a half that holds no sample. What the pixel
     /// shows (before a denoiser) is their mean, or the one half where the other is empty. Empty
     /// in phong mode and where the accumulator was not read back.

@@ -1,7 +1,7 @@
 //! What the kernels need of a scene, precomputed once on the host (in f64) and then rounded to
 //! the precision they run in, each uniform declared once ([`crate::uniform`]): the host
 //! parameters the CPU twin reads, with the camera frame and the slice's bounding ball already
-//! worked out, and their images, the uniforms the GPU reads (`Params` of shaders/trace.wgsl,
+//! worked out, and their images, the uniforms the GPU reads (`Params` of shaders/params.wgsl,
 //! `Julia2dParams` of shaders/julia2d.wgsl).
 
 use std::sync::Arc;
@@ -13,7 +13,7 @@ use crate::uniform::uniform;
 
 uniform! {
     /// The tracer's inputs in precision `F`, as the CPU twin reads them. Field names are those
-    /// of `Params` in shaders/trace.wgsl, in its order; [`GpuParams`] and [`GpuParams64`] are
+    /// of `Params` in shaders/params.wgsl, in its order; [`GpuParams`] and [`GpuParams64`] are
     /// its images, made from this one table.
     #[derive(Clone, Debug, PartialEq)]
     pub struct TraceParams<F> for "Params";

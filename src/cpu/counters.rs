@@ -1,6 +1,6 @@
 //! The work counters of the CPU tracers, per thread: distance estimates, and quaternion
-//! iterations (z <- z^2 + c, in estimates and normals). The tracers count into them (trace.rs,
-//! path.rs); `count_work` and the row renderers in cpu/mod.rs read them.
+//! iterations (z <- z^2 + c, in estimates and normals). The tracers count into them (trace/,
+//! path/); `count_work` and the row renderers in cpu/mod.rs read them.
 
 use std::cell::Cell;
 

@@ -15,7 +15,7 @@ pub mod sample;
 pub mod sobol;
 pub mod trace;
 
-// The counters live in a module of their own: the tracers (trace.rs, path.rs) count into them
+// The counters live in a module of their own: the tracers (trace/, path/) count into them
 // and this module, which calls the tracers, reads them.
 pub(crate) use counters::{ESTIMATES, ITERATIONS};
 

@@ -80,7 +80,7 @@ const STEPS_OUTPUT: usize = 2;
 const WORK_OUTPUT: usize = IMAGE_OUTPUTS.len();
 /// Where the running mean of the samples (`accumulated`) is among the tracer's outputs.
 pub const ACCUMULATED_OUTPUT: usize = WORK_OUTPUT + 1;
-/// Where the AOVs (four `vec4<f32>` a pixel, trace.wgsl's `store_aovs`) are among the
+/// Where the AOVs (four `vec4<f32>` a pixel, accumulate.wgsl's `store_aovs`) are among the
 /// tracer's outputs.
 pub const AOVS_OUTPUT: usize = ACCUMULATED_OUTPUT + 1;
 
@@ -110,8 +110,8 @@ pub const TRACE64_OUTPUTS: [OutputSpec; 6] = [
 /// The tracer's outputs: the image's three, the work made per pixel (trace.wgsl's `out_work`:
 /// the distance estimates and the quaternion iterations, each a u64 as two u32s), the running
 /// mean of the samples' colours (`vec4<f32>`, then three more planes for adaptive sampling's
-/// streams, trace.wgsl's `Streams`, which stay on the device), and on demand the AOVs
-/// (four `vec4<f32>` a pixel: trace.wgsl's `store_aovs`). Six storage buffers, within
+/// streams, accumulate.wgsl's `Streams`, which stay on the device), and on demand the AOVs
+/// (four `vec4<f32>` a pixel: accumulate.wgsl's `store_aovs`). Six storage buffers, within
 /// WebGPU's default of eight a stage.
 pub const TRACE_OUTPUTS: [OutputSpec; 6] = [
     IMAGE_OUTPUTS[0],
@@ -335,7 +335,7 @@ pub(crate) fn decode_frame(width: u32, band: &BandOutput<'_>, kept: Accumulated)
     };
     // The accumulator where it was read back, its planes one after another: path mode's mean
     // linear radiance, adaptive sampling's samples (a done pixel's fourth float is minus its
-    // samples), then the pixels' halves (trace.wgsl's store_halves).
+    // samples), then the pixels' halves (accumulate.wgsl's store_halves).
     let planes: &[[f32; 4]] = output(band, ACCUMULATED_OUTPUT);
     let (accumulated, halves) = planes.split_at(planes.len().min(pixels));
     let radiance: &[[f32; 4]] = if kept.radiance { accumulated } else { &[] };

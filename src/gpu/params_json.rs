@@ -25,7 +25,7 @@ pub struct GpuParamsJson {
     pub scene: String,
     /// "f32" or "f64": the module (shaders/real32.wgsl or real64.wgsl in front) and the layout.
     pub precision: &'static str,
-    /// WGSL `struct Params` of shaders/trace.wgsl in this precision.
+    /// WGSL `struct Params` of shaders/params.wgsl in this precision.
     pub layout: Layout,
     /// The uniform of the first dispatch, lowercase hex, two digits a byte in memory order
     /// (little-endian): row_offset 0, row_count = height, row_stride = width, out_row 0, the
@@ -51,7 +51,7 @@ pub struct GpuParamsJson {
     /// What this precision cannot resolve in the 2D view (`precision::julia2d_warnings`), each
     /// warning's line (the browser's 2D zoom stops there).
     pub julia2d_warnings: Vec<String>,
-    /// The path tracer's own uniform (`struct PathParams` of shaders/path.wgsl, binding 7, f32
+    /// The path tracer's own uniform (`struct PathParams` of shaders/path_uniform.wgsl, binding 7, f32
     /// in either precision): its layout and bytes, whatever the model (path mode reads it).
     pub path: UniformJson,
 }

@@ -24,7 +24,7 @@ use crate::frame::Frame;
 use crate::params::TraceParams;
 use crate::uniform::{FieldLayout, Layout};
 
-/// shaders/path.wgsl's `PathParams` (binding 7; keep in sync). Its CPU twin is
+/// shaders/path_uniform.wgsl's `PathParams` (binding 7; keep in sync). Its CPU twin is
 /// [`PathParams`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -59,7 +59,7 @@ pub struct GpuPathParams {
 }
 
 impl GpuPathParams {
-    /// shaders/path.wgsl's `struct PathParams` as WGSL lays it out (tests/architecture/shaders.rs holds it
+    /// shaders/path_uniform.wgsl's `struct PathParams` as WGSL lays it out (tests/architecture/shaders.rs holds it
     /// against naga's reflection and against this struct's offsets; `qjulia gpu-params --json`
     /// prints it for the browser's host).
     pub const LAYOUT: Layout = Layout {

@@ -30,25 +30,42 @@ use super::compose::{Composed, Composer, fingerprint};
 
 /// Every file of shaders/ by its stem (a test holds the list to the folder).
 pub const FILES: &[(&str, &str)] = &[
+    ("accumulate", include_str!("../../shaders/accumulate.wgsl")),
     ("algebra", include_str!("../../shaders/algebra.wgsl")),
+    ("atmosphere", include_str!("../../shaders/atmosphere.wgsl")),
     ("bsdf", include_str!("../../shaders/bsdf.wgsl")),
     ("bsdf_probe", include_str!("../../shaders/bsdf_probe.wgsl")),
+    ("camera", include_str!("../../shaders/camera.wgsl")),
+    ("colour", include_str!("../../shaders/colour.wgsl")),
+    ("cut", include_str!("../../shaders/cut.wgsl")),
     ("denoise", include_str!("../../shaders/denoise.wgsl")),
     (
         "environment",
         include_str!("../../shaders/environment.wgsl"),
     ),
+    ("estimate", include_str!("../../shaders/estimate.wgsl")),
     ("f64check", include_str!("../../shaders/f64check.wgsl")),
     ("ggx_albedo", include_str!("../../shaders/ggx_albedo.wgsl")),
     ("julia2d", include_str!("../../shaders/julia2d.wgsl")),
     ("light", include_str!("../../shaders/light.wgsl")),
+    ("march", include_str!("../../shaders/march.wgsl")),
     ("medium", include_str!("../../shaders/medium.wgsl")),
+    ("normal", include_str!("../../shaders/normal.wgsl")),
     ("params", include_str!("../../shaders/params.wgsl")),
     ("path", include_str!("../../shaders/path.wgsl")),
+    (
+        "path_uniform",
+        include_str!("../../shaders/path_uniform.wgsl"),
+    ),
+    (
+        "path_vertex",
+        include_str!("../../shaders/path_vertex.wgsl"),
+    ),
     ("real", include_str!("../../shaders/real.wgsl")),
     ("real32", include_str!("../../shaders/real32.wgsl")),
     ("real64", include_str!("../../shaders/real64.wgsl")),
     ("sample", include_str!("../../shaders/sample.wgsl")),
+    ("shading", include_str!("../../shaders/shading.wgsl")),
     ("sobol", include_str!("../../shaders/sobol.wgsl")),
     (
         "sobol_probe",

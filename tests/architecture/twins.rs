@@ -38,50 +38,58 @@ struct Twin {
 
 const TRACE: Twin = Twin {
     wgsl: "shaders/trace.wgsl",
-    rust: "src/cpu/trace.rs",
+    rust: "src/cpu/trace/mod.rs",
     rust_from: None,
     rust_from_reason: "",
     only_in: &[
-        OnlyIn {
-            side: Side::Rust,
-            name: "untraced",
-            reason: "a Trace of a ray not traced; WGSL writes the literal \
-                     `Trace(0.0, 0u, false, NO_APPROACH)`",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "algebra_parts",
-            reason: "returns the ALGEBRA_PARTS override when specialised; the CPU reads \
-                     `algebra_parts` from its parameters",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "load_streams",
-            reason: "reads a pixel's streams from the accumulator's four planes in the storage \
-                     array (arrayLength); the CPU keeps a pixel's streams in a local",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "store_streams",
-            reason: "as load_streams, writing them back (a done pixel's first plane and its \
-                     halves)",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "load_halves",
-            reason: "reads a pixel's halves from the accumulator's second and third planes; the \
-                     CPU keeps them in a local",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "store_halves",
-            reason: "as load_halves, writing them back",
-        },
         OnlyIn {
             side: Side::Wgsl,
             name: "add_work",
             reason: "adds a dispatch's counts to the pixel's 64-bit counts held as two u32 \
                      words each; the CPU counts into u64s (cpu::counters)",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "compacted_pixel",
+            reason: "packs a workgroup's live pixels into its first invocations (adaptive \
+                     sampling's compaction); the CPU has no lanes to pack: `cpu::render_rows` \
+                     skips a done pixel's samples by breaking out of its loop",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "cone_tracing",
+            reason: "returns the CONE_TRACING override when specialised; on the CPU \
+                     `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "main",
+            reason: "the entry point: a workgroup's cone start, then one pixel traced and \
+                     written; on the CPU `cpu::render_rows` in src/cpu/mod.rs (rows in \
+                     parallel, `cone_starts` per row, `trace_pixel`, `pack_colour`, the writes)",
+        },
+    ],
+};
+
+const CUT: Twin = Twin {
+    wgsl: "shaders/cut.wgsl",
+    rust: "src/cpu/trace/cut.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const ESTIMATE: Twin = Twin {
+    wgsl: "shaders/estimate.wgsl",
+    rust: "src/cpu/trace/estimate.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "algebra_parts",
+            reason: "returns the ALGEBRA_PARTS override when specialised; the CPU reads \
+                     `algebra_parts` from its parameters",
         },
         OnlyIn {
             side: Side::Wgsl,
@@ -112,6 +120,96 @@ const TRACE: Twin = Twin {
                      iterate_orbit_parts is iterate_orbit's",
         },
         OnlyIn {
+            side: Side::Rust,
+            name: "count",
+            reason: "the CPU's work counters (`cpu::count_work`); the GPU counts nothing",
+        },
+    ],
+};
+
+const MARCH: Twin = Twin {
+    wgsl: "shaders/march.wgsl",
+    rust: "src/cpu/trace/march.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "untraced",
+        reason: "a Trace of a ray not traced; WGSL writes the literal \
+                     `Trace(0.0, 0u, false, NO_APPROACH)`",
+    }],
+};
+
+const NORMAL: Twin = Twin {
+    wgsl: "shaders/normal.wgsl",
+    rust: "src/cpu/trace/normal.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const SHADING: Twin = Twin {
+    wgsl: "shaders/shading.wgsl",
+    rust: "src/cpu/trace/shading.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const COLOUR: Twin = Twin {
+    wgsl: "shaders/colour.wgsl",
+    rust: "src/cpu/trace/colour.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const CAMERA: Twin = Twin {
+    wgsl: "shaders/camera.wgsl",
+    rust: "src/cpu/trace/camera.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const ATMOSPHERE: Twin = Twin {
+    wgsl: "shaders/atmosphere.wgsl",
+    rust: "src/cpu/trace/atmosphere.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[],
+};
+
+const ACCUMULATE: Twin = Twin {
+    wgsl: "shaders/accumulate.wgsl",
+    rust: "src/cpu/trace/accumulate.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "load_streams",
+            reason: "reads a pixel's streams from the accumulator's four planes in the storage \
+                     array (arrayLength); the CPU keeps a pixel's streams in a local",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_streams",
+            reason: "as load_streams, writing them back (a done pixel's first plane and its \
+                     halves)",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "load_halves",
+            reason: "reads a pixel's halves from the accumulator's second and third planes; the \
+                     CPU keeps them in a local",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "store_halves",
+            reason: "as load_halves, writing them back",
+        },
+        OnlyIn {
             side: Side::Wgsl,
             name: "load_aovs",
             reason: "reads a pixel's AOVs back from the out_aovs buffer between dispatches; the \
@@ -122,31 +220,6 @@ const TRACE: Twin = Twin {
             name: "store_aovs",
             reason: "writes a pixel's AOVs to the out_aovs buffer; on the CPU `cpu::fill_rows` \
                      puts them in the frame",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "compacted_pixel",
-            reason: "packs a workgroup's live pixels into its first invocations (adaptive \
-                     sampling's compaction); the CPU has no lanes to pack: `cpu::render_rows` \
-                     skips a done pixel's samples by breaking out of its loop",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "cone_tracing",
-            reason: "returns the CONE_TRACING override when specialised; on the CPU \
-                     `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "count",
-            reason: "the CPU's work counters (`cpu::count_work`); the GPU counts nothing",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "main",
-            reason: "the entry point: a workgroup's cone start, then one pixel traced and \
-                     written; on the CPU `cpu::render_rows` in src/cpu/mod.rs (rows in \
-                     parallel, `cone_starts` per row, `trace_pixel`, `pack_colour`, the writes)",
         },
     ],
 };
@@ -245,7 +318,48 @@ const GGX_ALBEDO: Twin = Twin {
 
 const PATH: Twin = Twin {
     wgsl: "shaders/path.wgsl",
-    rust: "src/cpu/path.rs",
+    rust: "src/cpu/path/mod.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "trace_path_from",
+            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
+                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
+                     signature its callers use, traces the camera ray and calls this",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "path_main",
+            reason: "the entry point: the samples' running mean and the writes; on the CPU \
+                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
+                     `trace_path_from` as it does",
+        },
+        OnlyIn {
+            side: Side::Rust,
+            name: "render_path_rows",
+            reason: "the CPU's `path_main`: rows in parallel, each pixel's running mean of \
+                     `trace_path`, as the entry point keeps it",
+        },
+    ],
+};
+
+const PATH_UNIFORM: Twin = Twin {
+    wgsl: "shaders/path_uniform.wgsl",
+    rust: "src/cpu/path/uniform.rs",
+    rust_from: None,
+    rust_from_reason: "",
+    only_in: &[OnlyIn {
+        side: Side::Rust,
+        name: "new",
+        reason: "the host makes `PathParams` of a scene; the shader reads it as a uniform",
+    }],
+};
+
+const PATH_VERTEX: Twin = Twin {
+    wgsl: "shaders/path_vertex.wgsl",
+    rust: "src/cpu/path/vertex.rs",
     rust_from: None,
     rust_from_reason: "",
     only_in: &[
@@ -264,31 +378,6 @@ const PATH: Twin = Twin {
             name: "none",
             reason: "a `Light` of no light; WGSL writes the literal \
                      `Light(vec3<f32>(0.0), vec3<f32>(0.0))`",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "trace_path_from",
-            reason: "WGSL's `trace_path`, which takes the camera ray and its trace (path_main \
-                     traces camera rays in pairs); the CPU's `trace_path` keeps the one-sample \
-                     signature its callers use, traces the camera ray and calls this",
-        },
-        OnlyIn {
-            side: Side::Wgsl,
-            name: "path_main",
-            reason: "the entry point: the samples' running mean and the writes; on the CPU \
-                     `render_path_rows` loops over `path_camera_ray`, `trace_primary_pair` and \
-                     `trace_path_from` as it does",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "new",
-            reason: "the host makes `PathParams` of a scene; the shader reads it as a uniform",
-        },
-        OnlyIn {
-            side: Side::Rust,
-            name: "render_path_rows",
-            reason: "the CPU's `path_main`: rows in parallel, each pixel's running mean of \
-                     `trace_path`, as the entry point keeps it",
         },
     ],
 };
@@ -542,6 +631,51 @@ fn trace_twins_match() {
 }
 
 #[test]
+fn cut_twins_match() {
+    check(&CUT);
+}
+
+#[test]
+fn estimate_twins_match() {
+    check(&ESTIMATE);
+}
+
+#[test]
+fn march_twins_match() {
+    check(&MARCH);
+}
+
+#[test]
+fn normal_twins_match() {
+    check(&NORMAL);
+}
+
+#[test]
+fn shading_twins_match() {
+    check(&SHADING);
+}
+
+#[test]
+fn colour_twins_match() {
+    check(&COLOUR);
+}
+
+#[test]
+fn camera_twins_match() {
+    check(&CAMERA);
+}
+
+#[test]
+fn atmosphere_twins_match() {
+    check(&ATMOSPHERE);
+}
+
+#[test]
+fn accumulate_twins_match() {
+    check(&ACCUMULATE);
+}
+
+#[test]
 fn algebra_twins_match() {
     check(&ALGEBRA);
 }
@@ -592,6 +726,16 @@ fn path_twins_match() {
 }
 
 #[test]
+fn path_uniform_twins_match() {
+    check(&PATH_UNIFORM);
+}
+
+#[test]
+fn path_vertex_twins_match() {
+    check(&PATH_VERTEX);
+}
+
+#[test]
 fn denoise_twins_match() {
     check(&DENOISE);
 }
@@ -600,6 +744,15 @@ fn denoise_twins_match() {
 fn every_exception_has_a_reason() {
     for twin in [
         &TRACE,
+        &CUT,
+        &ESTIMATE,
+        &MARCH,
+        &NORMAL,
+        &SHADING,
+        &COLOUR,
+        &CAMERA,
+        &ATMOSPHERE,
+        &ACCUMULATE,
         &ALGEBRA,
         &JULIA2D,
         &SAMPLE,
@@ -609,6 +762,8 @@ fn every_exception_has_a_reason() {
         &ENVIRONMENT,
         &MEDIUM,
         &PATH,
+        &PATH_UNIFORM,
+        &PATH_VERTEX,
         &DENOISE,
     ] {
         for only in twin.only_in {

@@ -494,7 +494,7 @@ fn the_aov_buffer_is_allocated_only_when_read() {
     };
     // The work counts are 16 bytes a pixel (two 64-bit counts), the accumulator four planes of
     // 16 bytes a pixel (the running mean or stream A's, then the rest of adaptive sampling's
-    // streams: trace.wgsl's `Streams`).
+    // streams: accumulate.wgsl's `Streams`).
     assert_eq!(sizes(&[]), [4000, 4000, 4000, 16000, 64000, 64]);
     let mut read = vec![false; names.len()];
     *read.last_mut().unwrap() = true;

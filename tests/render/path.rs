@@ -1,4 +1,4 @@
-//! The path tracer (src/cpu/path.rs and shaders/path.wgsl) on the unit ball, where the answers
+//! The path tracer (src/cpu/path/ and shaders/path*.wgsl) on the unit ball, where the answers
 //! are known: the white furnace (a convex ball under a uniform sky: every path escapes after
 //! one bounce, so there is no variance), the mirror, and next-event estimation, BSDF sampling
 //! and MIS against the closed-form irradiance of a sphere light, on the CPU (f32, f64) and the

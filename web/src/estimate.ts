@@ -16,7 +16,7 @@ export interface ErrorEstimate {
 const F64_MIN_POSITIVE = 2.2250738585072014e-308;
 
 /// The raw estimate of a path-traced image of `width` pixels a row from the accumulator's first
-/// three planes, one after another, four f32s a pixel each (trace.wgsl's `accumulated`): the
+/// three planes, one after another, four f32s a pixel each (accumulate.wgsl's `accumulated`): the
 /// mean colour the pixel shows, then its halves A and B (a half's mean colour and the samples in
 /// it). Null where no pixel's halves both hold a sample.
 export function rawEstimate(planes: Float32Array, width: number): ErrorEstimate | null {

@@ -28,7 +28,7 @@ export interface Layout {
 
 const LAYOUTS = layoutJson as unknown as { params: Layout; path: Layout; julia2d: Layout };
 export const PARAMS_LAYOUT = LAYOUTS.params;
-/// `struct PathParams` of shaders/path.wgsl (binding 7).
+/// `struct PathParams` of shaders/path_uniform.wgsl (binding 7).
 export const PATH_LAYOUT = LAYOUTS.path;
 
 /// `struct Julia2dParams` of shaders/julia2d.wgsl (the 2D view's uniform).
@@ -318,7 +318,7 @@ export function sunOneMinusCos(degrees: number): number {
   return Math.max(2.0 * Math.sin(half) * Math.sin(half), SUN_MIN_ONE_MINUS_COS);
 }
 
-/// Russian roulette's first scattering event (ROULETTE_START of src/cpu/path.rs).
+/// Russian roulette's first scattering event (ROULETTE_START of src/cpu/path/uniform.rs).
 export const ROULETTE_START = 3;
 /// The shader's `sampler` numbers (SAMPLER_SOBOL, SAMPLER_RANDOM of src/cpu/sobol.rs).
 const SAMPLER_CODES: Record<string, number> = { sobol: 0, random: 1 };
