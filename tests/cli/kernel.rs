@@ -35,17 +35,32 @@ fn each_scene_gets_its_kernels() {
     assert_eq!(names(&seed), ["trace"]);
     let trace = &seed[0];
     assert_eq!(trace["entry"], "main");
+    let trace_files = files(trace);
     assert_eq!(
-        files(trace),
-        [
-            "real32",
-            "real",
-            "algebra",
-            "params",
-            "environment",
-            "trace"
-        ]
+        trace_files.first(),
+        Some(&"real32"),
+        "the prelude comes first"
     );
+    assert_eq!(trace_files.last(), Some(&"trace"), "the root comes last");
+    for file in [
+        "algebra",
+        "params",
+        "estimate",
+        "march",
+        "normal",
+        "camera",
+        "accumulate",
+    ] {
+        assert!(trace_files.contains(&file), "{file}");
+    }
+    for file in [
+        "real64", "bsdf", "light", "medium", "sobol", "path", "denoise",
+    ] {
+        assert!(
+            !trace_files.contains(&file),
+            "{file} is no part of the tracer"
+        );
+    }
     let text = trace["text"].as_str().unwrap();
     assert_eq!(trace["bytes"].as_u64().unwrap() as usize, text.len());
     assert_eq!(trace["fingerprint"], fingerprint(text.as_bytes()));
