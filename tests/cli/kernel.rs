@@ -95,6 +95,27 @@ fn each_scene_gets_its_kernels() {
 }
 
 #[test]
+fn without_specialisation_no_overrides_are_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["kernel", "--json", "--preset", "path-traced"])
+        .env("QJULIA_SPECIALISE", "0")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let generic: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let specialised = kernels(&["--preset", "path-traced"]);
+    assert_eq!(generic[0]["overrides"], serde_json::json!({}));
+    assert!(!generic[0]["after"].to_string().contains("naga applies"));
+    assert!(specialised[0]["after"].to_string().contains("naga applies"));
+    assert_eq!(
+        generic[0]["fingerprint"], specialised[0]["fingerprint"],
+        "the same text"
+    );
+}
+
+#[test]
 fn the_text_is_valid_wgsl_with_its_header() {
     let dir = tempfile::tempdir().unwrap();
     let out = qjulia(dir.path(), &["kernel", "--preset", "path-traced"]);
