@@ -28,6 +28,14 @@ impl Precision {
         }
     }
 
+    /// The precision [`Self::name`] calls `name`: f64 for "f64", f32 for anything else.
+    pub fn of_name(name: &str) -> Self {
+        match name {
+            "f64" => Precision::F64,
+            _ => Precision::F32,
+        }
+    }
+
     /// The relative spacing of its values that the precision warnings hold settings to
     /// ([`Real::RELATIVE_EPSILON`]: 8 ulps).
     pub fn relative_spacing(self) -> f64 {

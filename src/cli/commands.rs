@@ -517,10 +517,7 @@ pub fn kernel(args: &KernelArgs) -> anyhow::Result<()> {
 
 pub fn gpu_params(args: &GpuParamsArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
-    let precision = match args.precision.as_str() {
-        "f64" => Precision::F64,
-        _ => Precision::F32,
-    };
+    let precision = Precision::of_name(&args.precision);
     println!(
         "{}",
         qjulia::gpu::params_json::GpuParamsJson::new(&scene, precision).to_json()

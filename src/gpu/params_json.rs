@@ -124,10 +124,7 @@ impl GpuParamsJson {
 
 /// The precision of `F`.
 fn precision_of<F: GpuReal>() -> Precision {
-    match F::NAME {
-        "f64" => Precision::F64,
-        _ => Precision::F32,
-    }
+    Precision::of_name(F::NAME)
 }
 
 /// Bytes as lowercase hex.
@@ -136,6 +133,9 @@ fn hex(bytes: &[u8]) -> String {
 }
 
 /// Pairs as a JSON object, in their order.
-fn in_order<S: Serializer>(pairs: &[(&'static str, f64)], s: S) -> Result<S::Ok, S::Error> {
+pub(super) fn in_order<S: Serializer>(
+    pairs: &[(&'static str, f64)],
+    s: S,
+) -> Result<S::Ok, S::Error> {
     s.collect_map(pairs.iter().map(|(k, v)| (k, v)))
 }

@@ -2,7 +2,9 @@
 //! each one's composed WGSL (what the host parses), its size and fingerprint, the override
 //! constants the scene's variant sets, and what the host does to the module after the text.
 
-use serde::{Serialize, Serializer};
+use serde::Serialize;
+
+use super::params_json::in_order;
 
 use super::shaders::{
     DENOISE_MODULE, JULIA2D_MODULE, JULIA2D64_MODULE, PATH_MODULE, PATH64_MODULE,
@@ -55,9 +57,10 @@ pub fn picture_module(scene: &Scene, picture: Picture, precision: Precision) -> 
 pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> Vec<SceneKernel> {
     let module = picture_module(scene, picture, precision);
     let specialised = variant::specialise_from_env();
-    let overrides = match (specialised, module.name) {
-        (false, _) | (_, "julia2d" | "julia2d64") => Vec::new(),
-        _ => {
+    let tracer = picture != Picture::Julia2d;
+    let overrides = match specialised && tracer {
+        false => Vec::new(),
+        true => {
             let p = TraceParams::<f64>::new(scene);
             match picture.path_traced(scene) {
                 true => Variant::of_path(&p).constants(),
@@ -66,7 +69,7 @@ pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> V
         }
     };
     let mut after = Vec::new();
-    if module.name != "julia2d" && module.name != "julia2d64" {
+    if tracer {
         after.push(
             "the host adds INTERLEAVE and COMPACT (the device's choices), AOVS = 1 where the \
              render reads the AOVs back, and BAKE_VALUES where it bakes the scene's numbers \
@@ -90,7 +93,7 @@ pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> V
             .into(),
     );
     let mut kernels = vec![describe(module, overrides, after)];
-    if picture != Picture::Julia2d && scene.image.denoise == Denoiser::Atrous {
+    if tracer && scene.image.denoise == Denoiser::Atrous {
         kernels.push(describe(DENOISE_MODULE, Vec::new(), Vec::new()));
     }
     kernels
@@ -116,9 +119,10 @@ fn describe(
     overrides: Vec<(&'static str, f64)>,
     after: Vec<String>,
 ) -> SceneKernel {
-    let d = declaration();
-    let declared = d.kernel(module.name).expect("every module is declared");
-    let composed = d.compose(declared).expect("every kernel composes");
+    let declared = declaration()
+        .kernel(module.name)
+        .expect("every module is declared");
+    let composed = module.composed();
     SceneKernel {
         name: module.name,
         entry: declared.entry.clone(),
@@ -160,9 +164,4 @@ impl SceneKernel {
         }
         out
     }
-}
-
-/// Pairs as a JSON object, in their order.
-fn in_order<S: Serializer>(pairs: &[(&'static str, f64)], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_map(pairs.iter().map(|(k, v)| (k, v)))
 }

@@ -162,25 +162,28 @@ impl ShaderModuleSource {
         }
     }
 
-    /// The module's full source: the kernel composed (once a process).
+    /// The module's full source: the kernel composed.
     pub fn source(&self) -> String {
+        self.composed().text
+    }
+
+    /// The module composed: its text and files (a declared kernel's once a process).
+    pub fn composed(&self) -> Composed {
         if let Some(text) = self.text {
             let lookup = |n: &str| if n == self.name { Some(text) } else { file(n) };
             let features = declaration().feature_names();
             let composer = Composer::new(&lookup, &features);
             let composed = composer.compose(self.name, &[]);
-            return composed
-                .unwrap_or_else(|e| panic!("module {}: {e}", self.name))
-                .text;
+            return composed.unwrap_or_else(|e| panic!("module {}: {e}", self.name));
         }
-        static COMPOSED: OnceLock<HashMap<String, String>> = OnceLock::new();
+        static COMPOSED: OnceLock<HashMap<String, Composed>> = OnceLock::new();
         let all = COMPOSED.get_or_init(|| {
             let d = declaration();
             let composed = d.kernels.iter().map(|k| {
-                let text = d
+                let c = d
                     .compose(k)
                     .unwrap_or_else(|e| panic!("kernel {}: {e}", k.name));
-                (k.name.clone(), text.text)
+                (k.name.clone(), c)
             });
             composed.collect()
         });

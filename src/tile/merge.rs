@@ -87,10 +87,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Scene, Frame, RenderStats)> {
     let kernel = None;
     #[cfg(feature = "gpu")]
     let kernel = (backend == "gpu").then(|| {
-        let precision = match precision.as_str() {
-            "f64" => crate::Precision::F64,
-            _ => crate::Precision::F32,
-        };
+        let precision = crate::Precision::of_name(&precision);
         crate::gpu::scene_kernel::kernel_stats(&scene, Picture::SHADED, precision)
     });
     let stats = RenderStats {
