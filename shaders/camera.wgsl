@@ -31,20 +31,19 @@ fn camera_ray(i: u32, j: u32, sample: u32) -> vec3<Real> {
     return camera_ray_at(Real(i) + s.x, Real(j) + s.y);
 }
 
-// Whether the camera's samples go through the thin lens: aperture > 0. Every sample does then,
-// sample 0 too; the depth and the steps stay the pinhole's ray's through the pixel's centre
-// (pinhole_ray), traced for them alone.
-fn lens_open() -> bool {
-    if SPECIALISED && !LENS {
-        return false;
-    }
-    return params.aperture > 0.0;
-}
-
 // A ray: its origin and its unit direction.
 struct Ray {
     origin: vec3<Real>,
     dir: vec3<Real>,
+}
+
+#if LENS
+// Whether the camera's samples go through the thin lens: aperture > 0. Every sample does then,
+// sample 0 too; the depth and the steps stay the pinhole's ray's through the pixel's centre
+// (pinhole_ray), traced for them alone. Without LENS (shaders/kernels.json) false, and the lens
+// is not in the kernel.
+fn lens_open() -> bool {
+    return params.aperture > 0.0;
 }
 
 // The thin lens's ray of sample `sample` of pixel (i, j) in phong mode: through the sample's
@@ -97,6 +96,26 @@ fn aperture_point(uv: vec2<f32>) -> vec2<f32> {
     let c1 = vec2<f32>(cos(a1), sin(a1));
     return sqrt(a) * ((1.0 - uv.y) * c0 + uv.y * c1);
 }
+#else
+fn lens_open() -> bool {
+    return false;
+}
+
+// Never called: lens_open() is false.
+fn lens_ray(i: u32, j: u32, sample: u32) -> Ray {
+    return Ray(params.eye, params.cam_forward);
+}
+
+// Never called: lens_open() is false.
+fn thin_lens_ray(x: Real, y: Real, lens_unit: vec2<f32>) -> Ray {
+    return Ray(params.eye, params.cam_forward);
+}
+
+// Never called: lens_open() is false.
+fn aperture_point(uv: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(0.0);
+}
+#endif
 
 // Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
 // through the block's centre, shrinking each unbounding sphere by the cone's radius at that

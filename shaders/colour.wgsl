@@ -16,6 +16,13 @@
 const COLOURING_FLAT: u32 = 0u;
 const COLOURING_ORBIT_TRAP: u32 = 1u;
 
+#if ORBIT_TRAP
+// Whether the scene colours by the orbit trap (shading.colouring = "orbit_trap"). Without
+// ORBIT_TRAP (shaders/kernels.json) false, and the trap and its palette are not in the kernel.
+fn trap_on() -> bool {
+    return params.colouring == COLOURING_ORBIT_TRAP;
+}
+
 // The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |, z_0 = q,
 // z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or max_iterations
 // (iterate_orbit's count and escape; no derivative is carried, so its limit does not apply).
@@ -41,11 +48,26 @@ fn palette(t: Real) -> vec3<Real> {
     let x = fract(params.trap_scale * t + params.palette_phase);
     return 0.5 + 0.5 * real_cos(6.2831855 * x);
 }
+#else
+fn trap_on() -> bool {
+    return false;
+}
+
+// Never called: trap_on() is false.
+fn orbit_trap(q: Hyper) -> Real {
+    return 0.0;
+}
+
+// Never called: trap_on() is false.
+fn palette(t: Real) -> vec3<Real> {
+    return params.diffuse;
+}
+#endif
 
 // The base colour of a hit at p: the diffuse colour, or the palette's colour of the orbit trap.
 // (shade_features's B, path mode's albedo, and the albedo AOV.)
 fn hit_albedo(p: vec3<Real>) -> vec3<Real> {
-    if (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP {
+    if trap_on() {
         return palette(orbit_trap(slice_point(p)));
     }
     return params.diffuse;
@@ -58,10 +80,8 @@ fn shading_features() -> bool {
     if SPECIALISED {
         shadows = SHADOWS;
     }
-    let soft = (!SPECIALISED || SOFT_SHADOWS) && shadows && params.light_radius > 0.0;
-    let occluded = (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0;
-    let trap = (!SPECIALISED || ORBIT_TRAP) && params.colouring == COLOURING_ORBIT_TRAP;
-    return soft || occluded || trap || params.ambient > 0.0;
+    let soft = shadows && soft_shadows_on();
+    return soft || occlusion_on() || trap_on() || params.ambient > 0.0;
 }
 
 // The shading with the picture's features, the book's formula (docs/book/scene-file.md): with
@@ -74,11 +94,11 @@ fn shading_features() -> bool {
 fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     let base = hit_albedo(p);
     var a: Real = 1.0;
-    if (!SPECIALISED || OCCLUSION) && params.occlusion > 0.0 {
+    if occlusion_on() {
         a = occlusion(p, n);
     }
     var ambient = params.ambient * a * base;
-    if (!SPECIALISED || ENVIRONMENT) && environment_on() && params.env_light != 0u {
+    if environment_on() && params.env_light != 0u {
         ambient *= vec3<Real>(env_irradiance(vec3<f32>(n)));
     }
     let l = safe_normalize(params.light - p, n);
@@ -100,7 +120,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
     }
     // As in shade_pixel: no shadow ray for an unlit point.
     if shadows && any(light > vec3<Real>(0.0)) {
-        if (!SPECIALISED || SOFT_SHADOWS) && params.light_radius > 0.0 {
+        if soft_shadows_on() {
             light *= params.shadow_factor + (1.0 - params.shadow_factor) * soft_shadow(p, n);
         } else if in_shadow(p, n) {
             light *= params.shadow_factor;
@@ -112,7 +132,7 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
 // What a ray along dir that hits nothing shows: the environment map's radiance where the scene
 // has one (phong mode clamps it as any colour), else the flat background.
 fn background(dir: vec3<Real>) -> vec3<Real> {
-    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
+    if environment_on() {
         return vec3<Real>(env_radiance(vec3<f32>(dir)));
     }
     return params.background;

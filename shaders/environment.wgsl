@@ -2,13 +2,23 @@
 // about `sky.up`, turned by `rotation_degrees`, looked up texel by texel (piecewise constant):
 // path mode's sky and phong mode's background, and with shading.environment_light phong mode's
 // ambient light, its irradiance from nine spherical harmonics prefiltered on the host; and its
-// importance sampling for the path tracer's next-event estimation. f32 throughout; needs
-// trace.wgsl's `params` (env_up, env_front, env_rotation, env_intensity, env_map) and its
-// SPECIALISED and ENVIRONMENT overrides in the module.
+// importance sampling for the path tracer's next-event estimation. f32 throughout; reads
+// `params` (env_up, env_front, env_rotation, env_intensity, env_map). Without the feature
+// ENVIRONMENT (shaders/kernels.json) the kernel has none of it: environment_on() is false and the
+// functions the others call are stubs that nothing reaches.
 //
 // Twin: src/cpu/environment.rs, same names, same order (tests/architecture/twins.rs).
 #import params
 
+// A direction drawn toward the map (sample_environment), the radiance along it and the density
+// per solid angle it was drawn with (0: no sample).
+struct EnvSample {
+    wi: vec3<f32>,
+    radiance: vec3<f32>,
+    pdf: f32,
+}
+
+#if ENVIRONMENT
 // The map's buffer (src/envmap.rs packs it, src/cpu/environment.rs states it): the width and
 // height (floats, exact), the irradiance's nine coefficients (RGB, a vec4 slot each), then per
 // texel its RGB and its density over the map's [0, 1)^2, then the marginal CDF over rows
@@ -34,17 +44,9 @@ struct EnvFrame {
     intensity: f32,
 }
 
-// A direction drawn toward the map (sample_environment), the radiance along it and the density
-// per solid angle it was drawn with (0: no sample).
-struct EnvSample {
-    wi: vec3<f32>,
-    radiance: vec3<f32>,
-    pdf: f32,
-}
-
-// Whether the scene has a map (environment.file); the ENVIRONMENT override where specialised.
+// Whether the scene has a map (environment.file).
 fn environment_on() -> bool {
-    return (!SPECIALISED || ENVIRONMENT) && params.env_map != 0u;
+    return params.env_map != 0u;
 }
 
 fn env_frame() -> EnvFrame {
@@ -175,3 +177,28 @@ fn environment_pdf(d: vec3<f32>) -> f32 {
     }
     return environment[ENV_TEXELS + 4u * env_texel(uv) + 3u] / (2.0 * ENV_PI * ENV_PI * s);
 }
+#else
+fn environment_on() -> bool {
+    return false;
+}
+
+// Never called: environment_on() is false.
+fn env_radiance(d: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0);
+}
+
+// Never called: environment_on() is false.
+fn env_irradiance(n: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0);
+}
+
+// Never called: environment_on() is false.
+fn sample_environment(u: vec2<f32>) -> EnvSample {
+    return EnvSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0);
+}
+
+// Never called: environment_on() is false.
+fn environment_pdf(d: vec3<f32>) -> f32 {
+    return 0.0;
+}
+#endif

@@ -130,7 +130,7 @@ fn orbit_distance(z: Hyper, dz_norm2: Real) -> Real {
 // max(d, cut_normal . p - cut_offset) (still a lower bound of the distance to what is left).
 fn estimate_distance(p: vec3<Real>) -> Real {
     let d = estimate_julia(p);
-    if (!SPECIALISED || CUT) && params.cut != 0u {
+    if cut_on() {
         return max(d, cut_plane(p));
     }
     return d;
@@ -195,7 +195,7 @@ fn estimate_julia_pair(p1: vec3<Real>, p2: vec3<Real>, live: vec2<bool>) -> vec2
 // estimate_distance adds it.
 fn estimate_distance_pair(p1: vec3<Real>, p2: vec3<Real>, live: vec2<bool>) -> vec2<Real> {
     var d = estimate_julia_pair(p1, p2, live);
-    if (!SPECIALISED || CUT) && params.cut != 0u {
+    if cut_on() {
         d = vec2<Real>(max(d.x, cut_plane(p1)), max(d.y, cut_plane(p2)));
     }
     return d;

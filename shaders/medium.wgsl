@@ -45,6 +45,7 @@ fn sample_hg(g: f32, d: vec3<f32>, u: vec2<f32>) -> PhaseSample {
     return PhaseSample(wi, phase_hg(g, c));
 }
 
+#if FOG
 // What free-flight sampling found along a stretch of fog: the distance into the stretch of a
 // scattering event (scattered) or the stretch's length (none), and the weight the path's
 // throughput takes.
@@ -73,3 +74,4 @@ fn fog_event(density: f32, albedo: vec3<f32>, length: f32, u: f32) -> FogEvent {
     }
     return FogEvent(length, false, vec3<f32>(exp(-absorbed * length)));
 }
+#endif

@@ -127,7 +127,7 @@ fn estimate_normal(p: vec3<Real>, dir: vec3<Real>) -> vec3<Real> {
     // On the cut face the normal is the plane's: where the plane's term is within epsilon of
     // the set's estimate or above it (inside the set the estimate can be 0, where it cannot be
     // formed, against a plane term rounded a little below 0).
-    if (!SPECIALISED || CUT) && params.cut != 0u && cut_plane(p) + params.epsilon >= estimate_julia(p) {
+    if cut_on() && cut_plane(p) + params.epsilon >= estimate_julia(p) {
         return params.cut_normal;
     }
     let q = slice_point(p);

@@ -108,10 +108,14 @@ const NORMAL_TETRAHEDRAL: u32 = 1u;
 const NORMAL_ANALYTIC: u32 = 2u;
 
 // Per-scene specialisation (src/gpu/variant.rs): with SPECIALISED the pipeline is built for one
-// scene's features, fixed by these override constants, and the compiler drops what the scene does
-// not use (no shadow code without shadows, one normal method, no slice transform for the standard
-// slice, plain steps, no shading when only depth and steps are asked for). Without it, one
-// pipeline reads everything from `params` at run time.
+// scene's features, fixed by these override constants, and the specialisation
+// (src/gpu/kernel/specialise.rs) cuts what the scene does not use (no shadow code without
+// shadows, one normal method, no slice transform for the standard slice, plain steps, no shading
+// when only depth and steps are asked for). Without it, one pipeline reads everything from
+// `params` at run time. The picture's features (the cut, orbit traps, occlusion, soft shadows,
+// the lens, fog, glow and the environment map) are no overrides: each is a feature of
+// shaders/kernels.json, gated with `#if` where it is defined, and a scene whose variant turns it
+// off gets a text without it (src/gpu/shaders.rs, split_constants).
 override SPECIALISED: bool = false;
 override SHADOWS: bool = true;
 override NORMAL_METHOD: u32 = 0u;
@@ -121,24 +125,8 @@ override PIXEL_EPSILON: bool = true;
 override SHADE: bool = true;
 override CONE_TRACING: bool = false;
 override ALGEBRA_PARTS: u32 = 1u;
-// The picture's features (each off in the seed's look): samples > 1, light radius > 0 (with
-// shadows), occlusion > 0, orbit-trap colouring, the cut, the lens.
+// samples > 1.
 override SAMPLES: bool = true;
-override SOFT_SHADOWS: bool = true;
-override OCCLUSION: bool = true;
-override ORBIT_TRAP: bool = true;
-override CUT: bool = true;
-// The thin lens: aperture > 0 with samples > 1 (sample 0 is always the pinhole's).
-override LENS: bool = true;
-// The atmosphere: fog.density > 0 (either model; fog_on), glow.strength > 0 (phong; glow_on).
-override FOG: bool = true;
-override GLOW: bool = true;
-// The environment map: environment.file names one (either model; environment_on).
-override ENVIRONMENT: bool = true;
-// Each call site of fog_on, glow_on and environment_on writes its override beside the call,
-// `(!SPECIALISED || FOG) && fog_on()`: the specialisation (src/gpu/kernel/specialise.rs) decides
-// a branch by the constants in the function itself, and does not look into the functions it
-// calls, so without it a specialised pipeline kept the feature's code (the fog's shadow traces).
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.

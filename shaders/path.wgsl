@@ -156,7 +156,7 @@ fn trace_path(i: u32, j: u32, sample: u32, camera: Primary, first: Trace) -> Pat
         // next-event estimation and left by phase sampling, and counts as a bounce.
         var in_fog = false;
         var p = origin;
-        if (!SPECIALISED || FOG) && fog_on() {
+        if fog_on() {
             var t_stop = trace.t;
             if meets_light {
                 t_stop = Real(t_light);

@@ -143,7 +143,7 @@ fn direct_light(i: u32, j: u32, sample: u32, bounce: u32, in_fog: bool, p: vec3<
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_SUN), path_random(i, j, sample, dim + DIM_SUN + 1u));
         sum = add_light(sum, light_term(sample_sun(path_sun(), u), in_fog, origin, f, wo, m, d));
     }
-    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
+    if environment_on() {
         // The sun's group's other two dimensions.
         let u = vec2<f32>(path_random(i, j, sample, dim + DIM_ENVIRONMENT), path_random(i, j, sample, dim + DIM_ENVIRONMENT + 1u));
         let es = sample_environment(u);
@@ -165,6 +165,7 @@ struct PathFog {
     weight: vec3<f32>,
 }
 
+#if FOG
 fn path_fog(i: u32, j: u32, sample: u32, bounce: u32, origin: vec3<Real>, dir: vec3<Real>, t_stop: Real) -> PathFog {
     let bounds = intersect_bounds(origin, dir);
     let t_end = min(bounds.t_exit, t_stop);
@@ -175,6 +176,12 @@ fn path_fog(i: u32, j: u32, sample: u32, bounce: u32, origin: vec3<Real>, dir: v
     let e = fog_event(f32(params.fog_density), vec3<f32>(params.fog_colour), f32(t_end - bounds.t_enter), u);
     return PathFog(origin + (bounds.t_enter + Real(e.distance)) * dir, e.scattered, e.weight);
 }
+#else
+// Never called: fog_on() is false.
+fn path_fog(i: u32, j: u32, sample: u32, bounce: u32, origin: vec3<Real>, dir: vec3<Real>, t_stop: Real) -> PathFog {
+    return PathFog(origin, false, vec3<f32>(1.0));
+}
+#endif
 
 // Russian roulette after the scattering event `bounce`, from bounce roulette_start on: the path
 // goes on with probability q, the throughput's largest channel (at most 0.95), and is then
@@ -197,7 +204,7 @@ fn roulette(i: u32, j: u32, sample: u32, bounce: u32, throughput: vec3<f32>) -> 
 // no density, sees them whole).
 fn escaped(dir: vec3<f32>, bounce: u32, bsdf_pdf_prev: f32) -> vec3<f32> {
     var c = vec3<f32>(0.0);
-    if (!SPECIALISED || ENVIRONMENT) && environment_on() {
+    if environment_on() {
         // The map, weighted against its own next-event estimation as the sun is.
         var w = 1.0;
         if bounce > 0u {

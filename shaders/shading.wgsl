@@ -9,10 +9,12 @@
 #import march
 #import normal
 
+#if OCCLUSION
 // Ambient occlusion samples the estimate at OCCLUSION_SAMPLES points p + k OCCLUSION_STEP n,
 // k = 1, 2, ... (Twin: cpu::trace's constants of the same names.)
 const OCCLUSION_SAMPLES: u32 = 5u;
 const OCCLUSION_STEP: Real = 0.04;
+#endif
 
 // Phong shading at pt with normal n, a point light and the viewer at eye:
 // (diffuse + normal_tint |n|) max(N.L, 0) + specular max(E.R, 0)^shininess, R = 2 (N.L) N - L,
@@ -50,6 +52,13 @@ fn in_shadow(p: vec3<Real>, n: vec3<Real>) -> bool {
         return false;
     }
     return sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
+}
+
+#if SOFT_SHADOWS
+// Whether the light has a radius (light.radius > 0): the shadows are soft_shadow's. Without
+// SOFT_SHADOWS (shaders/kernels.json) false, and soft_shadow is not in the kernel.
+fn soft_shadows_on() -> bool {
+    return params.light_radius > 0.0;
 }
 
 // The shadow of a spherical light (centre light, radius light_radius > 0), soft: from
@@ -92,6 +101,23 @@ fn soft_shadow(p: vec3<Real>, n: vec3<Real>) -> Real {
     }
     return visibility;
 }
+#else
+fn soft_shadows_on() -> bool {
+    return false;
+}
+
+// Never called: soft_shadows_on() is false.
+fn soft_shadow(p: vec3<Real>, n: vec3<Real>) -> Real {
+    return 1.0;
+}
+#endif
+
+#if OCCLUSION
+// Whether the scene has ambient occlusion (shading.occlusion > 0). Without OCCLUSION false, and
+// occlusion is not in the kernel.
+fn occlusion_on() -> bool {
+    return params.occlusion > 0.0;
+}
 
 // The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along the
 // normal (k = 1..OCCLUSION_SAMPLES) an open surface has the set at least h_k away, and 2 d (the
@@ -106,3 +132,13 @@ fn occlusion(p: vec3<Real>, n: vec3<Real>) -> Real {
     }
     return 1.0 - params.occlusion * (sum / Real(OCCLUSION_SAMPLES));
 }
+#else
+fn occlusion_on() -> bool {
+    return false;
+}
+
+// Never called: occlusion_on() is false. Nothing occluded.
+fn occlusion(p: vec3<Real>, n: vec3<Real>) -> Real {
+    return 1.0;
+}
+#endif

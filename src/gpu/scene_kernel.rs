@@ -23,13 +23,16 @@ pub struct SceneKernel {
     pub name: &'static str,
     /// The entry point the host runs.
     pub entry: String,
+    /// The features it is composed with: the kernel's own (`F64`), then the scene features the
+    /// variant leaves on (every one without a variant), in shaders/kernels.json's order.
+    pub features: Vec<String>,
     /// The files composed into it, in the order they were appended.
     pub files: Vec<String>,
     /// The composed text's size in bytes and its 64-bit FNV-1a fingerprint (16 hex digits).
     pub bytes: usize,
     pub fingerprint: String,
     /// The override constants the scene's variant sets (none where `QJULIA_SPECIALISE=0`), in
-    /// the numbers wgpu's `constants` map takes.
+    /// the numbers wgpu's `constants` map takes: those that are no scene feature.
     #[serde(serialize_with = "in_order")]
     pub overrides: Vec<(&'static str, f64)>,
     /// What the host does after the text, in order, one line each.
@@ -99,18 +102,18 @@ pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> V
     kernels
 }
 
-/// What `--stats` records of the kernel that draws `picture` of `scene` in `precision`.
+/// What `--stats` records of the kernel that draws `picture` of `scene` in `precision`: the
+/// first of [`scene_kernels`].
 pub fn kernel_stats(
     scene: &Scene,
     picture: Picture,
     precision: Precision,
 ) -> crate::stats::KernelStats {
-    let module = picture_module(scene, picture, precision);
-    let (bytes, fingerprint) = module.size_and_fingerprint();
+    let kernel = scene_kernels(scene, picture, precision).swap_remove(0);
     crate::stats::KernelStats {
-        name: module.name.to_string(),
-        bytes,
-        fingerprint,
+        name: kernel.name.to_string(),
+        bytes: kernel.bytes,
+        fingerprint: kernel.fingerprint,
     }
 }
 
@@ -122,10 +125,13 @@ fn describe(
     let declared = declaration()
         .kernel(module.name)
         .expect("every module is declared");
-    let composed = module.composed();
+    let (scene, overrides) = super::shaders::split_constants(&overrides);
+    let composed = module.composed_with(&scene);
+    let own = declared.features.iter().cloned();
     SceneKernel {
         name: module.name,
         entry: declared.entry.clone(),
+        features: own.chain(scene.iter().map(|f| f.to_string())).collect(),
         files: composed.files,
         bytes: composed.text.len(),
         fingerprint: super::compose::fingerprint(composed.text.as_bytes()),
@@ -140,11 +146,16 @@ impl SceneKernel {
     /// fingerprint, files, overrides, what follows), then the text.
     pub fn to_text(&self) -> String {
         let mut out = format!(
-            "// qjulia kernel {} (entry point {}): {} bytes, fingerprint {}\n// files: {}\n",
+            "// qjulia kernel {} (entry point {}): {} bytes, fingerprint {}\n// features: {}\n\
+             // files: {}\n",
             self.name,
             self.entry,
             self.bytes,
             self.fingerprint,
+            match self.features.is_empty() {
+                true => "none".to_string(),
+                false => self.features.join(" "),
+            },
             self.files.join(" ")
         );
         if !self.overrides.is_empty() {

@@ -22,11 +22,11 @@
 //! written `f32` there: the packed colour, the samples' running mean, the 2D view's grey.
 
 use std::collections::HashMap;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 use serde::Deserialize;
 
-use super::compose::{Composed, Composer, fingerprint};
+use super::compose::{Composed, Composer};
 
 /// Every file of shaders/ by its stem (a test holds the list to the folder).
 pub const FILES: &[(&str, &str)] = &[
@@ -87,15 +87,20 @@ pub fn file(name: &str) -> Option<&'static str> {
 #[serde(deny_unknown_fields)]
 pub struct Declaration {
     pub format: u32,
+    /// What a feature marked `scene` means (the rule [`split_constants`] follows).
+    pub scene_features: String,
     pub features: Vec<FeatureDecl>,
     pub kernels: Vec<KernelDecl>,
 }
 
-/// A feature: its name (what `#if` tests) and what it turns on.
+/// A feature: its name (what `#if` tests), whether the scene decides it, and what it turns on.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FeatureDecl {
     pub name: String,
+    /// Decided by the scene's variant ([`split_constants`]); else by the kernel (`F64`).
+    #[serde(default)]
+    pub scene: bool,
     pub doc: String,
 }
 
@@ -130,13 +135,45 @@ impl Declaration {
         self.features.iter().map(|f| f.name.as_str()).collect()
     }
 
-    /// `kernel` composed from [`FILES`].
+    /// The features the scene decides ([`FeatureDecl::scene`]), in the declaration's order.
+    pub fn scene_features(&self) -> Vec<&str> {
+        let scene = self.features.iter().filter(|f| f.scene);
+        scene.map(|f| f.name.as_str()).collect()
+    }
+
+    /// `kernel` composed from [`FILES`] with every scene feature on: the generic kernel, which
+    /// reads each of them from the uniform at run time.
     pub fn compose(&self, kernel: &KernelDecl) -> Result<Composed, super::compose::ComposeError> {
+        self.compose_with(kernel, &self.scene_features())
+    }
+
+    /// `kernel` composed from [`FILES`] with its own features and the scene features `scene`.
+    pub fn compose_with(
+        &self,
+        kernel: &KernelDecl,
+        scene: &[&str],
+    ) -> Result<Composed, super::compose::ComposeError> {
         let lookup = |n: &str| file(n);
         let features = self.feature_names();
-        let on: Vec<&str> = kernel.features.iter().map(String::as_str).collect();
+        let mut on: Vec<&str> = kernel.features.iter().map(String::as_str).collect();
+        on.extend_from_slice(scene);
         Composer::new(&lookup, &features).compose(&kernel.root, &on)
     }
+}
+
+/// A pipeline's override constants split into the scene features the text is composed with and
+/// the constants left for naga: each scene feature is on unless the constants set the constant
+/// of its name to 0 (a variant's, [`super::Variant::constants`]), so that constants without a
+/// variant (none, or only the device's choices) compose every scene feature on, the generic
+/// kernel. The scene features' own constants are not passed on: the text has no such override.
+pub fn split_constants(
+    constants: &[(&'static str, f64)],
+) -> (Vec<&'static str>, Vec<(&'static str, f64)>) {
+    let scene = declaration().scene_features();
+    let off = |name: &str| constants.iter().any(|c| c.0 == name && c.1 == 0.0);
+    let on = scene.iter().copied().filter(|f| !off(f)).collect();
+    let left = constants.iter().copied();
+    (on, left.filter(|c| !scene.contains(&c.0)).collect())
 }
 
 /// One WGSL module the GPU runs: a kernel of shaders/kernels.json by name, or (for tests) a
@@ -162,46 +199,49 @@ impl ShaderModuleSource {
         }
     }
 
-    /// The module's full source: the kernel composed.
+    /// The module's full source: the generic kernel composed (every scene feature on).
     pub fn source(&self) -> String {
         self.composed().text
     }
 
-    /// The module composed: its text and files (a declared kernel's once a process).
+    /// The generic module composed: its text and files.
     pub fn composed(&self) -> Composed {
+        self.composed_with(&declaration().scene_features())
+    }
+
+    /// The module composed with the scene features `scene` on (the others off): its text and
+    /// files, a declared kernel's composed once a process for each set of features.
+    pub fn composed_with(&self, scene: &[&str]) -> Composed {
+        let d = declaration();
         if let Some(text) = self.text {
             let lookup = |n: &str| if n == self.name { Some(text) } else { file(n) };
-            let features = declaration().feature_names();
+            let features = d.feature_names();
             let composer = Composer::new(&lookup, &features);
-            let composed = composer.compose(self.name, &[]);
+            let composed = composer.compose(self.name, scene);
             return composed.unwrap_or_else(|e| panic!("module {}: {e}", self.name));
         }
-        static COMPOSED: OnceLock<HashMap<String, Composed>> = OnceLock::new();
-        let all = COMPOSED.get_or_init(|| {
-            let d = declaration();
-            let composed = d.kernels.iter().map(|k| {
-                let c = d
-                    .compose(k)
-                    .unwrap_or_else(|e| panic!("kernel {}: {e}", k.name));
-                (k.name.clone(), c)
-            });
-            composed.collect()
-        });
-        all.get(self.name)
-            .unwrap_or_else(|| panic!("no kernel {} in shaders/kernels.json", self.name))
-            .clone()
+        type Cache = Mutex<HashMap<(&'static str, Vec<String>), Composed>>;
+        static COMPOSED: OnceLock<Cache> = OnceLock::new();
+        let key = (self.name, scene.iter().map(|f| f.to_string()).collect());
+        let cache = COMPOSED.get_or_init(Default::default);
+        if let Some(c) = cache.lock().expect("composed kernels").get(&key) {
+            return c.clone();
+        }
+        let kernel = d
+            .kernel(self.name)
+            .unwrap_or_else(|| panic!("no kernel {} in shaders/kernels.json", self.name));
+        let composed = d
+            .compose_with(kernel, scene)
+            .unwrap_or_else(|e| panic!("kernel {}: {e}", self.name));
+        let mut cache = cache.lock().expect("composed kernels");
+        cache.insert(key, composed.clone());
+        composed
     }
 
     /// Whether it computes in f64 (needs the adapter's SHADER_F64).
     pub fn is_f64(&self) -> bool {
         let declared = declaration().kernel(self.name);
         declared.is_some_and(|k| k.features.iter().any(|f| f == "F64"))
-    }
-
-    /// The source's size in bytes and its fingerprint ([`fingerprint`]).
-    pub fn size_and_fingerprint(&self) -> (usize, String) {
-        let source = self.source();
-        (source.len(), fingerprint(source.as_bytes()))
     }
 }
 

@@ -284,31 +284,38 @@ fn specialise(
 }
 
 /// Specialises `source` for each variant and `entry` (the f64 modules with and without the
-/// start-up check's sqrt repair, alternating) and validates it; hands each specialised module
-/// to `check` with its index.
+/// start-up check's sqrt repair, alternating) and validates it: the text composed for the scene
+/// features the variant leaves on ([`qjulia::gpu::shaders::split_constants`]), parsed once for
+/// each set, and the other constants applied. Hands each specialised module to `check` with its
+/// index.
 fn validate_variants(
     source: &ShaderModuleSource,
     entry: &str,
     variants: &[qjulia::gpu::Variant],
     check: &mut dyn FnMut(usize, &naga::Module),
 ) {
-    let module = validate_wgsl(&source.source()).unwrap();
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .unwrap();
+    let mut parsed: Vec<(Vec<&str>, naga::Module, naga::valid::ModuleInfo)> = Vec::new();
     for (k, variant) in variants.iter().enumerate() {
-        let mut constants = naga::back::PipelineConstants::default();
-        for (name, value) in variant.constants() {
-            constants.insert(name.to_string(), value);
+        let (scene, left) = qjulia::gpu::shaders::split_constants(&variant.constants());
+        if !parsed.iter().any(|p| p.0 == scene) {
+            let module = validate_wgsl(&source.composed_with(&scene).text)
+                .unwrap_or_else(|e| panic!("{} with {scene:?}: {e}", source.name));
+            let info = naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap();
+            parsed.push((scene.clone(), module, info));
         }
+        let (_, module, info) = parsed.iter().find(|p| p.0 == scene).unwrap();
+        let mut constants: naga::back::PipelineConstants =
+            left.iter().map(|&(n, v)| (n.to_string(), v)).collect();
         if source.is_f64() {
             constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
         }
         let what = format!("{} {variant:?}", source.name);
-        check(k, &specialise(&module, &info, entry, &constants, &what));
+        check(k, &specialise(module, info, entry, &constants, &what));
     }
 }
 
@@ -343,18 +350,18 @@ fn the_aov_pipelines_validate() {
         (PATH_MODULE, "path_main"),
         (PATH64_MODULE, "path_main"),
     ] {
-        let module = validate_wgsl(&source.source()).unwrap();
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .unwrap();
         for variant in [None, Some(base), Some(all)] {
-            let mut constants = naga::back::PipelineConstants::default();
-            for (name, value) in variant.map(|v| v.constants()).unwrap_or_default() {
-                constants.insert(name.to_string(), value);
-            }
+            let constants = variant.map(|v| v.constants()).unwrap_or_default();
+            let (scene, left) = qjulia::gpu::shaders::split_constants(&constants);
+            let module = validate_wgsl(&source.composed_with(&scene).text).unwrap();
+            let info = naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap();
+            let mut constants: naga::back::PipelineConstants =
+                left.iter().map(|&(n, v)| (n.to_string(), v)).collect();
             constants.insert("AOVS".to_string(), 1.0);
             let what = format!("{} {variant:?} with AOVS", source.name);
             specialise(&module, &info, entry, &constants, &what);

@@ -2,7 +2,9 @@
 //! names in the same order, so that the two can be read side by side.
 //!
 //! The names are read from the source text (WGSL `fn name(`, Rust `fn name` including methods
-//! and generics; comments, strings and Rust's `#[cfg(test)]` module left out). A function that
+//! and generics; comments, strings and Rust's `#[cfg(test)]` module left out). A WGSL file is
+//! read with every feature on (`#if F` kept, `#if !F` and `#else` dropped): a feature's stubs for
+//! when it is off have no twin, as the CPU reads every feature from its parameters. A function that
 //! exists on one side only must be listed below with the reason; everything else must match
 //! one to one. The arithmetic inside the functions is held together by the GPU-vs-CPU tests.
 //!
@@ -508,6 +510,33 @@ fn function_names(source: &str) -> Vec<String> {
         .collect()
 }
 
+/// A WGSL file's lines as composed with every feature on: what `#if F` gates kept, what `#if !F`
+/// and `#else` gate dropped, and the directives' own lines dropped.
+fn every_feature_on(source: &str) -> String {
+    let mut kept: Vec<bool> = Vec::new();
+    let mut out = String::new();
+    for line in source.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["#if", f] => kept.push(!f.starts_with('!')),
+            ["#else"] => {
+                let last = kept.last_mut().expect("#else after #if");
+                *last = !*last;
+            }
+            ["#endif"] => {
+                kept.pop();
+            }
+            _ if line.starts_with('#') => {}
+            _ if kept.iter().all(|k| *k) => {
+                out.push_str(line);
+                out.push('\n');
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
 fn read(path: &str) -> String {
     let full = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
     std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
@@ -538,7 +567,7 @@ fn listing(names: &[String]) -> String {
 
 /// The failures of one twin pair, empty when it holds.
 fn twin_failures(twin: &Twin) -> String {
-    let wgsl = function_names(&read(twin.wgsl));
+    let wgsl = function_names(&every_feature_on(&read(twin.wgsl)));
     let rust = function_names(&rust_twin_part(twin));
     let mut failures = String::new();
     for only in twin.only_in {

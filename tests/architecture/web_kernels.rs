@@ -78,6 +78,78 @@ fn cases() -> Vec<Case> {
     ]
 }
 
+/// A variant's name, its kernel and its constants.
+type VariantSet = (String, &'static str, Vec<(&'static str, f64)>);
+
+/// What turns a feature of a variant on.
+type TurnOn = fn(&mut qjulia::gpu::Variant);
+
+/// The kernels composed per variant: for every 3D preset its picture's kernel and variant (as
+/// `qjulia kernel` has them), and the tracer's and the path tracer's base variant with each scene
+/// feature alone and with all of them. Each with the variant's constants (what the page's
+/// `overrides` gives, held to `gpu-params` by test/uniform.test.ts), the scene features they
+/// leave on, the constants left, and the composed text's size and fingerprint.
+fn variants() -> Vec<Value> {
+    use qjulia::gpu::Variant;
+    use qjulia::gpu::scene_kernel::scene_kernels;
+    use qjulia::gpu::shaders::split_constants;
+    use qjulia::picture::Picture;
+    use qjulia::precision::Precision;
+    let mut sets: Vec<VariantSet> = Vec::new();
+    for p in qjulia::scene::presets::PRESETS.iter().filter(|p| !p.two_d) {
+        let scene = p.scene();
+        let path = Picture::SHADED.path_traced(&scene);
+        let params = qjulia::params::TraceParams::<f64>::new(&scene);
+        let variant = match path {
+            true => Variant::of_path(&params),
+            false => Variant::of(&params, true),
+        };
+        let kernel = scene_kernels(&scene, Picture::SHADED, Precision::F32).swap_remove(0);
+        sets.push((p.slug.to_string(), kernel.name, variant.constants()));
+    }
+    let base = Variant::all_base()[0];
+    let features: [(&str, TurnOn); 8] = [
+        ("CUT", |v| v.cut = true),
+        ("ORBIT_TRAP", |v| v.orbit_trap = true),
+        ("OCCLUSION", |v| v.occlusion = true),
+        ("SOFT_SHADOWS", |v| v.soft_shadows = true),
+        ("LENS", |v| v.lens = true),
+        ("FOG", |v| v.fog = true),
+        ("GLOW", |v| v.glow = true),
+        ("ENVIRONMENT", |v| v.environment = true),
+    ];
+    for kernel in ["trace", "path"] {
+        let mut all = base;
+        for (name, on) in features {
+            let mut v = base;
+            on(&mut v);
+            on(&mut all);
+            sets.push((format!("{kernel} with {name}"), kernel, v.constants()));
+        }
+        sets.push((format!("{kernel} base"), kernel, base.constants()));
+        sets.push((format!("{kernel} with all"), kernel, all.constants()));
+    }
+    let module = |name: &str| {
+        let all = qjulia::gpu::shaders::ALL_MODULES.iter();
+        *all.clone().find(|m| m.name == name).unwrap()
+    };
+    sets.into_iter()
+        .map(|(what, kernel, constants)| {
+            let (on, left) = split_constants(&constants);
+            let c = module(kernel).composed_with(&on);
+            json!({
+                "what": what,
+                "kernel": kernel,
+                "constants": constants,
+                "on": on,
+                "left": left,
+                "bytes": c.text.len(),
+                "fingerprint": fingerprint(c.text.as_bytes()),
+            })
+        })
+        .collect()
+}
+
 #[test]
 fn the_kernel_fixture_is_the_librarys() {
     let d = declaration();
@@ -118,7 +190,12 @@ fn the_kernel_fixture_is_the_librarys() {
         errors >= 8 && cases.len() - errors >= 6,
         "both kinds of case"
     );
-    let made = json!({ "features": features, "kernels": kernels, "cases": cases });
+    let made = json!({
+        "features": features,
+        "kernels": kernels,
+        "variants": variants(),
+        "cases": cases,
+    });
     let mut text = serde_json::to_string_pretty(&made).unwrap();
     text.push('\n');
     check_file(&web().join("test/fixtures/kernels.json"), &text);

@@ -109,10 +109,108 @@ fn without_specialisation_no_overrides_are_set() {
     assert_eq!(generic[0]["overrides"], serde_json::json!({}));
     assert!(!generic[0]["after"].to_string().contains("naga applies"));
     assert!(specialised[0]["after"].to_string().contains("naga applies"));
+    let every = qjulia::gpu::shaders::declaration().scene_features();
     assert_eq!(
-        generic[0]["fingerprint"], specialised[0]["fingerprint"],
-        "the same text"
+        generic[0]["features"],
+        serde_json::json!(every),
+        "every one on"
     );
+    assert_eq!(specialised[0]["features"], serde_json::json!(["LENS"]));
+    let bytes = |k: &Value| k["bytes"].as_u64().unwrap();
+    assert!(bytes(&generic[0]) > bytes(&specialised[0]));
+}
+
+/// What marks each feature's code in a kernel (its comments left out): reads of the uniform's
+/// members that only the feature's own functions make, its constants, bindings and functions.
+const MARKS: &[(&str, &[&str])] = &[
+    (
+        "path",
+        &["fn path_main(", "fn trace_path(", "var<uniform> path"],
+    ),
+    (
+        "fog",
+        &["params.fog_density", "params.fog_density * length"],
+    ),
+    ("glow", &["params.glow_strength", "params.glow_radius"]),
+    (
+        "environment",
+        &[
+            "var<storage, read> environment",
+            "fn env_frame(",
+            "ENV_TEXELS",
+        ],
+    ),
+    ("cut", &["params.cut_offset", "params.cut != 0u"]),
+    ("occlusion", &["params.occlusion", "OCCLUSION_STEP"]),
+    ("traps", &["params.trap_radius", "params.palette_phase"]),
+    ("lens", &["params.aperture", "params.blades"]),
+];
+
+/// The kernel's text without its `//` comments.
+fn code(kernel: &Value) -> String {
+    let text = kernel["text"].as_str().unwrap();
+    let lines = text.lines().map(|l| l.split("//").next().unwrap_or(""));
+    lines.collect::<Vec<_>>().join("\n")
+}
+
+/// The features of `code` whose marks it holds: all of a feature's or none, else a panic.
+fn features_in(code: &str, what: &str) -> Vec<&'static str> {
+    let mut found = Vec::new();
+    for (feature, marks) in MARKS {
+        let held: Vec<bool> = marks.iter().map(|m| code.contains(m)).collect();
+        assert!(
+            held.iter().all(|h| *h) || held.iter().all(|h| !*h),
+            "{what}: some of {feature}'s marks but not all: {marks:?} {held:?}"
+        );
+        if held[0] {
+            found.push(*feature);
+        }
+    }
+    found
+}
+
+/// The seed's look holds no code of path mode, fog, glow, the environment map, the cut,
+/// occlusion, orbit traps or the lens; turning each on brings its code in, and only its; the
+/// generic kernel (`QJULIA_SPECIALISE=0`) holds every one's.
+#[test]
+fn the_seeds_kernel_holds_only_what_it_uses() {
+    let seed = kernels(&[]);
+    assert_eq!(features_in(&code(&seed[0]), "the seed's look"), [""; 0]);
+    assert_eq!(seed[0]["features"], serde_json::json!([]));
+    let turned_on: [(&str, &[&str], &[&str]); 8] = [
+        ("path", &["shading.model=\"path\""], &["path"]),
+        ("fog", &["fog.density=0.5"], &["fog"]),
+        ("glow", &["glow.strength=0.5"], &["glow"]),
+        (
+            "environment",
+            &["environment.file=\"qjulia:dusk.hdr\""],
+            &["environment"],
+        ),
+        ("cut", &["cut.enabled=true"], &["cut"]),
+        ("occlusion", &["shading.occlusion=0.5"], &["occlusion"]),
+        ("traps", &["shading.colouring=\"orbit_trap\""], &["traps"]),
+        ("lens", &["camera.aperture=0.05"], &["lens"]),
+    ];
+    for (feature, sets, expected) in turned_on {
+        let mut args = Vec::new();
+        for set in sets {
+            args.extend(["--set", set]);
+        }
+        let kernel = &kernels(&args)[0];
+        assert_eq!(features_in(&code(kernel), feature), expected, "{args:?}");
+        validate_wgsl(kernel["text"].as_str().unwrap()).unwrap();
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
+        .args(["kernel", "--json"])
+        .env("QJULIA_SPECIALISE", "0")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let generic: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let all: Vec<&str> = MARKS.iter().map(|m| m.0).filter(|f| *f != "path").collect();
+    assert_eq!(features_in(&code(&generic[0]), "generic"), all);
 }
 
 #[test]

@@ -2,8 +2,9 @@
 // (src/gpu/tracer.rs, src/gpu/path.rs, src/gpu/julia2d.rs and src/gpu/kernel/): the bind layout
 // of the Rust runner (binding 0 the uniform, 1.. the outputs colour, depth, steps, work,
 // accumulated, aovs; the path tracer's own uniform at 7; the environment map at 8, read-only,
-// or a placeholder of 16 zero bytes where there is none), one pipeline per kernel and variant's
-// override constants (cached, as the Rust side caches them), the samples added dispatch by
+// or a placeholder of 16 zero bytes where there is none), one module per kernel and the scene
+// features a variant leaves on, one pipeline per module and the variant's other override
+// constants (both cached, as the Rust side caches them), the samples added dispatch by
 // dispatch with the uniforms of src/uniform.ts, the running mean kept in `accumulated` between
 // them. A render is a [`Job`]: the explorer adds a dispatch of samples a frame and shows what
 // is there (idle accumulation), and reads it back as the CLI's frame.
@@ -11,7 +12,7 @@
 import { Display } from './display';
 import { type ErrorEstimate, rawEstimate } from './estimate';
 import type { Scene } from './scene';
-import { JULIA2D_MODULE, PATH_MODULE, TRACE_MODULE } from './shaders';
+import { kernel as composeKernel, splitConstants } from './shaders';
 import {
   type Dispatch,
   JULIA2D_LAYOUT,
@@ -72,7 +73,10 @@ export function noWebGpu(): string | null {
 type Kind = 'trace' | 'path' | 'julia2d';
 
 interface Kernel {
-  module: GPUShaderModule;
+  /// Its name in shaders/kernels.json.
+  name: string;
+  /// Its text composed for each set of scene features (joined by spaces), as a module.
+  modules: Map<string, GPUShaderModule>;
   entryPoint: string;
   layout: GPUBindGroupLayout;
   pipelineLayout: GPUPipelineLayout;
@@ -218,10 +222,11 @@ export class Tracer {
       visibility: GPUShaderStage.COMPUTE,
       buffer: { type: 'uniform' },
     });
-    const kernel = (name: string, code: string, entryPoint: string, entries: GPUBindGroupLayoutEntry[]): Kernel => {
+    const kernel = (name: string, entryPoint: string, entries: GPUBindGroupLayoutEntry[]): Kernel => {
       const layout = device.createBindGroupLayout({ label: name, entries });
       return {
-        module: device.createShaderModule({ label: name, code }),
+        name,
+        modules: new Map(),
         entryPoint,
         layout,
         pipelineLayout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
@@ -234,9 +239,9 @@ export class Tracer {
     };
     const traceEntries = [uniform(0), ...OUTPUT_BYTES.map((_, k) => storage(1 + k))];
     this.kernels = {
-      trace: kernel('trace', TRACE_MODULE, 'main', [...traceEntries, environment]),
-      path: kernel('path', PATH_MODULE, 'path_main', [...traceEntries, uniform(7), environment]),
-      julia2d: kernel('julia2d', JULIA2D_MODULE, 'main', [uniform(0), storage(1), storage(2), storage(3)]),
+      trace: kernel('trace', 'main', [...traceEntries, environment]),
+      path: kernel('path', 'path_main', [...traceEntries, uniform(7), environment]),
+      julia2d: kernel('julia2d', 'main', [uniform(0), storage(1), storage(2), storage(3)]),
     };
     this.placeholder = device.createBuffer({ size: 16, usage: GPUBufferUsage.STORAGE });
   }
@@ -275,19 +280,26 @@ export class Tracer {
   }
 
   /// The pipeline of a kernel and a scene's variant (`envMap`: with its environment map bound),
-  /// built on first use and kept.
+  /// built on first use and kept: the kernel composed for the scene features the variant leaves
+  /// on, with the rest of its override constants.
   pipeline(kind: Kind, scene: Scene, envMap: boolean): Promise<GPUComputePipeline> {
-    const constants: Record<string, number> =
-      kind === 'julia2d' ? {} : Object.fromEntries(overrides(scene, envMap));
+    const split = splitConstants(kind === 'julia2d' ? [] : overrides(scene, envMap));
+    const constants: Record<string, number> = Object.fromEntries(split.left);
     if (kind === 'path') constants.INTERLEAVE = PATH_INTERLEAVE;
-    const key = `${kind} ${JSON.stringify(constants)}`;
+    const features = split.on.join(' ');
+    const key = `${kind} ${features} ${JSON.stringify(constants)}`;
     let made = this.pipelines.get(key);
     if (made === undefined) {
       const k = this.kernels[kind];
+      let module = k.modules.get(features);
+      if (module === undefined) {
+        module = this.device.createShaderModule({ label: `${kind} ${features}`, code: composeKernel(k.name, split.on) });
+        k.modules.set(features, module);
+      }
       made = this.device.createComputePipelineAsync({
         label: key,
         layout: k.pipelineLayout,
-        compute: { module: k.module, entryPoint: k.entryPoint, constants },
+        compute: { module, entryPoint: k.entryPoint, constants },
       });
       this.pipelines.set(key, made);
     }

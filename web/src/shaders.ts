@@ -1,6 +1,8 @@
-// The WGSL kernels the page runs, composed at load from the project's shaders/ (bundled at build
-// time) as shaders/kernels.json declares them, by the composer's twin (src/compose.ts): the
-// kernels the declaration marks `web`, each in f32 (WebGPU has no f64).
+// The WGSL kernels the page runs, composed from the project's shaders/ (bundled at build time) as
+// shaders/kernels.json declares them, by the composer's twin (src/compose.ts): the kernels the
+// declaration marks `web`, each in f32 (WebGPU has no f64), composed for each scene's variant
+// (the scene features its override constants leave on: splitConstants, the twin of
+// src/gpu/shaders.rs's split_constants).
 
 import declaration from '../../shaders/kernels.json';
 import { compose } from './compose';
@@ -18,16 +20,37 @@ export const FILES: Record<string, string> = Object.fromEntries(
 /// The declared features' names.
 export const FEATURES: readonly string[] = declaration.features.map((f) => f.name);
 
-/// The kernel declared as `name`, composed.
-export function kernel(name: string): string {
-  const k = declaration.kernels.find((d) => d.name === name);
-  if (k === undefined) throw new Error(`no kernel ${name} in shaders/kernels.json`);
-  return compose((n) => FILES[n], FEATURES, k.root, k.features).text;
+/// The features the scene decides (marked `scene`), in the declaration's order.
+export const SCENE_FEATURES: readonly string[] = declaration.features
+  .filter((f) => 'scene' in f && f.scene === true)
+  .map((f) => f.name);
+
+/// A pipeline's override constants split into the scene features the text is composed with and
+/// the constants left for the pipeline: each scene feature is on unless the constants set the
+/// constant of its name to 0, and the scene features' constants are not passed on (the text has
+/// no such override). Without a variant every scene feature is on: the generic kernel.
+export function splitConstants(constants: readonly [string, number][]): {
+  on: string[];
+  left: [string, number][];
+} {
+  const off = (name: string) => constants.some(([n, v]) => n === name && v === 0);
+  return {
+    on: SCENE_FEATURES.filter((f) => !off(f)),
+    left: constants.filter(([n]) => !SCENE_FEATURES.includes(n)),
+  };
 }
 
-/// The tracer in f32.
+/// The kernel declared as `name`, composed with its features and the scene features `scene`
+/// (all of them unless given).
+export function kernel(name: string, scene: readonly string[] = SCENE_FEATURES): string {
+  const k = declaration.kernels.find((d) => d.name === name);
+  if (k === undefined) throw new Error(`no kernel ${name} in shaders/kernels.json`);
+  return compose((n) => FILES[n], FEATURES, k.root, [...k.features, ...scene]).text;
+}
+
+/// The tracer in f32, generic.
 export const TRACE_MODULE = kernel('trace');
-/// The path tracer in f32.
+/// The path tracer in f32, generic.
 export const PATH_MODULE = kernel('path');
 /// The 2D Julia view in f32.
 export const JULIA2D_MODULE = kernel('julia2d');

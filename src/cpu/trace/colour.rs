@@ -10,6 +10,11 @@ use crate::params::TraceParams;
 use crate::scene::Colouring;
 
 impl<F: Real> TraceParams<F> {
+    /// Whether the scene colours by the orbit trap (shading.colouring = "orbit_trap").
+    pub fn trap_on(&self) -> bool {
+        self.colouring == Colouring::OrbitTrap
+    }
+
     /// The orbit trap's distance for q: t = min over n = 0..N of | |z_n| - trap_radius |,
     /// z_0 = q, z_{n+1} = z_n^2 + c, N the first n with |z_n|^2 > escape_radius_squared, or
     /// max_iterations (iterate_orbit's count and escape; no derivative is carried, so its limit
@@ -49,7 +54,7 @@ impl<F: Real> TraceParams<F> {
     /// The base colour of a hit at p: the diffuse colour, or the palette's colour of the orbit
     /// trap. (shade_features's B, path mode's albedo, and the albedo AOV.)
     pub fn hit_albedo(&self, p: Vec3<F>) -> Vec3<F> {
-        if self.colouring == Colouring::OrbitTrap {
+        if self.trap_on() {
             return self.palette(self.orbit_trap(self.slice_point(p)));
         }
         self.diffuse
@@ -58,9 +63,8 @@ impl<F: Real> TraceParams<F> {
     /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
     /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
     pub fn shading_features(&self) -> bool {
-        let soft = self.shadows && self.light_radius > F::zero();
-        let trap = self.colouring == Colouring::OrbitTrap;
-        soft || self.occlusion > F::zero() || trap || self.ambient > F::zero()
+        let soft = self.shadows && self.soft_shadows_on();
+        soft || self.occlusion_on() || self.trap_on() || self.ambient > F::zero()
     }
 
     /// The shading with the picture's features, the README's formula: with base colour B
@@ -72,7 +76,7 @@ impl<F: Real> TraceParams<F> {
     pub fn shade_features(&self, p: Vec3<F>, n: Vec3<F>, eye: Vec3<F>) -> Vec3<F> {
         let base = self.hit_albedo(p);
         let mut a = F::one();
-        if self.occlusion > F::zero() {
+        if self.occlusion_on() {
             a = self.occlusion(p, n);
         }
         let mut ambient = base * (self.ambient * a);
@@ -95,7 +99,7 @@ impl<F: Real> TraceParams<F> {
         // As in trace_pixel: no shadow ray for an unlit point.
         let lit = light.x > F::zero() || light.y > F::zero() || light.z > F::zero();
         if self.shadows && lit {
-            if self.light_radius > F::zero() {
+            if self.soft_shadows_on() {
                 let sf = self.shadow_factor;
                 light = light * (sf + (F::one() - sf) * self.soft_shadow(p, n));
             } else if self.in_shadow(p, n) {

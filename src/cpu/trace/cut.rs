@@ -6,6 +6,11 @@ use crate::algebra::{Real, Vec3};
 use crate::params::TraceParams;
 
 impl<F: Real> TraceParams<F> {
+    /// Whether the scene has a cut (cut.enabled).
+    pub fn cut_on(&self) -> bool {
+        self.cut
+    }
+
     /// The cut's plane term cut_normal . p - cut_offset: the signed distance of p from the plane
     /// (cut_normal is of unit length), positive on the side the cut takes away.
     pub fn cut_plane(&self, p: Vec3<F>) -> F {

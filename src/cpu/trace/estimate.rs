@@ -99,7 +99,7 @@ impl<F: Real> TraceParams<F> {
     /// the distance to what is left).
     pub fn estimate_distance(&self, p: Vec3<F>) -> F {
         let d = self.estimate_julia(p);
-        if self.cut {
+        if self.cut_on() {
             return d.max(self.cut_plane(p));
         }
         d
@@ -187,7 +187,7 @@ impl<F: Real> TraceParams<F> {
     /// `estimate_distance` adds it.
     pub fn estimate_distance_pair(&self, p1: Vec3<F>, p2: Vec3<F>, live: [bool; 2]) -> [F; 2] {
         let d = self.estimate_julia_pair(p1, p2, live);
-        if self.cut {
+        if self.cut_on() {
             return [d[0].max(self.cut_plane(p1)), d[1].max(self.cut_plane(p2))];
         }
         d

@@ -130,7 +130,7 @@ impl<F: Real> TraceParams<F> {
         // On the cut face the normal is the plane's: where the plane's term is within epsilon
         // of the set's estimate or above it (inside the set the estimate can be 0, where it
         // cannot be formed, against a plane term rounded a little below 0).
-        if self.cut && self.cut_plane(p) + self.epsilon >= self.estimate_julia(p) {
+        if self.cut_on() && self.cut_plane(p) + self.epsilon >= self.estimate_julia(p) {
             return self.cut_normal;
         }
         let q = self.slice_point(p);

@@ -53,6 +53,12 @@ impl<F: Real> TraceParams<F> {
             .hit
     }
 
+    /// Whether the light has a radius (light.radius > 0): the shadows are
+    /// [`Self::soft_shadow`]'s.
+    pub fn soft_shadows_on(&self) -> bool {
+        self.light_radius > F::zero()
+    }
+
     /// The shadow of a spherical light (centre light, radius light_radius > 0), soft: from
     /// p + 2 epsilon n toward the centre, marched like [`Self::in_shadow`]'s ray with plain
     /// steps (the same t at every step, so it hits exactly where in_shadow's does with
@@ -93,6 +99,11 @@ impl<F: Real> TraceParams<F> {
             }
         }
         visibility
+    }
+
+    /// Whether the scene has ambient occlusion (shading.occlusion > 0).
+    pub fn occlusion_on(&self) -> bool {
+        self.occlusion > F::zero()
     }
 
     /// The ambient occlusion factor A in [1 - occlusion, 1]: at h_k = k OCCLUSION_STEP along

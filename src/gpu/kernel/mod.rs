@@ -189,6 +189,9 @@ pub struct Kernel {
     /// The source parsed once, for specialisations ([`specialise`]); built at the first, or
     /// at [`Kernel::new`] where the params are bound as storage.
     parsed: OnceLock<Option<specialise::Parsed>>,
+    /// The text composed for a set of scene features and parsed, for the pipelines of those
+    /// features ([`crate::gpu::shaders::split_constants`]): the last [`MAX_PARSED`] sets.
+    parsed_scenes: Mutex<Vec<ParsedScene>>,
     /// The byte ranges of a dispatch's uniform bytes that a baked pipeline still reads at run
     /// time ([`KernelSpec::bake_keeps`]): zeroed in the key of a baked pipeline.
     kept_ranges: OnceLock<Vec<std::ops::Range<usize>>>,
@@ -269,6 +272,7 @@ impl Kernel {
             pipelines: Mutex::new(cache::Pipelines::default()),
             building: Mutex::new(()),
             parsed,
+            parsed_scenes: Mutex::new(Vec::new()),
             kept_ranges: OnceLock::new(),
             uniforms_as_storage,
             inputs: Mutex::new(Vec::new()),
@@ -297,6 +301,18 @@ pub(crate) fn input_source(data: &InputData) -> usize {
 /// Maps kept uploaded ([`Kernel::input_buffer`]): the last few, each held alive so that its
 /// address stays its own (and the placeholder).
 const INPUTS_KEPT: usize = 2;
+
+/// A set of scene features and the kernel's text composed for it, parsed (None where naga
+/// refuses it).
+type ParsedScene = (
+    Vec<&'static str>,
+    std::sync::Arc<Option<specialise::Parsed>>,
+);
+
+/// Texts composed for a set of scene features and parsed that a kernel keeps
+/// ([`Kernel::parsed_scenes`]): a process that renders one scene needs one; the tests and the
+/// explorer go from scene to scene, and a parse is cheap beside the driver's build.
+pub(super) const MAX_PARSED: usize = 4;
 
 impl Kernel {
     /// The buffer holding `data` on the device, uploaded at its first use and kept for the

@@ -7,6 +7,7 @@ use super::cache::constants_key;
 use super::{BAKE_VALUES, Kernel, WORKGROUP_SIZE, buffer};
 
 use crate::error::{Error, Result};
+use crate::gpu::shaders::{declaration, split_constants};
 
 impl Kernel {
     /// The pipeline for these override constants (empty: generic), built on first use and
@@ -54,9 +55,12 @@ impl Kernel {
                 return Err(e);
             }
         };
+        // Where naga refused the text, the generic module, its constants set by wgpu (the
+        // scene features' constants are no overrides of its: they are left out).
+        let generic = split_constants(&overrides).1;
         let (module, left) = match &specialised {
             Some(module) => (module, &[][..]),
-            None => (&self.module, &overrides[..]),
+            None => (&self.module, &generic[..]),
         };
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.spec.name),
@@ -138,9 +142,38 @@ impl Kernel {
             .as_ref()
     }
 
-    /// The module of a specialisation (constants given, or values baked), its branches cut;
-    /// None for the generic pipeline, or where naga cannot parse the source itself (the plain
-    /// module then reports why).
+    /// Runs `f` on the text composed for the scene features `scene` and parsed: the generic
+    /// parse where every scene feature is on, else the last [`super::MAX_PARSED`] sets' kept;
+    /// None where naga refuses the text.
+    fn with_parsed<T>(
+        &self,
+        scene: &[&'static str],
+        f: impl FnOnce(&super::specialise::Parsed) -> T,
+    ) -> Option<T> {
+        if scene.len() == declaration().scene_features().len() {
+            return self.parsed().map(f);
+        }
+        let mut kept = self.parsed_scenes.lock().expect("parsed scenes");
+        let parsed = match kept.iter().position(|(s, _)| s == scene) {
+            Some(k) => kept.remove(k).1,
+            None => {
+                let text = self.spec.module.composed_with(scene).text;
+                let parsed = super::specialise::Parsed::new(&text, self.uniforms_as_storage);
+                std::sync::Arc::new(parsed)
+            }
+        };
+        if kept.len() >= super::MAX_PARSED {
+            kept.remove(0);
+        }
+        kept.push((scene.to_vec(), parsed.clone()));
+        drop(kept);
+        parsed.as_ref().as_ref().map(f)
+    }
+
+    /// The module of a specialisation (constants given, or values baked): the text composed
+    /// for the scene features the constants leave on ([`split_constants`]), the other
+    /// constants applied and the branches they decide cut; None for the generic pipeline, or
+    /// where naga cannot parse the source itself (the plain module then reports why).
     fn specialised_module(
         &self,
         constants: &[(&'static str, f64)],
@@ -149,9 +182,8 @@ impl Kernel {
         if constants.is_empty() && baked.is_none() {
             return Ok(None);
         }
-        let Some(parsed) = self.parsed() else {
-            return Ok(None);
-        };
+        let (scene, constants) = split_constants(constants);
+        let constants = &constants[..];
         let bake = baked.map(|bytes| {
             let values: Vec<_> = self
                 .uniform_starts()
@@ -163,18 +195,22 @@ impl Kernel {
                 .collect();
             (values, self.spec.bake_keeps.unwrap_or_default())
         });
-        let module = parsed
-            .specialise(
+        let specialised = self.with_parsed(&scene, |parsed| {
+            parsed.specialise(
                 self.spec.entry_point,
                 constants,
                 bake.as_ref().map(|(v, k)| (&v[..], *k)),
             )
-            .map_err(|e| {
-                Error::Gpu(format!(
-                    "the {} pipeline {constants:?} could not be specialised: {e}",
-                    self.spec.name
-                ))
-            })?;
+        });
+        let Some(specialised) = specialised else {
+            return Ok(None);
+        };
+        let module = specialised.map_err(|e| {
+            Error::Gpu(format!(
+                "the {} pipeline {constants:?} could not be specialised: {e}",
+                self.spec.name
+            ))
+        })?;
         Ok(Some(super::create_module(
             &self.ctx.device,
             &self.spec,
