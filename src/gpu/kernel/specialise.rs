@@ -87,8 +87,68 @@ pub(super) fn uniforms_as_storage(module: &mut Module) {
     }
 }
 
-/// Cuts every branch the module's constants decide, in its functions and entry points.
+/// Cuts every branch the module's constants decide, in its functions and entry points, and
+/// the branches that a call of a function of no arguments decides where that function returns
+/// one decided value (a feature's switch, such as `fog_on()`, composed for a scene without it:
+/// `return false;`, or a switch that baked values decide): those are found after a round of
+/// cuts, and the next round cuts what they decide.
 fn prune_module(module: &mut Module) {
+    let mut calls = HashMap::new();
+    for _ in 0..4 {
+        prune_functions(module, &calls);
+        let found = decided_functions(module, &calls);
+        if found == calls {
+            break;
+        }
+        calls = found;
+    }
+}
+
+/// The functions of no arguments whose body is one `return` of a value the constants decide
+/// (`calls`: those found so far, whose calls decide values too).
+fn decided_functions(
+    module: &Module,
+    calls: &HashMap<Handle<naga::Function>, bool>,
+) -> HashMap<Handle<naga::Function>, bool> {
+    let mut found = HashMap::new();
+    for (h, f) in module.functions.iter() {
+        if !f.arguments.is_empty() {
+            continue;
+        }
+        let Some(value) = single_return(&f.body) else {
+            continue;
+        };
+        let known = Known {
+            constants: &module.constants,
+            global_expressions: &module.global_expressions,
+            expressions: &f.expressions,
+            locals: HashMap::new(),
+            calls,
+        };
+        if let Some(b) = known.value(value) {
+            found.insert(h, b);
+        }
+    }
+    found
+}
+
+/// The value a block returns where it is a lone `return` of a value (the `Emit`s that name
+/// expressions and plain blocks aside).
+fn single_return(block: &Block) -> Option<Handle<Expression>> {
+    let mut statements = block.iter().filter(|s| !matches!(s, Statement::Emit(_)));
+    let only = statements.next()?;
+    if statements.next().is_some() {
+        return None;
+    }
+    match only {
+        Statement::Return { value } => *value,
+        Statement::Block(inner) => single_return(inner),
+        _ => None,
+    }
+}
+
+/// One round of [`prune_module`]'s cuts, the calls of `calls` decided.
+fn prune_functions(module: &mut Module, calls: &HashMap<Handle<naga::Function>, bool>) {
     let Module {
         functions,
         entry_points,
@@ -110,6 +170,7 @@ fn prune_module(module: &mut Module) {
             global_expressions,
             expressions: &function.expressions,
             locals: HashMap::new(),
+            calls,
         };
         let mut body = std::mem::take(&mut function.body);
         // WGSL's `a && b` and `a || b` reach naga's IR as a temporary set in an `if` on `a`
@@ -160,6 +221,8 @@ struct Known<'a> {
     global_expressions: &'a naga::Arena<Expression>,
     expressions: &'a naga::Arena<Expression>,
     locals: HashMap<Handle<LocalVariable>, bool>,
+    /// The functions whose every call returns a decided value ([`decided_functions`]).
+    calls: &'a HashMap<Handle<naga::Function>, bool>,
 }
 
 impl Known<'_> {
@@ -175,6 +238,7 @@ impl Known<'_> {
                 Expression::LocalVariable(local) => self.locals.get(&local).copied(),
                 _ => None,
             },
+            Expression::CallResult(function) => self.calls.get(&function).copied(),
             Expression::Unary {
                 op: UnaryOperator::LogicalNot,
                 expr,
@@ -466,7 +530,11 @@ mod tests {
         let scene = crate::scene::Scene::default();
         let mut constants = Variant::of(&TraceParams::<f32>::new(&scene), true).constants();
         constants.extend_from_slice(&fixed);
-        let cut = parsed.specialise("main", &constants, None).unwrap();
+        // The scene's features decided in the text, the rest by the constants.
+        let (on, left) = crate::gpu::shaders::split_constants(&constants);
+        let text = TRACE_MODULE.composed_with(&on).text;
+        let scenes = Parsed::new(&text, false).expect("the scene's tracer parses");
+        let cut = scenes.specialise("main", &left, None).unwrap();
         let (w, c) = (inlined_statements(&whole), inlined_statements(&cut));
         println!(
             "default scene: {c} statements inlined in {} functions, of the generic {w} in {}",
