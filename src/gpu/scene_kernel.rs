@@ -24,7 +24,8 @@ pub struct SceneKernel {
     /// The entry point the host runs.
     pub entry: String,
     /// The features it is composed with: the kernel's own (`F64`), then the scene features the
-    /// variant leaves on (every one without a variant), in shaders/kernels.json's order.
+    /// variant leaves on (every one without a variant) that its files test, in
+    /// shaders/kernels.json's order.
     pub features: Vec<String>,
     /// The files composed into it, in the order they were appended.
     pub files: Vec<String>,
@@ -127,6 +128,13 @@ fn describe(
         .expect("every module is declared");
     let (scene, overrides) = super::shaders::split_constants(&overrides);
     let composed = module.composed_with(&scene);
+    // The scene features its files test (none of the denoiser's, say).
+    let texts = composed
+        .files
+        .iter()
+        .filter_map(|f| super::shaders::file(f));
+    let tested = super::compose::features_tested(texts);
+    let scene: Vec<&str> = scene.into_iter().filter(|f| tested.contains(*f)).collect();
     let own = declared.features.iter().cloned();
     SceneKernel {
         name: module.name,
