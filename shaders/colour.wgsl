@@ -76,11 +76,7 @@ fn hit_albedo(p: vec3<Real>) -> vec3<Real> {
 // Whether the hit is shaded by shade_features (a light of some radius, ambient light, occlusion
 // or orbit-trap colour) instead of the seed's phong and in_shadow.
 fn shading_features() -> bool {
-    var shadows = params.shadows != 0u;
-    if SPECIALISED {
-        shadows = SHADOWS;
-    }
-    let soft = shadows && soft_shadows_on();
+    let soft = shadows_on() && soft_shadows_on();
     return soft || occlusion_on() || trap_on() || params.ambient > 0.0;
 }
 
@@ -114,12 +110,8 @@ fn shade_features(p: vec3<Real>, n: vec3<Real>, eye: vec3<Real>) -> vec3<Real> {
         highlight = params.specular * real_pow(e_dot_r, params.shininess);
     }
     var light = a * (base + params.normal_tint * abs(n)) * n_dot_l + vec3<Real>(highlight);
-    var shadows = params.shadows != 0u;
-    if SPECIALISED {
-        shadows = SHADOWS;
-    }
     // As in shade_pixel: no shadow ray for an unlit point.
-    if shadows && any(light > vec3<Real>(0.0)) {
+    if shadows_on() && any(light > vec3<Real>(0.0)) {
         if soft_shadows_on() {
             light *= params.shadow_factor + (1.0 - params.shadow_factor) * soft_shadow(p, n);
         } else if in_shadow(p, n) {

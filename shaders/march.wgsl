@@ -51,6 +51,31 @@ struct Trace {
 // A Trace's `closest` before any estimate.
 const NO_APPROACH: Real = 3.0e38;
 
+#if OVER_RELAXED
+// The over-relaxation's omega at a march's start: step_scale. Without OVER_RELAXED
+// (shaders/kernels.json: step_scale <= 1) 1, plain steps.
+fn over_relaxation() -> Real {
+    return params.step_scale;
+}
+#else
+fn over_relaxation() -> Real {
+    return 1.0;
+}
+#endif
+
+#if PIXEL_EPSILON
+// Whether a hit's threshold grows with the pixel's footprint (eps_slope t). Without
+// PIXEL_EPSILON (pixel_epsilon = 0: eps_slope is 0 for every ray) false, and the term is not in
+// the kernel.
+fn pixel_epsilon_on() -> bool {
+    return true;
+}
+#else
+fn pixel_epsilon_on() -> bool {
+    return false;
+}
+#endif
+
 // Sphere tracing (the seed's intersectQJulia) from t_start: estimate d, advance by max(d, 0),
 // stop with a hit when d is below the threshold: epsilon, or eps_slope t (epsilon proportional to
 // the pixel footprint; 0 for shadow rays), or the float spacing at t where steps stall. A miss
@@ -60,11 +85,7 @@ const NO_APPROACH: Real = 3.0e38;
 // successive points stop overlapping the ray may have jumped the surface, so it goes back to the
 // plain step from the last point and carries on without over-relaxation.
 fn sphere_trace(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real) -> Trace {
-    var omega = params.step_scale;
-    if SPECIALISED && !OVER_RELAXED {
-        omega = 1.0;
-    }
-    return sphere_trace_by(origin, dir, t_start, t_end, eps_slope, omega);
+    return sphere_trace_by(origin, dir, t_start, t_end, eps_slope, over_relaxation());
 }
 
 // sphere_trace with the over-relaxation omega given (path mode's secondary rays take theirs
@@ -86,7 +107,7 @@ fn sphere_trace_by(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Re
         }
         let t_plain = t + radius;
         var threshold = max(params.epsilon, t_plain * RELATIVE_EPSILON);
-        if !SPECIALISED || PIXEL_EPSILON {
+        if pixel_epsilon_on() {
             threshold = max(threshold, eps_slope * t_plain);
         }
         if d < threshold {
@@ -125,11 +146,7 @@ struct March {
 // sphere_trace's start for the ray origin + t dir over [t_start, t_end]; a ray not `live` is
 // not traced (its outcome is a miss of no steps).
 fn march_start(origin: vec3<Real>, dir: vec3<Real>, t_start: Real, t_end: Real, eps_slope: Real, live: bool) -> March {
-    var omega = params.step_scale;
-    if SPECIALISED && !OVER_RELAXED {
-        omega = 1.0;
-    }
-    return March(origin, dir, t_end, eps_slope, t_start, omega, t_start, 0.0, NO_APPROACH, live, Trace(0.0, 0u, false, NO_APPROACH));
+    return March(origin, dir, t_end, eps_slope, t_start, over_relaxation(), t_start, 0.0, NO_APPROACH, live, Trace(0.0, 0u, false, NO_APPROACH));
 }
 
 // One step of sphere_trace, its `steps`-th, for the live ray m with the estimate d at its point:
@@ -144,7 +161,7 @@ fn march_step(m: ptr<function, March>, d: Real, steps: u32) {
     }
     let t_plain = (*m).t + radius;
     var threshold = max(params.epsilon, t_plain * RELATIVE_EPSILON);
-    if !SPECIALISED || PIXEL_EPSILON {
+    if pixel_epsilon_on() {
         threshold = max(threshold, (*m).eps_slope * t_plain);
     }
     if d < threshold {

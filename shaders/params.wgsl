@@ -107,26 +107,20 @@ const NORMAL_CENTRAL: u32 = 0u;
 const NORMAL_TETRAHEDRAL: u32 = 1u;
 const NORMAL_ANALYTIC: u32 = 2u;
 
-// Per-scene specialisation (src/gpu/variant.rs): with SPECIALISED the pipeline is built for one
-// scene's features, fixed by these override constants, and the specialisation
-// (src/gpu/kernel/specialise.rs) cuts what the scene does not use (no shadow code without
-// shadows, one normal method, no slice transform for the standard slice, plain steps, no shading
-// when only depth and steps are asked for). Without it, one pipeline reads everything from
-// `params` at run time. The picture's features (the cut, orbit traps, occlusion, soft shadows,
-// the lens, fog, glow and the environment map) are no overrides: each is a feature of
+// Per-scene specialisation (src/gpu/variant.rs). A scene's features (shadows, samples, the
+// over-relaxation, the pixel epsilon, shading, the cut, orbit traps, occlusion, soft shadows, the
+// lens, fog, glow and the environment map) are no overrides: each is a feature of
 // shaders/kernels.json, gated with `#if` where it is defined, and a scene whose variant turns it
-// off gets a text without it (src/gpu/shaders.rs, split_constants).
+// off gets a text without it (src/gpu/shaders.rs, split_constants). What remains here are values
+// a few functions return at their definition (algebra_parts, the slice axes, the normal's
+// method, cone_tracing, adaptive): with SPECIALISED they are these constants, which the
+// specialisation (src/gpu/kernel/specialise.rs) applies before the driver, cutting the branches
+// they decide; without it, one pipeline reads them from `params` at run time.
 override SPECIALISED: bool = false;
-override SHADOWS: bool = true;
 override NORMAL_METHOD: u32 = 0u;
 override STANDARD_SLICE: bool = false;
-override OVER_RELAXED: bool = true;
-override PIXEL_EPSILON: bool = true;
-override SHADE: bool = true;
 override CONE_TRACING: bool = false;
 override ALGEBRA_PARTS: u32 = 1u;
-// samples > 1.
-override SAMPLES: bool = true;
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.

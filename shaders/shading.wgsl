@@ -35,6 +35,13 @@ fn phong(light: vec3<Real>, eye: vec3<Real>, pt: vec3<Real>, n: vec3<Real>) -> v
     return (params.diffuse + params.normal_tint * abs(n)) * n_dot_l + vec3<Real>(highlight);
 }
 
+#if SHADOWS
+// Whether the light casts shadows (light.shadows). Without SHADOWS (shaders/kernels.json) false,
+// and in_shadow is not in the kernel.
+fn shadows_on() -> bool {
+    return params.shadows != 0u;
+}
+
 // The shadow ray: from p + 2 epsilon n toward the light, traced like a primary ray, stopping
 // at the light or where it leaves the bounding ball, whichever comes first.
 fn in_shadow(p: vec3<Real>, n: vec3<Real>) -> bool {
@@ -53,6 +60,16 @@ fn in_shadow(p: vec3<Real>, n: vec3<Real>) -> bool {
     }
     return sphere_trace(origin, dir, bounds.t_enter, t_end, 0.0).hit;
 }
+#else
+fn shadows_on() -> bool {
+    return false;
+}
+
+// Never called: shadows_on() is false.
+fn in_shadow(p: vec3<Real>, n: vec3<Real>) -> bool {
+    return false;
+}
+#endif
 
 #if SOFT_SHADOWS
 // Whether the light has a radius (light.radius > 0): the shadows are soft_shadow's. Without

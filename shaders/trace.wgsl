@@ -43,6 +43,18 @@ var<workgroup> cone_t: Real;
 // high words (x and y the estimates, z and w the iterations).
 @group(0) @binding(4) var<storage, read_write> out_work: array<vec4<u32>>;
 
+#if SHADE
+// Whether colour is wanted. Without SHADE (shaders/kernels.json: only the depth and the steps are
+// read back) false, and a hit's shading is not in the kernel.
+fn shade_on() -> bool {
+    return true;
+}
+#else
+fn shade_on() -> bool {
+    return false;
+}
+#endif
+
 // A sample's outcome from its camera ray and the ray's trace: normal, Phong, shadow, and the
 // atmosphere over them.
 fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
@@ -50,7 +62,7 @@ fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
     if !trace.hit {
         return Pixel(atmosphere(background(ray.dir), ray, trace), -1.0, trace.steps, false, none, none);
     }
-    if SPECIALISED && !SHADE {
+    if !shade_on() {
         return Pixel(params.background, trace.t, trace.steps, true, none, none);
     }
     let origin = ray.origin;
@@ -61,13 +73,9 @@ fn shade_pixel(ray: Primary, trace: Trace) -> Pixel {
         return Pixel(atmosphere(shade_features(p, n, origin), ray, trace), trace.t, trace.steps, true, p, n);
     }
     var colour = phong(params.light, origin, p, n);
-    var shadows = params.shadows != 0u;
-    if SPECIALISED {
-        shadows = SHADOWS;
-    }
     // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
     let lit = any(colour > vec3<Real>(0.0));
-    if shadows && lit && in_shadow(p, n) {
+    if shadows_on() && lit && in_shadow(p, n) {
         colour *= params.shadow_factor;
     }
     return Pixel(atmosphere(colour, ray, trace), trace.t, trace.steps, true, p, n);
@@ -115,6 +123,18 @@ fn compacted_pixel(gid: vec3<u32>, wid: vec3<u32>, lid: u32) -> vec2<u32> {
     return vec2<u32>(wid.x * 8u + own % 8u, wid.y * 8u + own / 8u);
 }
 
+#if SAMPLES
+// The samples a pixel takes (image.samples). Without SAMPLES (shaders/kernels.json: one sample)
+// 1, and the loop over samples is not in the kernel.
+fn pixel_samples() -> u32 {
+    return params.samples;
+}
+#else
+fn pixel_samples() -> u32 {
+    return 1u;
+}
+#endif
+
 // Whether this pipeline traces a cone per block first.
 fn cone_tracing() -> bool {
     if SPECIALISED {
@@ -149,10 +169,7 @@ fn main(
     let index = (params.out_row + row) * params.row_stride + i;
     estimates = 0u;
     iterations = 0u;
-    var samples = params.samples;
-    if SPECIALISED && !SAMPLES {
-        samples = 1u;
-    }
+    let samples = pixel_samples();
     let no_aovs = Aovs(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
     // Where the lens is open, the depth and the steps are the pinhole ray's, traced for them.
     if params.sample_start == 0u && lens_open() {

@@ -46,6 +46,12 @@ const TRACE: Twin = Twin {
     only_in: &[
         OnlyIn {
             side: Side::Wgsl,
+            name: "shade_on",
+            reason: "the feature SHADE's switch (true, or false composed without it); the CPU \
+                     twin's `shade_pixel` takes `shade` as an argument",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
             name: "add_work",
             reason: "adds a dispatch's counts to the pixel's 64-bit counts held as two u32 \
                      words each; the CPU counts into u64s (cpu::counters)",
@@ -56,6 +62,12 @@ const TRACE: Twin = Twin {
             reason: "packs a workgroup's live pixels into its first invocations (adaptive \
                      sampling's compaction); the CPU has no lanes to pack: `cpu::render_rows` \
                      skips a done pixel's samples by breaking out of its loop",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "pixel_samples",
+            reason: "image.samples, or 1 composed without the feature SAMPLES; on the CPU \
+                     `cpu::render_rows` reads `samples`",
         },
         OnlyIn {
             side: Side::Wgsl,
@@ -134,12 +146,26 @@ const MARCH: Twin = Twin {
     rust: "src/cpu/trace/march.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[OnlyIn {
-        side: Side::Rust,
-        name: "untraced",
-        reason: "a Trace of a ray not traced; WGSL writes the literal \
+    only_in: &[
+        OnlyIn {
+            side: Side::Rust,
+            name: "untraced",
+            reason: "a Trace of a ray not traced; WGSL writes the literal \
                      `Trace(0.0, 0u, false, NO_APPROACH)`",
-    }],
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "over_relaxation",
+            reason: "step_scale, or 1 composed without the feature OVER_RELAXED; the CPU \
+                     reads `step_scale`",
+        },
+        OnlyIn {
+            side: Side::Wgsl,
+            name: "pixel_epsilon_on",
+            reason: "true, or false composed without the feature PIXEL_EPSILON; on the CPU \
+                     the footprint's term is eps_slope t, 0 where pixel_epsilon is",
+        },
+    ],
 };
 
 const NORMAL: Twin = Twin {

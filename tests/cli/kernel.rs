@@ -65,9 +65,11 @@ fn each_scene_gets_its_kernels() {
     assert_eq!(trace["bytes"].as_u64().unwrap() as usize, text.len());
     assert_eq!(trace["fingerprint"], fingerprint(text.as_bytes()));
     assert_eq!(trace["overrides"]["SPECIALISED"], 1.0);
+    assert!(trace["overrides"].get("SHADOWS").is_none(), "a feature");
     assert_eq!(
-        trace["overrides"]["SHADOWS"], 1.0,
-        "the seed's look has its shadow"
+        trace["features"],
+        serde_json::json!(["SHADOWS", "SHADE"]),
+        "the seed's look has its shadow, one sample, plain steps and no pixel epsilon"
     );
     validate_wgsl(text).unwrap();
 
@@ -115,7 +117,10 @@ fn without_specialisation_no_overrides_are_set() {
         serde_json::json!(every),
         "every one on"
     );
-    assert_eq!(specialised[0]["features"], serde_json::json!(["LENS"]));
+    assert_eq!(
+        specialised[0]["features"],
+        serde_json::json!(["SAMPLES", "SHADE", "LENS"])
+    );
     let bytes = |k: &Value| k["bytes"].as_u64().unwrap();
     assert!(bytes(&generic[0]) > bytes(&specialised[0]));
 }
@@ -176,7 +181,7 @@ fn features_in(code: &str, what: &str) -> Vec<&'static str> {
 fn the_seeds_kernel_holds_only_what_it_uses() {
     let seed = kernels(&[]);
     assert_eq!(features_in(&code(&seed[0]), "the seed's look"), [""; 0]);
-    assert_eq!(seed[0]["features"], serde_json::json!([]));
+    assert_eq!(seed[0]["features"], serde_json::json!(["SHADOWS", "SHADE"]));
     let turned_on: [(&str, &[&str], &[&str]); 8] = [
         ("path", &["shading.model=\"path\""], &["path"]),
         ("fog", &["fog.density=0.5"], &["fog"]),

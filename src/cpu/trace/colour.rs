@@ -63,7 +63,7 @@ impl<F: Real> TraceParams<F> {
     /// Whether the hit is shaded by [`Self::shade_features`] (a light of some radius, ambient
     /// light, occlusion or orbit-trap colour) instead of the seed's phong and in_shadow.
     pub fn shading_features(&self) -> bool {
-        let soft = self.shadows && self.soft_shadows_on();
+        let soft = self.shadows_on() && self.soft_shadows_on();
         soft || self.occlusion_on() || self.trap_on() || self.ambient > F::zero()
     }
 
@@ -98,7 +98,7 @@ impl<F: Real> TraceParams<F> {
         let mut light = (base + n.abs() * self.normal_tint) * a * n_dot_l + Vec3::splat(highlight);
         // As in trace_pixel: no shadow ray for an unlit point.
         let lit = light.x > F::zero() || light.y > F::zero() || light.z > F::zero();
-        if self.shadows && lit {
+        if self.shadows_on() && lit {
             if self.soft_shadows_on() {
                 let sf = self.shadow_factor;
                 light = light * (sf + (F::one() - sf) * self.soft_shadow(p, n));

@@ -74,7 +74,7 @@ impl<F: Real> TraceParams<F> {
         let mut colour = self.phong(self.light, origin, p, n);
         // An unlit point (black: the light is behind its surface) stays black in shadow: no ray.
         let lit = colour.x > F::zero() || colour.y > F::zero() || colour.z > F::zero();
-        if self.shadows && lit && self.in_shadow(p, n) {
+        if self.shadows_on() && lit && self.in_shadow(p, n) {
             colour = colour * self.shadow_factor;
         }
         Pixel {

@@ -33,6 +33,11 @@ impl<F: Real> TraceParams<F> {
         (self.diffuse + n.abs() * self.normal_tint) * n_dot_l + Vec3::splat(highlight)
     }
 
+    /// Whether the light casts shadows (light.shadows).
+    pub fn shadows_on(&self) -> bool {
+        self.shadows
+    }
+
     /// The shadow ray: from p + 2 epsilon n toward the light, traced like a primary ray,
     /// stopping at the light or where it leaves the bounding ball, whichever comes first.
     pub fn in_shadow(&self, p: Vec3<F>, n: Vec3<F>) -> bool {
