@@ -197,19 +197,23 @@ fn store_aovs(index: u32, a: Aovs) {
 // half the mean of B's first tau_A samples plus half the mean of A's first tau_B (streams_mean),
 // so that neither half depends on its own stream's stop, and it samples both streams until both
 // rules have fired and each stream has the draws the other's stop asks of it (sampling_done).
-override ADAPTIVE: bool = true;
 
 // A pixel's noise is taken relative to its mean luminance or to this, whichever is larger (the
 // floor for dark pixels, in linear luminance: 1 is phong mode's white).
 const NOISE_LUMINANCE_FLOOR: f32 = 0.01;
 
-// Whether this pipeline samples adaptively.
+#if ADAPTIVE
+// Whether this pipeline samples adaptively. Without ADAPTIVE (shaders/kernels.json) false: the
+// streams' functions are still in the text, and the specialisation (src/gpu/kernel/specialise.rs)
+// cuts every branch this decides.
 fn adaptive() -> bool {
-    if SPECIALISED {
-        return ADAPTIVE;
-    }
     return params.noise_target > 0.0 && params.samples > 1u;
 }
+#else
+fn adaptive() -> bool {
+    return false;
+}
+#endif
 
 // A pixel's noise after n >= 2 samples whose luminances' M2 is m2: the standard error of its
 // mean luminance, sqrt(m2 / (n (n - 1))), relative to that mean (at least the floor).

@@ -117,6 +117,7 @@ fn aperture_point(uv: vec2<f32>) -> vec2<f32> {
 }
 #endif
 
+#if CONE_TRACING
 // Cone tracing's start for the block (bi, bj) of CONE_BLOCK x CONE_BLOCK pixels: march the ray
 // through the block's centre, shrinking each unbounding sphere by the cone's radius at that
 // distance (t times the tangent of the widest angle to a corner ray), so that the whole cone is
@@ -148,6 +149,12 @@ fn cone_start(bi: u32, bj: u32) -> Real {
     }
     return t;
 }
+#else
+// Never called: cone_tracing() is false.
+fn cone_start(bi: u32, bj: u32) -> Real {
+    return 0.0;
+}
+#endif
 
 // A sample's camera ray: its origin and direction and the stretch [t_start, t_end] of it that
 // sphere tracing covers, within the bounding ball; `hit` false where it misses the ball.

@@ -21,34 +21,37 @@ var<private> iterations: u32;
 // Below this a squared length counts as zero: nothing is divided by it or normalised.
 const TINY: Real = 1e-30;
 
-// Quaternion parts of the scene's algebra (1, 2 or 4): a constant when specialised.
+// Quaternion parts of the scene's algebra (1, 2 or 4): the uniform's where the kernel has every
+// algebra (the features QUATERNION and OCTONION both on), else the one algebra's constant
+// (neither on: sedenions).
 fn algebra_parts() -> u32 {
-    if SPECIALISED {
-        return ALGEBRA_PARTS;
-    }
+#if QUATERNION
+#if OCTONION
     return params.algebra_parts;
+#else
+    return 1u;
+#endif
+#else
+#if OCTONION
+    return 2u;
+#else
+    return 4u;
+#endif
+#endif
 }
 
-// The slice axes: constants for the standard slice when specialised (the CPU twin reads them
-// from its parameters).
+#if SLICE
+// The slice axes (the CPU twin reads them from its parameters). Without SLICE (the standard
+// slice, x, y, z = 1, i, j) constants.
 fn slice_axis_x() -> Hyper {
-    if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
-    }
     return params.slice_x;
 }
 
 fn slice_axis_y() -> Hyper {
-    if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<Real>(0.0, 1.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
-    }
     return params.slice_y;
 }
 
 fn slice_axis_z() -> Hyper {
-    if SPECIALISED && STANDARD_SLICE {
-        return Hyper(vec4<Real>(0.0, 0.0, 1.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
-    }
     return params.slice_z;
 }
 
@@ -56,10 +59,6 @@ fn slice_axis_z() -> Hyper {
 // algebra.
 fn slice_point(p: vec3<Real>) -> Hyper {
     var q = params.slice_offset;
-    if SPECIALISED && STANDARD_SLICE {
-        q[0] += vec4<Real>(p, 0.0);
-        return q;
-    }
     let x = params.slice_x;
     let y = params.slice_y;
     let z = params.slice_z;
@@ -73,6 +72,26 @@ fn slice_point(p: vec3<Real>) -> Hyper {
     }
     return q;
 }
+#else
+fn slice_axis_x() -> Hyper {
+    return Hyper(vec4<Real>(1.0, 0.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
+}
+
+fn slice_axis_y() -> Hyper {
+    return Hyper(vec4<Real>(0.0, 1.0, 0.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
+}
+
+fn slice_axis_z() -> Hyper {
+    return Hyper(vec4<Real>(0.0, 0.0, 1.0, 0.0), vec4<Real>(0.0), vec4<Real>(0.0), vec4<Real>(0.0));
+}
+
+// The standard slice: p is the first quaternion's 1, i, j.
+fn slice_point(p: vec3<Real>) -> Hyper {
+    var q = params.slice_offset;
+    q[0] += vec4<Real>(p, 0.0);
+    return q;
+}
+#endif
 
 // The orbit of z: z <- z^2 + c with z' <- 2 z z' (z'_0 = 1), until |z|^2 > escape_radius_squared
 // or max_iterations (or |z'|^2 > DERIVATIVE_LIMIT); leaves the last z in z and returns |z'|^2.

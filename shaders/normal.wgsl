@@ -24,6 +24,7 @@ fn safe_normalize(v: vec3<Real>, fallback: vec3<Real>) -> vec3<Real> {
     return w / real_sqrt(dot(w, w));
 }
 
+#if CENTRAL_NORMAL
 // The seed's normal (its normEstimate): central differences of |z_N| along the slice axes with
 // normal_delta, max_iterations iterations of z <- z^2 + c. All six orbits stop together once
 // any |z|^2 passes NORMAL_LIMIT: from there z_N ~ z_n^(2^(N-n)), so grad |z_N| is parallel to
@@ -64,7 +65,14 @@ fn normal_central(q: Hyper) -> vec3<Real> {
         real_sqrt(hyper_dot(z_plus, z_plus, parts)) - real_sqrt(hyper_dot(z_minus, z_minus, parts)),
     );
 }
+#else
+// Never called: normal_method() is another method.
+fn normal_central(q: Hyper) -> vec3<Real> {
+    return vec3<Real>(0.0);
+}
+#endif
 
+#if TETRAHEDRAL_NORMAL
 // Four samples at the corners of a tetrahedron, (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) times
 // normal_delta: sum of v_k |z_N(p + delta v_k)|, two thirds the work of central differences.
 fn normal_tetrahedral(q: Hyper) -> vec3<Real> {
@@ -97,7 +105,14 @@ fn normal_tetrahedral(q: Hyper) -> vec3<Real> {
     let ld = real_sqrt(hyper_dot(d, d, parts));
     return vec3<Real>(la - lb - lc + ld, -la - lb + lc + ld, -la + lb - lc + ld);
 }
+#else
+// Never called: normal_method() is another method.
+fn normal_tetrahedral(q: Hyper) -> vec3<Real> {
+    return vec3<Real>(0.0);
+}
+#endif
 
+#if ANALYTIC_NORMAL
 // The exact gradient of |z_N|: the derivatives of z along the three slice axes, carried through
 // the iteration (d(z^2) = z dz + dz z, square_derivative), then grad_i |z| = z . dz_i / |z| (the
 // 1/|z| does not change the direction).
@@ -120,6 +135,31 @@ fn normal_analytic(q: Hyper) -> vec3<Real> {
     }
     return vec3<Real>(hyper_dot(z, jx, parts), hyper_dot(z, jy, parts), hyper_dot(z, jz, parts));
 }
+#else
+// Never called: normal_method() is another method.
+fn normal_analytic(q: Hyper) -> vec3<Real> {
+    return vec3<Real>(0.0);
+}
+#endif
+
+// The normal's method: a constant where the scene's kernel has one (one of the features
+// CENTRAL_NORMAL, TETRAHEDRAL_NORMAL and ANALYTIC_NORMAL on), params.normal_method where it has
+// every one.
+fn normal_method() -> u32 {
+#if CENTRAL_NORMAL
+#if TETRAHEDRAL_NORMAL
+    return params.normal_method;
+#else
+    return NORMAL_CENTRAL;
+#endif
+#else
+#if TETRAHEDRAL_NORMAL
+    return NORMAL_TETRAHEDRAL;
+#else
+    return NORMAL_ANALYTIC;
+#endif
+#endif
+}
 
 // The shading normal by params.normal_method; where no gradient can be formed it points back
 // along the ray. On the cut face, the cut's normal.
@@ -132,11 +172,7 @@ fn estimate_normal(p: vec3<Real>, dir: vec3<Real>) -> vec3<Real> {
     }
     let q = slice_point(p);
     var grad: vec3<Real>;
-    var method = params.normal_method;
-    if SPECIALISED {
-        method = NORMAL_METHOD;
-    }
-    switch method {
+    switch normal_method() {
         case NORMAL_TETRAHEDRAL: {
             grad = normal_tetrahedral(q);
         }

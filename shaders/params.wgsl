@@ -107,20 +107,12 @@ const NORMAL_CENTRAL: u32 = 0u;
 const NORMAL_TETRAHEDRAL: u32 = 1u;
 const NORMAL_ANALYTIC: u32 = 2u;
 
-// Per-scene specialisation (src/gpu/variant.rs). A scene's features (shadows, samples, the
-// over-relaxation, the pixel epsilon, shading, the cut, orbit traps, occlusion, soft shadows, the
-// lens, fog, glow and the environment map) are no overrides: each is a feature of
-// shaders/kernels.json, gated with `#if` where it is defined, and a scene whose variant turns it
-// off gets a text without it (src/gpu/shaders.rs, split_constants). What remains here are values
-// a few functions return at their definition (algebra_parts, the slice axes, the normal's
-// method, cone_tracing, adaptive): with SPECIALISED they are these constants, which the
-// specialisation (src/gpu/kernel/specialise.rs) applies before the driver, cutting the branches
-// they decide; without it, one pipeline reads them from `params` at run time.
-override SPECIALISED: bool = false;
-override NORMAL_METHOD: u32 = 0u;
-override STANDARD_SLICE: bool = false;
-override CONE_TRACING: bool = false;
-override ALGEBRA_PARTS: u32 = 1u;
+// Per-scene specialisation (src/gpu/variant.rs): a scene's features (the algebra, the slice,
+// the normal's method, cone tracing, adaptive sampling, shadows, samples, the over-relaxation,
+// the pixel epsilon, shading, the cut, orbit traps, occlusion, soft shadows, the lens, fog, glow
+// and the environment map) are no overrides: each is a feature of shaders/kernels.json, gated
+// with `#if` where it is defined, and a scene whose variant turns it off gets a text without it
+// (src/gpu/shaders.rs, split_constants). The overrides below are the host's and the device's.
 // The AOVs (`--hdr`): with AOVS the kernel also writes out_aovs. Off by default and in every
 // Variant: only a render that reads the AOVs back sets it, so the ordinary pipeline holds none of
 // their code, and out_aovs may then be a placeholder of one pixel.

@@ -135,13 +135,17 @@ fn pixel_samples() -> u32 {
 }
 #endif
 
-// Whether this pipeline traces a cone per block first.
+#if CONE_TRACING
+// Whether this pipeline traces a cone per block first. Without CONE_TRACING (shaders/kernels.json)
+// false, and the cone is not in the kernel.
 fn cone_tracing() -> bool {
-    if SPECIALISED {
-        return CONE_TRACING;
-    }
     return params.tracing == TRACING_CONE;
 }
+#else
+fn cone_tracing() -> bool {
+    return false;
+}
+#endif
 
 // One workgroup is one CONE_BLOCK x CONE_BLOCK block (bands start on block rows).
 @compute @workgroup_size(8, 8, 1)

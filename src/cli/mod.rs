@@ -57,7 +57,7 @@ pub enum Command {
     /// Accuracy and stability reports.
     Report(ReportArgs),
     /// Print the tracer's uniform for a scene as data: its layout (WGSL `struct Params`), its
-    /// bytes and the override constants of the scene's pipeline (for a host that packs them).
+    /// bytes and the constants of the scene's variant (for a host that packs them).
     GpuParams(GpuParamsArgs),
     /// Print the WGSL of the kernels a render of the scene runs on the GPU, as composed from
     /// shaders/ for it: each kernel's name, entry point, size, fingerprint, files and override

@@ -86,8 +86,9 @@ pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> V
     }
     if specialised {
         after.push(
-            "naga applies the constants and removes the branches they decide, and what no \
-             entry point reaches (src/gpu/kernel/specialise.rs)"
+            "naga applies the constants and removes the branches they decide (and those that \
+             a switch the text folds decides, such as fog_on() composed without FOG), and what \
+             no entry point reaches (src/gpu/kernel/specialise.rs)"
                 .into(),
         );
     }

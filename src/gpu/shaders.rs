@@ -101,6 +101,12 @@ pub struct FeatureDecl {
     /// Decided by the scene's variant ([`split_constants`]); else by the kernel (`F64`).
     #[serde(default)]
     pub scene: bool,
+    /// A scene feature's constant: its own name unless given.
+    #[serde(default)]
+    pub constant: Option<String>,
+    /// The values of [`Self::constant`] that turn a scene feature on: `[1]` unless given.
+    #[serde(default)]
+    pub on: Option<Vec<f64>>,
     pub doc: String,
 }
 
@@ -162,18 +168,31 @@ impl Declaration {
 }
 
 /// A pipeline's override constants split into the scene features the text is composed with and
-/// the constants left for naga: each scene feature is on unless the constants set the constant
-/// of its name to 0 (a variant's, [`super::Variant::constants`]), so that constants without a
-/// variant (none, or only the device's choices) compose every scene feature on, the generic
-/// kernel. The scene features' own constants are not passed on: the text has no such override.
+/// the constants left for naga. A scene feature is on where the constants hold its constant
+/// ([`FeatureDecl::constant`]) with one of its values ([`FeatureDecl::on`]), off where they hold
+/// it with another, and on where they do not hold it: constants without a variant (none, or
+/// only the device's choices) compose every scene feature on, the generic kernel. The scene
+/// features' constants (a variant's, [`super::Variant::constants`]) are not passed on: the text
+/// has no such override.
 pub fn split_constants(
     constants: &[(&'static str, f64)],
 ) -> (Vec<&'static str>, Vec<(&'static str, f64)>) {
-    let scene = declaration().scene_features();
-    let off = |name: &str| constants.iter().any(|c| c.0 == name && c.1 == 0.0);
-    let on = scene.iter().copied().filter(|f| !off(f)).collect();
+    let d = declaration();
+    let scene: Vec<&FeatureDecl> = d.features.iter().filter(|f| f.scene).collect();
+    let constant = |f: &FeatureDecl| f.constant.clone().unwrap_or_else(|| f.name.clone());
+    let on = scene.iter().filter(|f| {
+        let values = f.on.clone().unwrap_or_else(|| vec![1.0]);
+        let held = constants.iter().find(|c| c.0 == constant(f));
+        held.is_none_or(|c| values.contains(&c.1))
+    });
+    let on = on.map(|f| f.name.as_str()).collect();
+    let consumed: Vec<String> = scene.iter().map(|f| constant(f)).collect();
     let left = constants.iter().copied();
-    (on, left.filter(|c| !scene.contains(&c.0)).collect())
+    (
+        on,
+        left.filter(|c| !consumed.iter().any(|n| n == c.0))
+            .collect(),
+    )
 }
 
 /// One WGSL module the GPU runs: a kernel of shaders/kernels.json by name, or (for tests) a

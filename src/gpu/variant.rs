@@ -1,6 +1,8 @@
 //! Per-scene specialisation: the shader a scene runs holds only what it uses. A [`Variant`]
-//! names the features a scene needs; it becomes the override constants of shaders/trace.wgsl
-//! (`SPECIALISED` and the rest), and the tracer builds and caches one pipeline per variant.
+//! names the features a scene needs as constants ([`Variant::constants`]), which decide the
+//! scene features of shaders/kernels.json the text is composed with
+//! ([`super::shaders::split_constants`]), and the tracer builds and caches one pipeline per
+//! variant.
 
 use crate::algebra::Real;
 use crate::params::TraceParams;
@@ -210,7 +212,6 @@ impl Variant {
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         vec![
-            ("SPECIALISED", 1.0),
             ("SHADOWS", b(self.shadows)),
             ("NORMAL_METHOD", self.normal.code() as f64),
             ("STANDARD_SLICE", b(self.standard_slice)),

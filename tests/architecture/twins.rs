@@ -173,7 +173,13 @@ const NORMAL: Twin = Twin {
     rust: "src/cpu/trace/normal.rs",
     rust_from: None,
     rust_from_reason: "",
-    only_in: &[],
+    only_in: &[OnlyIn {
+        side: Side::Wgsl,
+        name: "normal_method",
+        reason: "the normal's method, a constant where the scene's kernel has one method \
+                 (shaders/kernels.json's CENTRAL_NORMAL, TETRAHEDRAL_NORMAL, ANALYTIC_NORMAL); \
+                 the CPU twin's `estimate_normal` matches on `normal_method`",
+    }],
 };
 
 const SHADING: Twin = Twin {

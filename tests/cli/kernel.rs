@@ -64,12 +64,16 @@ fn each_scene_gets_its_kernels() {
     let text = trace["text"].as_str().unwrap();
     assert_eq!(trace["bytes"].as_u64().unwrap() as usize, text.len());
     assert_eq!(trace["fingerprint"], fingerprint(text.as_bytes()));
-    assert_eq!(trace["overrides"]["SPECIALISED"], 1.0);
-    assert!(trace["overrides"].get("SHADOWS").is_none(), "a feature");
+    assert_eq!(
+        trace["overrides"],
+        serde_json::json!({}),
+        "every constant of the variant is a feature"
+    );
     assert_eq!(
         trace["features"],
-        serde_json::json!(["SHADOWS", "SHADE"]),
-        "the seed's look has its shadow, one sample, plain steps and no pixel epsilon"
+        serde_json::json!(["SHADOWS", "SHADE", "QUATERNION", "CENTRAL_NORMAL"]),
+        "the seed's look: quaternions, the central normal, shadows, one sample, plain steps, \
+         no pixel epsilon"
     );
     validate_wgsl(text).unwrap();
 
@@ -119,7 +123,7 @@ fn without_specialisation_no_overrides_are_set() {
     );
     assert_eq!(
         specialised[0]["features"],
-        serde_json::json!(["SAMPLES", "SHADE", "LENS"])
+        serde_json::json!(["SAMPLES", "SHADE", "QUATERNION", "CENTRAL_NORMAL", "LENS"])
     );
     let bytes = |k: &Value| k["bytes"].as_u64().unwrap();
     assert!(bytes(&generic[0]) > bytes(&specialised[0]));
@@ -181,7 +185,8 @@ fn features_in(code: &str, what: &str) -> Vec<&'static str> {
 fn the_seeds_kernel_holds_only_what_it_uses() {
     let seed = kernels(&[]);
     assert_eq!(features_in(&code(&seed[0]), "the seed's look"), [""; 0]);
-    assert_eq!(seed[0]["features"], serde_json::json!(["SHADOWS", "SHADE"]));
+    let seed_features = ["SHADOWS", "SHADE", "QUATERNION", "CENTRAL_NORMAL"];
+    assert_eq!(seed[0]["features"], serde_json::json!(seed_features));
     let turned_on: [(&str, &[&str], &[&str]); 8] = [
         ("path", &["shading.model=\"path\""], &["path"]),
         ("fog", &["fog.density=0.5"], &["fog"]),
@@ -236,7 +241,7 @@ fn the_text_is_valid_wgsl_with_its_header() {
     );
     assert!(
         text.lines()
-            .any(|l| l.starts_with("// overrides: SPECIALISED = 1, "))
+            .any(|l| l == "// features: SAMPLES SHADE QUATERNION CENTRAL_NORMAL LENS")
     );
     assert!(text.ends_with(json[0]["text"].as_str().unwrap()));
     validate_wgsl(&text).unwrap();

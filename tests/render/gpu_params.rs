@@ -296,8 +296,11 @@ fn the_overrides_are_the_tracers() {
     let gallery = overrides(&gpu_params(&["--preset", "gallery"]));
     let seed = overrides(&gpu_params(&["--preset", "seed"]));
     let value = |all: &[(String, f64)], name: &str| all.iter().find(|(k, _)| k == name).unwrap().1;
+    assert!(
+        gallery.iter().all(|(k, _)| k != "SPECIALISED"),
+        "no longer one"
+    );
     for name in [
-        "SPECIALISED",
         "SHADE",
         "SAMPLES",
         "CUT",

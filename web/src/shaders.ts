@@ -25,18 +25,40 @@ export const SCENE_FEATURES: readonly string[] = declaration.features
   .filter((f) => 'scene' in f && f.scene === true)
   .map((f) => f.name);
 
+interface SceneFeature {
+  name: string;
+  constant: string;
+  on: number[];
+}
+
+/// Each scene feature, its constant and the values that turn it on (shaders/kernels.json's
+/// defaults: its own name, [1]).
+const SCENE: readonly SceneFeature[] = declaration.features
+  .filter((f) => 'scene' in f && f.scene === true)
+  .map((f) => ({
+    name: f.name,
+    constant: 'constant' in f && typeof f.constant === 'string' ? f.constant : f.name,
+    on: 'on' in f && Array.isArray(f.on) ? (f.on as number[]) : [1],
+  }));
+
 /// A pipeline's override constants split into the scene features the text is composed with and
-/// the constants left for the pipeline: each scene feature is on unless the constants set the
-/// constant of its name to 0, and the scene features' constants are not passed on (the text has
-/// no such override). Without a variant every scene feature is on: the generic kernel.
+/// the constants left for the pipeline (src/gpu/shaders.rs's split_constants): a scene feature
+/// is on where the constants hold its constant with one of its values, off where they hold it
+/// with another, on where they do not hold it; the scene features' constants are not passed on
+/// (the text has no such override). Without a variant every scene feature is on: the generic
+/// kernel.
 export function splitConstants(constants: readonly [string, number][]): {
   on: string[];
   left: [string, number][];
 } {
-  const off = (name: string) => constants.some(([n, v]) => n === name && v === 0);
+  const on = SCENE.filter((f) => {
+    const held = constants.find(([n]) => n === f.constant);
+    return held === undefined || f.on.includes(held[1]);
+  });
+  const consumed = SCENE.map((f) => f.constant);
   return {
-    on: SCENE_FEATURES.filter((f) => !off(f)),
-    left: constants.filter(([n]) => !SCENE_FEATURES.includes(n)),
+    on: on.map((f) => f.name),
+    left: constants.filter(([n]) => !consumed.includes(n)),
   };
 }
 

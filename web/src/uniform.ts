@@ -383,7 +383,6 @@ export function overrides(s: Scene, envMap: boolean): [string, number][] {
   const b = (v: boolean) => (v ? 1 : 0);
   const samples = n('samples') > 1;
   return [
-    ['SPECIALISED', 1],
     ['SHADOWS', path ? 0 : n('shadows')],
     ['NORMAL_METHOD', n('normal_method')],
     ['STANDARD_SLICE', b(standard('slice_x', 0) && standard('slice_y', 1) && standard('slice_z', 2))],

@@ -324,7 +324,7 @@ impl Known<'_> {
             };
             let ends = diverges(&statement);
             out.push(statement, span);
-            // What follows a `return` (a decided `if SPECIALISED && !LENS { return ...; }`
+            // What follows a `return` (a decided `if !shade_on() { return ...; }`
             // leaves one) is never reached.
             if ends {
                 break;
