@@ -254,16 +254,29 @@ impl Views {
     }
 
     /// Waits (at most [`DEVICE_WAIT`]) for the device to finish what was submitted; false
-    /// where nothing was (the view waits for something else).
+    /// where nothing was, or it did not finish in time (the view waits for something else).
+    ///
+    /// It polls rather than waits with a timeout: in wgpu-core 30.0.1 a `PollType::Wait` that
+    /// times out while another thread's poll (the view timer's) finds the queue drained trips
+    /// an assertion in `Device::maintain` ("If the queue is empty, the current submission index
+    /// (34) should be at least the wait submission index (36)": its fence sample is older than
+    /// the other thread's; gfx-rs/wgpu#9958 fixes it after 30.0.1). A `Poll` waits for no index,
+    /// so it asserts nothing.
     fn wait_for_device(&self) -> bool {
-        let wait = wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: Some(DEVICE_WAIT),
-        };
-        matches!(
-            self.kernels.context().device.poll(wait),
-            Ok(wgpu::PollStatus::WaitSucceeded)
-        )
+        let device = &self.kernels.context().device;
+        let deadline = Instant::now() + DEVICE_WAIT;
+        let mut in_flight = false;
+        loop {
+            match device.poll(wgpu::PollType::Poll) {
+                Ok(wgpu::PollStatus::QueueEmpty) => return in_flight,
+                Ok(_) => in_flight = true,
+                Err(_) => return false,
+            }
+            if Instant::now() >= deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
 
     /// What the views show for `ask`, numbered `number`; `last`: what was published before
