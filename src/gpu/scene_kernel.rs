@@ -59,6 +59,15 @@ pub fn picture_module(scene: &Scene, picture: Picture, precision: Precision) -> 
 /// The kernels a render of `picture` of `scene` in `precision` runs: the picture's, then the
 /// denoiser's where `image.denoise` asks for it.
 pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> Vec<SceneKernel> {
+    let mut kernels = vec![picture_kernel(scene, picture, precision)];
+    if picture != Picture::Julia2d && scene.image.denoise == Denoiser::Atrous {
+        kernels.push(describe(DENOISE_MODULE, Vec::new(), Vec::new()));
+    }
+    kernels
+}
+
+/// The kernel that draws `picture` of `scene` in `precision`, composed for the scene's variant.
+fn picture_kernel(scene: &Scene, picture: Picture, precision: Precision) -> SceneKernel {
     let module = picture_module(scene, picture, precision);
     let specialised = variant::specialise_from_env();
     let tracer = picture != Picture::Julia2d;
@@ -97,11 +106,7 @@ pub fn scene_kernels(scene: &Scene, picture: Picture, precision: Precision) -> V
          (QJULIA_UNIFORMS_AS_STORAGE)"
             .into(),
     );
-    let mut kernels = vec![describe(module, overrides, after)];
-    if tracer && scene.image.denoise == Denoiser::Atrous {
-        kernels.push(describe(DENOISE_MODULE, Vec::new(), Vec::new()));
-    }
-    kernels
+    describe(module, overrides, after)
 }
 
 /// What `--stats` records of the kernel that draws `picture` of `scene` in `precision`: the
@@ -111,7 +116,7 @@ pub fn kernel_stats(
     picture: Picture,
     precision: Precision,
 ) -> crate::stats::KernelStats {
-    let kernel = scene_kernels(scene, picture, precision).swap_remove(0);
+    let kernel = picture_kernel(scene, picture, precision);
     crate::stats::KernelStats {
         name: kernel.name.to_string(),
         bytes: kernel.bytes,

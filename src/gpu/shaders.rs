@@ -177,22 +177,28 @@ impl Declaration {
 pub fn split_constants(
     constants: &[(&'static str, f64)],
 ) -> (Vec<&'static str>, Vec<(&'static str, f64)>) {
-    let d = declaration();
-    let scene: Vec<&FeatureDecl> = d.features.iter().filter(|f| f.scene).collect();
-    let constant = |f: &FeatureDecl| f.constant.clone().unwrap_or_else(|| f.name.clone());
+    let scene: Vec<&FeatureDecl> = declaration().features.iter().filter(|f| f.scene).collect();
     let on = scene.iter().filter(|f| {
-        let values = f.on.clone().unwrap_or_else(|| vec![1.0]);
-        let held = constants.iter().find(|c| c.0 == constant(f));
-        held.is_none_or(|c| values.contains(&c.1))
+        let held = constants.iter().find(|c| c.0 == f.constant());
+        held.is_none_or(|c| f.on_values().contains(&c.1))
     });
     let on = on.map(|f| f.name.as_str()).collect();
-    let consumed: Vec<String> = scene.iter().map(|f| constant(f)).collect();
-    let left = constants.iter().copied();
-    (
-        on,
-        left.filter(|c| !consumed.iter().any(|n| n == c.0))
-            .collect(),
-    )
+    let consumed = |name: &str| scene.iter().any(|f| f.constant() == name);
+    let left = constants.iter().copied().filter(|c| !consumed(c.0));
+    (on, left.collect())
+}
+
+impl FeatureDecl {
+    /// A scene feature's constant: [`Self::constant`] where given, else its name.
+    pub fn constant(&self) -> &str {
+        self.constant.as_deref().unwrap_or(&self.name)
+    }
+
+    /// The values of its constant that turn a scene feature on: [`Self::on`] where given, else
+    /// 1.
+    pub fn on_values(&self) -> &[f64] {
+        self.on.as_deref().unwrap_or(&[1.0])
+    }
 }
 
 /// One WGSL module the GPU runs: a kernel of shaders/kernels.json by name, or (for tests) a

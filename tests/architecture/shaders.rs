@@ -283,6 +283,25 @@ fn specialise(
     specialised.into_owned()
 }
 
+/// `text` parsed and validated once, with the validation's info (what [`specialise`] takes);
+/// panics naming `what` with naga's message otherwise.
+fn parsed(text: &str, what: &str) -> (naga::Module, naga::valid::ModuleInfo) {
+    let module = naga::front::wgsl::parse_str(text)
+        .unwrap_or_else(|e| panic!("{what}: {}", e.emit_to_string(text)));
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{what}: {}", e.emit_to_string(text)));
+    (module, info)
+}
+
+/// The constants `split_constants` leaves for a pipeline, as naga takes them.
+fn pipeline_constants(left: &[(&str, f64)]) -> naga::back::PipelineConstants {
+    left.iter().map(|&(n, v)| (n.to_string(), v)).collect()
+}
+
 /// Specialises `source` for each variant and `entry` (the f64 modules with and without the
 /// start-up check's sqrt repair, alternating) and validates it: the text composed for the scene
 /// features the variant leaves on ([`qjulia::gpu::shaders::split_constants`]), parsed once for
@@ -294,23 +313,16 @@ fn validate_variants(
     variants: &[qjulia::gpu::Variant],
     check: &mut dyn FnMut(usize, &naga::Module),
 ) {
-    let mut parsed: Vec<(Vec<&str>, naga::Module, naga::valid::ModuleInfo)> = Vec::new();
+    let mut texts: Vec<(Vec<&str>, naga::Module, naga::valid::ModuleInfo)> = Vec::new();
     for (k, variant) in variants.iter().enumerate() {
         let (scene, left) = qjulia::gpu::shaders::split_constants(&variant.constants());
-        if !parsed.iter().any(|p| p.0 == scene) {
-            let module = validate_wgsl(&source.composed_with(&scene).text)
-                .unwrap_or_else(|e| panic!("{} with {scene:?}: {e}", source.name));
-            let info = naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&module)
-            .unwrap();
-            parsed.push((scene.clone(), module, info));
+        if !texts.iter().any(|p| p.0 == scene) {
+            let what = format!("{} with {scene:?}", source.name);
+            let (module, info) = parsed(&source.composed_with(&scene).text, &what);
+            texts.push((scene.clone(), module, info));
         }
-        let (_, module, info) = parsed.iter().find(|p| p.0 == scene).unwrap();
-        let mut constants: naga::back::PipelineConstants =
-            left.iter().map(|&(n, v)| (n.to_string(), v)).collect();
+        let (_, module, info) = texts.iter().find(|p| p.0 == scene).unwrap();
+        let mut constants = pipeline_constants(&left);
         if source.is_f64() {
             constants.insert("SQRT_NEWTON".to_string(), (k % 2) as f64);
         }
@@ -387,17 +399,10 @@ fn the_aov_pipelines_validate() {
         for variant in [None, Some(base), Some(all)] {
             let constants = variant.map(|v| v.constants()).unwrap_or_default();
             let (scene, left) = qjulia::gpu::shaders::split_constants(&constants);
-            let module = validate_wgsl(&source.composed_with(&scene).text).unwrap();
-            let info = naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&module)
-            .unwrap();
-            let mut constants: naga::back::PipelineConstants =
-                left.iter().map(|&(n, v)| (n.to_string(), v)).collect();
-            constants.insert("AOVS".to_string(), 1.0);
             let what = format!("{} {variant:?} with AOVS", source.name);
+            let (module, info) = parsed(&source.composed_with(&scene).text, &what);
+            let mut constants = pipeline_constants(&left);
+            constants.insert("AOVS".to_string(), 1.0);
             specialise(&module, &info, entry, &constants, &what);
         }
     }

@@ -72,8 +72,8 @@ const TRACE: Twin = Twin {
         OnlyIn {
             side: Side::Wgsl,
             name: "cone_tracing",
-            reason: "returns the CONE_TRACING override when specialised; on the CPU \
-                     `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",
+            reason: "the feature CONE_TRACING's switch (false composed without it); on the \
+                     CPU `cpu::cone_starts` (src/cpu/mod.rs) matches on `tracing`",
         },
         OnlyIn {
             side: Side::Wgsl,
@@ -102,14 +102,14 @@ const ESTIMATE: Twin = Twin {
         OnlyIn {
             side: Side::Wgsl,
             name: "algebra_parts",
-            reason: "returns the ALGEBRA_PARTS override when specialised; the CPU reads \
-                     `algebra_parts` from its parameters",
+            reason: "the one algebra's constant where the kernel is composed for one \
+                     (QUATERNION, OCTONION); the CPU reads `algebra_parts` from its parameters",
         },
         OnlyIn {
             side: Side::Wgsl,
             name: "slice_axis_x",
-            reason: "the constant standard axis when specialised (STANDARD_SLICE); the CPU \
-                     reads `slice_x` from its parameters",
+            reason: "the constant standard axis where the kernel is composed without SLICE; \
+                     the CPU reads `slice_x` from its parameters",
         },
         OnlyIn {
             side: Side::Wgsl,
@@ -125,7 +125,7 @@ const ESTIMATE: Twin = Twin {
             side: Side::Rust,
             name: "iterate_orbit_parts",
             reason: "iterate_orbit's loop compiled once per algebra (a const generic), which a \
-                     specialised pipeline gets from the ALGEBRA_PARTS override",
+                     kernel gets from algebra_parts() composed for one algebra",
         },
         OnlyIn {
             side: Side::Rust,

@@ -12,7 +12,7 @@ use std::process::Output;
 /// The test animation: six frames of 48x32 (c on its closed loop: no keyframe sets it).
 const SCENE: &str = "[image]\nwidth = 48\nheight = 32\n\n[animation]\nframes = 6\n";
 
-use crate::common::{files_in, qjulia, stderr};
+use crate::common::{files_in, qjulia, qjulia_env, stderr};
 
 /// A temporary folder holding the test animation as `anim.toml`.
 fn with_scene() -> tempfile::TempDir {
@@ -321,13 +321,21 @@ fn gpu_frames_are_the_same_in_any_split_and_render_again() {
     assert_same_files(&dir.path().join("whole"), &dir.path().join("split"));
     // Frames of four bands each (8 rows of 48 pixels): the stream keeps two bands on the
     // device, across frames, and must put each back in its own frame.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["animate", "--scene", "anim.toml", "--backend", "gpu"])
-        .args(["--frames", "0..2", "--out", "banded"])
-        .env("QJULIA_BAND_PIXELS", "400")
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let out = qjulia_env(
+        dir.path(),
+        &[
+            "animate",
+            "--scene",
+            "anim.toml",
+            "--backend",
+            "gpu",
+            "--frames",
+            "0..2",
+            "--out",
+            "banded",
+        ],
+        &[("QJULIA_BAND_PIXELS", "400")],
+    );
     assert!(out.status.success(), "banded: {}", stderr(&out));
     assert_same_files(&dir.path().join("whole"), &dir.path().join("banded"));
     let stats = std::fs::read_to_string(dir.path().join("s.json")).unwrap();

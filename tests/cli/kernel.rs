@@ -7,14 +7,24 @@ use qjulia::gpu::compose::fingerprint;
 use qjulia::gpu::shaders::validate_wgsl;
 use serde_json::Value;
 
-use crate::common::{assert_refused, qjulia, stderr};
+use crate::common::{assert_refused, qjulia, qjulia_env, stderr};
 
 /// `qjulia kernel --json` with `args`, parsed.
 fn kernels(args: &[&str]) -> Vec<Value> {
+    kernels_env(args, &[])
+}
+
+/// `qjulia kernel --json` with `args` and the environment variables `env`, parsed.
+fn kernels_env(args: &[&str], env: &[(&str, &str)]) -> Vec<Value> {
     let dir = tempfile::tempdir().unwrap();
-    let out = qjulia(dir.path(), &[&["kernel", "--json"], args].concat());
+    let out = qjulia_env(dir.path(), &[&["kernel", "--json"], args].concat(), env);
     assert!(out.status.success(), "{args:?}: {}", stderr(&out));
     serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
+}
+
+/// As [`kernels`], with `QJULIA_SPECIALISE=0`: the generic kernels.
+fn generic_kernels(args: &[&str]) -> Vec<Value> {
+    kernels_env(args, &[("QJULIA_SPECIALISE", "0")])
 }
 
 fn names(kernels: &[Value]) -> Vec<&str> {
@@ -102,15 +112,7 @@ fn each_scene_gets_its_kernels() {
 
 #[test]
 fn without_specialisation_no_overrides_are_set() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["kernel", "--json", "--preset", "path-traced"])
-        .env("QJULIA_SPECIALISE", "0")
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", stderr(&out));
-    let generic: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let generic = generic_kernels(&["--preset", "path-traced"]);
     let specialised = kernels(&["--preset", "path-traced"]);
     assert_eq!(generic[0]["overrides"], serde_json::json!({}));
     assert!(!generic[0]["after"].to_string().contains("naga applies"));
@@ -210,15 +212,7 @@ fn the_seeds_kernel_holds_only_what_it_uses() {
         assert_eq!(features_in(&code(kernel), feature), expected, "{args:?}");
         validate_wgsl(kernel["text"].as_str().unwrap()).unwrap();
     }
-    let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
-        .args(["kernel", "--json"])
-        .env("QJULIA_SPECIALISE", "0")
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", stderr(&out));
-    let generic: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let generic = generic_kernels(&[]);
     let all: Vec<&str> = MARKS.iter().map(|m| m.0).filter(|f| *f != "path").collect();
     assert_eq!(features_in(&code(&generic[0]), "generic"), all);
 }

@@ -200,8 +200,18 @@ pub fn gpu_render_frame(test: &str, scene: &Scene) -> Option<Frame> {
 
 /// Runs the qjulia binary in `dir` with `args`.
 pub fn qjulia(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    qjulia_env(dir, args, &[])
+}
+
+/// Runs the qjulia binary in `dir` with `args` and the environment variables `env` set.
+pub fn qjulia_env(
+    dir: &std::path::Path,
+    args: &[&str],
+    env: &[(&str, &str)],
+) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_qjulia"))
         .args(args)
+        .envs(env.iter().copied())
         .current_dir(dir)
         .output()
         .expect("run qjulia")

@@ -20,11 +20,6 @@ export const FILES: Record<string, string> = Object.fromEntries(
 /// The declared features' names.
 export const FEATURES: readonly string[] = declaration.features.map((f) => f.name);
 
-/// The features the scene decides (marked `scene`), in the declaration's order.
-export const SCENE_FEATURES: readonly string[] = declaration.features
-  .filter((f) => 'scene' in f && f.scene === true)
-  .map((f) => f.name);
-
 interface SceneFeature {
   name: string;
   constant: string;
@@ -40,6 +35,9 @@ const SCENE: readonly SceneFeature[] = declaration.features
     constant: 'constant' in f && typeof f.constant === 'string' ? f.constant : f.name,
     on: 'on' in f && Array.isArray(f.on) ? (f.on as number[]) : [1],
   }));
+
+/// The features the scene decides (marked `scene`), in the declaration's order.
+export const SCENE_FEATURES: readonly string[] = SCENE.map((f) => f.name);
 
 /// A pipeline's override constants split into the scene features the text is composed with and
 /// the constants left for the pipeline (src/gpu/shaders.rs's split_constants): a scene feature

@@ -39,7 +39,7 @@ impl<F: Real> TraceParams<F> {
     }
 
     /// [`Self::iterate_orbit`] for a number of parts known at compile time (CPU only: WGSL gets
-    /// the same from the ALGEBRA_PARTS override).
+    /// the same from algebra_parts() composed for one algebra).
     #[inline(always)]
     fn iterate_orbit_parts<const PARTS: u32>(&self, z: &mut Hyper<F>) -> F {
         let parts = PARTS;

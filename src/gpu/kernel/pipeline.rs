@@ -57,10 +57,9 @@ impl Kernel {
         };
         // Where naga refused the text, the generic module, its constants set by wgpu (the
         // scene features' constants are no overrides of its: they are left out).
-        let generic = split_constants(&overrides).1;
         let (module, left) = match &specialised {
-            Some(module) => (module, &[][..]),
-            None => (&self.module, &generic[..]),
+            Some(module) => (module, Vec::new()),
+            None => (&self.module, split_constants(&overrides).1),
         };
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.spec.name),
@@ -68,7 +67,7 @@ impl Kernel {
             module,
             entry_point: Some(self.spec.entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: left,
+                constants: &left,
                 ..Default::default()
             },
             cache: self.ctx.pipeline_cache.as_deref().map(|c| c.cache()),
